@@ -1,0 +1,26 @@
+//! # solari-scene
+//!
+//! The scene layer of the Solari workspace: a CPU scene model with glTF 2.0 import, GPU
+//! context creation, upload of geometry, materials and textures, and two ray-tracing backends
+//! (hardware ray queries and a software BVH) behind one WGSL interface.
+//!
+//! ```no_run
+//! use solari_scene::{load_gltf, default_scene};
+//! let scene = load_gltf("scene.gltf").unwrap_or_else(|e| {
+//!     eprintln!("{e}");
+//!     default_scene::cornell_box()
+//! });
+//! println!("{:?}", scene.stats());
+//! ```
+
+pub mod default_scene;
+pub mod error;
+pub mod geometry;
+pub mod gltf_import;
+pub mod model;
+pub mod render_setup;
+pub mod texture;
+
+pub use error::{GpuError, SceneError};
+pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};
+pub use model::*;

@@ -1,0 +1,99 @@
+//! Texture decoding and mip-chain generation.
+
+use crate::model::{ColorSpace, MipLevel, Texture};
+
+/// Decodes an encoded image (PNG, JPEG) into RGBA8 with a full mip chain.
+///
+/// Mips are box-filtered in linear light for sRGB textures (averaging encoded values would
+/// darken them) and directly for data textures.
+pub fn decode_texture(bytes: &[u8], name: &str, color_space: ColorSpace, repeat: bool) -> Result<Texture, String> {
+    let img = image::load_from_memory(bytes).map_err(|e| format!("cannot decode {name}: {e}"))?;
+    let rgba = img.to_rgba8();
+    let (w, h) = rgba.dimensions();
+    if w == 0 || h == 0 {
+        return Err(format!("{name} has zero size"));
+    }
+    Ok(Texture {
+        name: name.to_string(),
+        color_space,
+        mips: build_mips(MipLevel { width: w, height: h, rgba8: rgba.into_raw() }, color_space),
+        repeat,
+    })
+}
+
+/// Builds the full mip chain down to 1×1 from level 0.
+pub fn build_mips(level0: MipLevel, cs: ColorSpace) -> Vec<MipLevel> {
+    let mut mips = vec![level0];
+    loop {
+        let prev = mips.last().expect("level 0 exists");
+        if prev.width == 1 && prev.height == 1 {
+            break;
+        }
+        let next = downsample(prev, cs);
+        mips.push(next);
+    }
+    mips
+}
+
+fn srgb_to_linear(c: u8) -> f32 {
+    let c = c as f32 / 255.0;
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+fn linear_to_srgb(l: f32) -> u8 {
+    let l = l.clamp(0.0, 1.0);
+    let c = if l <= 0.0031308 { l * 12.92 } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+    (c * 255.0 + 0.5) as u8
+}
+
+fn downsample(src: &MipLevel, cs: ColorSpace) -> MipLevel {
+    let w = (src.width / 2).max(1);
+    let h = (src.height / 2).max(1);
+    let mut out = vec![0u8; (w * h * 4) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            for c in 0..4 {
+                let mut sum = 0.0;
+                for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                    let sx = (x * 2 + dx).min(src.width - 1);
+                    let sy = (y * 2 + dy).min(src.height - 1);
+                    let v = src.rgba8[((sy * src.width + sx) * 4 + c) as usize];
+                    sum += if cs == ColorSpace::Srgb && c < 3 { srgb_to_linear(v) } else { v as f32 / 255.0 };
+                }
+                let avg = sum * 0.25;
+                out[((y * w + x) * 4 + c) as usize] =
+                    if cs == ColorSpace::Srgb && c < 3 { linear_to_srgb(avg) } else { (avg * 255.0 + 0.5) as u8 };
+            }
+        }
+    }
+    MipLevel { width: w, height: h, rgba8: out }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mip_chain_reaches_one_texel_and_keeps_mean() {
+        let (w, h) = (8u32, 4u32);
+        let rgba8: Vec<u8> = (0..w * h * 4).map(|i| ((i * 37) % 256) as u8).collect();
+        let mips = build_mips(MipLevel { width: w, height: h, rgba8: rgba8.clone() }, ColorSpace::Linear);
+        assert_eq!(mips.len(), 4);
+        assert_eq!((mips[3].width, mips[3].height), (1, 1));
+        let mean0: f32 = rgba8.iter().step_by(4).map(|&v| v as f32).sum::<f32>() / (w * h) as f32;
+        assert!((mips[3].rgba8[0] as f32 - mean0).abs() <= 2.0);
+    }
+
+    #[test]
+    fn srgb_mips_average_in_linear_light() {
+        // Black and white checker: the linear mean is 0.5, which sRGB-encodes to 188, not 128.
+        let rgba8 = vec![0, 0, 0, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 0, 255];
+        let mips = build_mips(MipLevel { width: 2, height: 2, rgba8 }, ColorSpace::Srgb);
+        assert!((mips[1].rgba8[0] as i32 - 188).abs() <= 1);
+    }
+
+    #[test]
+    fn garbage_bytes_are_an_error() {
+        assert!(decode_texture(b"not an image", "x", ColorSpace::Srgb, true).is_err());
+    }
+}
