@@ -28,14 +28,30 @@ fn quads_mesh(name: &str, quads: &[([Vec3; 4], Vec3)]) -> Mesh {
     for (corners, facing) in quads {
         let base = positions.len() as u32;
         let n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-        let order: [usize; 4] = if n.dot(*facing) >= 0.0 { [0, 1, 2, 3] } else { [0, 3, 2, 1] };
+        let order: [usize; 4] = if n.dot(*facing) >= 0.0 {
+            [0, 1, 2, 3]
+        } else {
+            [0, 3, 2, 1]
+        };
         positions.extend(order.map(|i| corners[i]));
         indices.extend([base, base + 1, base + 2, base, base + 2, base + 3]);
     }
     let normals = generate_normals_flat(&positions, &indices);
-    let uvs = (0..positions.len()).map(|i| [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y][i % 4]).collect();
-    let tangents = normals.iter().map(|n: &Vec3| n.any_orthonormal_vector().extend(1.0)).collect::<Vec<Vec4>>();
-    Mesh { name: name.into(), positions, normals, uvs, tangents, indices }
+    let uvs = (0..positions.len())
+        .map(|i| [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y][i % 4])
+        .collect();
+    let tangents = normals
+        .iter()
+        .map(|n: &Vec3| n.any_orthonormal_vector().extend(1.0))
+        .collect::<Vec<Vec4>>();
+    Mesh {
+        name: name.into(),
+        positions,
+        normals,
+        uvs,
+        tangents,
+        indices,
+    }
 }
 
 /// Flat normals: every quad has its own four vertices, so smooth generation gives flat results.
@@ -63,20 +79,72 @@ pub fn cornell_box() -> Scene {
     let s = 0.01;
     let p = |x: f32, y: f32, z: f32| Vec3::new(x, y, z) * s;
     let (w, h, d) = (556.0, 548.8, 559.2);
-    let floor = quads_mesh("floor", &[([p(0., 0., 0.), p(w, 0., 0.), p(w, 0., d), p(0., 0., d)], Vec3::Y)]);
-    let ceiling = quads_mesh("ceiling", &[([p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d)], -Vec3::Y)]);
-    let back = quads_mesh("back_wall", &[([p(0., 0., d), p(w, 0., d), p(w, h, d), p(0., h, d)], -Vec3::Z)]);
-    let green = quads_mesh("right_wall_green", &[([p(0., 0., 0.), p(0., 0., d), p(0., h, d), p(0., h, 0.)], Vec3::X)]);
-    let red = quads_mesh("left_wall_red", &[([p(w, 0., 0.), p(w, 0., d), p(w, h, d), p(w, h, 0.)], -Vec3::X)]);
+    let floor = quads_mesh(
+        "floor",
+        &[(
+            [p(0., 0., 0.), p(w, 0., 0.), p(w, 0., d), p(0., 0., d)],
+            Vec3::Y,
+        )],
+    );
+    let ceiling = quads_mesh(
+        "ceiling",
+        &[(
+            [p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d)],
+            -Vec3::Y,
+        )],
+    );
+    let back = quads_mesh(
+        "back_wall",
+        &[(
+            [p(0., 0., d), p(w, 0., d), p(w, h, d), p(0., h, d)],
+            -Vec3::Z,
+        )],
+    );
+    let green = quads_mesh(
+        "right_wall_green",
+        &[(
+            [p(0., 0., 0.), p(0., 0., d), p(0., h, d), p(0., h, 0.)],
+            Vec3::X,
+        )],
+    );
+    let red = quads_mesh(
+        "left_wall_red",
+        &[(
+            [p(w, 0., 0.), p(w, 0., d), p(w, h, d), p(w, h, 0.)],
+            -Vec3::X,
+        )],
+    );
     let ly = h - 0.3;
     let light = quads_mesh(
         "light",
-        &[([p(343.0, ly, 227.0), p(343.0, ly, 332.0), p(213.0, ly, 332.0), p(213.0, ly, 227.0)], -Vec3::Y)],
+        &[(
+            [
+                p(343.0, ly, 227.0),
+                p(343.0, ly, 332.0),
+                p(213.0, ly, 332.0),
+                p(213.0, ly, 227.0),
+            ],
+            -Vec3::Y,
+        )],
     );
-    let short_block =
-        box_mesh("short_block", [[130.0, 165.0, 65.0], [82.0, 165.0, 225.0], [240.0, 165.0, 272.0], [290.0, 165.0, 114.0]]);
-    let tall_block =
-        box_mesh("tall_block", [[423.0, 330.0, 247.0], [265.0, 330.0, 296.0], [314.0, 330.0, 456.0], [472.0, 330.0, 406.0]]);
+    let short_block = box_mesh(
+        "short_block",
+        [
+            [130.0, 165.0, 65.0],
+            [82.0, 165.0, 225.0],
+            [240.0, 165.0, 272.0],
+            [290.0, 165.0, 114.0],
+        ],
+    );
+    let tall_block = box_mesh(
+        "tall_block",
+        [
+            [423.0, 330.0, 247.0],
+            [265.0, 330.0, 296.0],
+            [314.0, 330.0, 456.0],
+            [472.0, 330.0, 406.0],
+        ],
+    );
 
     let white = lambert("white", [0.725, 0.71, 0.68]);
     let red_m = lambert("red", [0.63, 0.065, 0.05]);
@@ -84,7 +152,16 @@ pub fn cornell_box() -> Scene {
     let mut light_m = lambert("light", [0.78, 0.78, 0.78]);
     light_m.emissive = Vec3::new(17.0, 12.0, 4.0);
 
-    let meshes = vec![floor, ceiling, back, green, red, light, short_block, tall_block];
+    let meshes = vec![
+        floor,
+        ceiling,
+        back,
+        green,
+        red,
+        light,
+        short_block,
+        tall_block,
+    ];
     let materials = vec![white, red_m, green_m, light_m];
     let material_of = [0, 0, 0, 2, 1, 3, 0, 0];
     let instances = meshes
@@ -99,12 +176,22 @@ pub fn cornell_box() -> Scene {
         .collect();
     let camera = Camera {
         name: "camera".into(),
-        transform: camera_to_world(Vec3::new(2.78, 2.73, -8.0), Vec3::new(2.78, 2.73, 0.0), Vec3::Y),
+        transform: camera_to_world(
+            Vec3::new(2.78, 2.73, -8.0),
+            Vec3::new(2.78, 2.73, 0.0),
+            Vec3::Y,
+        ),
         yfov: 0.6860,
         aspect: Some(1.0),
         znear: 0.01,
     };
-    Scene { meshes, instances, materials, cameras: vec![camera], ..Default::default() }
+    Scene {
+        meshes,
+        instances,
+        materials,
+        cameras: vec![camera],
+        ..Default::default()
+    }
 }
 
 #[cfg(test)]
@@ -125,7 +212,10 @@ mod tests {
                 let [a, b, c] = m.triangle(t);
                 let n = (b - a).cross(c - a).normalize();
                 let to_center = room_center - (a + b + c) / 3.0;
-                assert!(n.dot(to_center) > 0.0, "mesh {i} triangle {t} faces outward");
+                assert!(
+                    n.dot(to_center) > 0.0,
+                    "mesh {i} triangle {t} faces outward"
+                );
                 assert!((m.normals[m.indices[t * 3] as usize] - n).length() < 1e-5);
             }
         }

@@ -121,7 +121,9 @@ pub enum SceneError {
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
     /// No adapter matched the request.
-    #[error("no GPU adapter found ({0}); install a Vulkan driver (on a machine without a GPU: `.ci/install-lavapipe`)")]
+    #[error(
+        "no GPU adapter found ({0}); install a Vulkan driver (on a machine without a GPU: `.ci/install-lavapipe`)"
+    )]
     NoAdapter(String),
     /// The adapter lacks a feature the caller needs.
     #[error("adapter '{adapter}' lacks required features {missing:?}")]
@@ -150,7 +152,9 @@ pub enum GpuError {
         limit: u64,
     },
     /// The ray-query backend was asked for on an adapter without ray queries.
-    #[error("the ray-query tracer needs EXPERIMENTAL_RAY_QUERY, which adapter '{0}' does not offer; use the software tracer")]
+    #[error(
+        "the ray-query tracer needs EXPERIMENTAL_RAY_QUERY, which adapter '{0}' does not offer; use the software tracer"
+    )]
     NoRayQuery(String),
     /// WESL composition or naga validation of a shader failed.
     #[error("shader '{name}' failed to compile: {message}")]

@@ -27,7 +27,10 @@ pub fn is_degenerate(a: Vec3, b: Vec3, c: Vec3) -> bool {
     let e0 = b - a;
     let e1 = c - a;
     let e2 = c - b;
-    let longest = e0.length_squared().max(e1.length_squared()).max(e2.length_squared());
+    let longest = e0
+        .length_squared()
+        .max(e1.length_squared())
+        .max(e2.length_squared());
     let cross = e0.cross(e1).length_squared();
     !(longest > 0.0) || !(cross > 1e-24 * longest * longest) || !cross.is_finite()
 }
@@ -43,7 +46,10 @@ pub fn generate_normals(positions: &[Vec3], indices: &[u32]) -> Vec<Vec3> {
             normals[i as usize] += n;
         }
     }
-    normals.iter().map(|n| n.try_normalize().unwrap_or(Vec3::Z)).collect()
+    normals
+        .iter()
+        .map(|n| n.try_normalize().unwrap_or(Vec3::Z))
+        .collect()
 }
 
 /// Replaces non-unit or non-finite normals by a valid unit vector (the triangle's, else +Z).
@@ -82,10 +88,16 @@ impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
     fn tex_coord(&self, face: usize, vert: usize) -> [f32; 2] {
         self.mesh.uvs[self.mesh.indices[face * 3 + vert] as usize].into()
     }
-    fn set_tangent(&mut self, tangent: Option<bevy_mikktspace::TangentSpace>, face: usize, vert: usize) {
+    fn set_tangent(
+        &mut self,
+        tangent: Option<bevy_mikktspace::TangentSpace>,
+        face: usize,
+        vert: usize,
+    ) {
         // Welded vertices receive the same tangent from every face in practice; the last wins.
         if let Some(t) = tangent {
-            self.tangents[self.mesh.indices[face * 3 + vert] as usize] = Vec4::from(t.tangent_encoded());
+            self.tangents[self.mesh.indices[face * 3 + vert] as usize] =
+                Vec4::from(t.tangent_encoded());
         }
     }
 }
@@ -93,7 +105,10 @@ impl bevy_mikktspace::Geometry for MikkGeometry<'_> {
 /// MikkTSpace tangents (the glTF convention). Falls back to an arbitrary frame around the
 /// normal where UVs are degenerate.
 pub fn generate_tangents(mesh: &Mesh) -> Vec<Vec4> {
-    let mut geo = MikkGeometry { mesh, tangents: vec![Vec4::ZERO; mesh.positions.len()] };
+    let mut geo = MikkGeometry {
+        mesh,
+        tangents: vec![Vec4::ZERO; mesh.positions.len()],
+    };
     if mesh.indices.is_empty() || bevy_mikktspace::generate_tangents(&mut geo).is_err() {
         geo.tangents.iter_mut().for_each(|t| *t = Vec4::ZERO);
     }
@@ -145,7 +160,11 @@ mod tests {
     #[test]
     fn sanitized_tangent_is_orthonormal() {
         let n = Vec3::new(0.3, 0.4, 0.5).normalize();
-        for t in [Vec4::ZERO, Vec4::new(f32::NAN, 0.0, 0.0, 1.0), Vec4::new(1.0, 2.0, 3.0, -1.0)] {
+        for t in [
+            Vec4::ZERO,
+            Vec4::new(f32::NAN, 0.0, 0.0, 1.0),
+            Vec4::new(1.0, 2.0, 3.0, -1.0),
+        ] {
             let s = sanitize_tangent(t, n);
             assert!(s.is_finite());
             assert!((s.truncate().length() - 1.0).abs() < 1e-5);

@@ -25,7 +25,10 @@ pub struct ImportOptions {
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        Self { sun_angular_diameter: SUN_ANGULAR_DIAMETER, read_render_setup: true }
+        Self {
+            sun_angular_diameter: SUN_ANGULAR_DIAMETER,
+            read_render_setup: true,
+        }
     }
 }
 
@@ -35,9 +38,15 @@ pub fn load_gltf(path: impl AsRef<Path>) -> Result<Scene, SceneError> {
 }
 
 /// Loads a `.gltf` or `.glb` file.
-pub fn load_gltf_with(path: impl AsRef<Path>, options: &ImportOptions) -> Result<Scene, SceneError> {
+pub fn load_gltf_with(
+    path: impl AsRef<Path>,
+    options: &ImportOptions,
+) -> Result<Scene, SceneError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io { file: path.into(), source })?;
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
+        file: path.into(),
+        source,
+    })?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut scene = import_slice(&bytes, &base, path, options)?;
     if options.read_render_setup {
@@ -57,8 +66,10 @@ pub fn import_slice(
     options: &ImportOptions,
 ) -> Result<Scene, SceneError> {
     let file = file.to_path_buf();
-    let gltf = gltf::Gltf::from_slice(bytes)
-        .map_err(|source| SceneError::Gltf { file: file.clone(), source })?;
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|source| SceneError::Gltf {
+        file: file.clone(),
+        source,
+    })?;
     let buffers = load_buffers(&gltf, base, &file)?;
     let mut importer = Importer {
         file,
@@ -78,11 +89,16 @@ fn load_buffers(gltf: &gltf::Gltf, base: &Path, file: &Path) -> Result<Vec<Vec<u
     let mut out = Vec::new();
     for buffer in gltf.document.buffers() {
         let index = buffer.index();
-        let missing = |reason: String| SceneError::MissingBuffer { file: file.into(), index, reason };
+        let missing = |reason: String| SceneError::MissingBuffer {
+            file: file.into(),
+            index,
+            reason,
+        };
         let data = match buffer.source() {
-            gltf::buffer::Source::Bin => {
-                gltf.blob.clone().ok_or_else(|| missing("no GLB binary chunk".into()))?
-            }
+            gltf::buffer::Source::Bin => gltf
+                .blob
+                .clone()
+                .ok_or_else(|| missing("no GLB binary chunk".into()))?,
             gltf::buffer::Source::Uri(uri) => read_uri(uri, base).map_err(missing)?,
         };
         if data.len() < buffer.length() {
@@ -101,7 +117,9 @@ fn load_buffers(gltf: &gltf::Gltf, base: &Path, file: &Path) -> Result<Vec<Vec<u
 /// Reads a `data:` URI or a file relative to `base`.
 fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, String> {
     if let Some(rest) = uri.strip_prefix("data:") {
-        let (_, payload) = rest.split_once(";base64,").ok_or("data URI is not base64")?;
+        let (_, payload) = rest
+            .split_once(";base64,")
+            .ok_or("data URI is not base64")?;
         return base64::engine::general_purpose::STANDARD
             .decode(payload)
             .map_err(|e| format!("bad base64 in data URI: {e}"));
@@ -160,13 +178,20 @@ impl Importer {
         }
         let w = &mut self.scene.warnings;
         w.unrendered_lights = self.scene.punctual_lights.len();
-        w.non_opaque_materials =
-            self.scene.materials.iter().filter(|m| m.alpha_mode != AlphaMode::Opaque).count();
+        w.non_opaque_materials = self
+            .scene
+            .materials
+            .iter()
+            .filter(|m| m.alpha_mode != AlphaMode::Opaque)
+            .count();
         Ok(())
     }
 
     fn empty(&self, reason: &str) -> SceneError {
-        SceneError::EmptyScene { file: self.file.clone(), reason: reason.into() }
+        SceneError::EmptyScene {
+            file: self.file.clone(),
+            reason: reason.into(),
+        }
     }
 
     fn visit(
@@ -176,9 +201,15 @@ impl Importer {
         depth: usize,
         visited: &mut [bool],
     ) -> Result<(), SceneError> {
-        let bad = |reason: String| SceneError::BadNode { file: self.file.clone(), node: node.index(), reason };
+        let bad = |reason: String| SceneError::BadNode {
+            file: self.file.clone(),
+            node: node.index(),
+            reason,
+        };
         if depth > MAX_NODE_DEPTH || visited[node.index()] {
-            return Err(bad("the node graph has a cycle or a node with two parents".into()));
+            return Err(bad(
+                "the node graph has a cycle or a node with two parents".into()
+            ));
         }
         visited[node.index()] = true;
         let local = Mat4::from_cols_array_2d(&node.transform().matrix());
@@ -186,11 +217,16 @@ impl Importer {
             return Err(bad("transform is not finite".into()));
         }
         let world = parent * local;
-        let name = node.name().map(str::to_string).unwrap_or_else(|| format!("node{}", node.index()));
+        let name = node
+            .name()
+            .map(str::to_string)
+            .unwrap_or_else(|| format!("node{}", node.index()));
 
         if let Some(mesh) = node.mesh() {
             for prim in mesh.primitives() {
-                let Some(mesh_index) = self.mesh(&mesh, &prim)? else { continue };
+                let Some(mesh_index) = self.mesh(&mesh, &prim)? else {
+                    continue;
+                };
                 let material = self.material(prim.material())?;
                 self.scene.instances.push(Instance {
                     name: name.clone(),
@@ -203,14 +239,21 @@ impl Importer {
         if let Some(cam) = node.camera() {
             if let gltf::camera::Projection::Perspective(p) = cam.projection() {
                 self.scene.cameras.push(Camera {
-                    name: cam.name().or(node.name()).map(str::to_string).unwrap_or_else(|| format!("camera{}", cam.index())),
+                    name: cam
+                        .name()
+                        .or(node.name())
+                        .map(str::to_string)
+                        .unwrap_or_else(|| format!("camera{}", cam.index())),
                     transform: rigid(world),
                     yfov: p.yfov(),
                     aspect: p.aspect_ratio(),
                     znear: p.znear(),
                 });
             } else {
-                self.scene.warnings.notes.push(format!("orthographic camera on node {name} ignored"));
+                self.scene
+                    .warnings
+                    .notes
+                    .push(format!("orthographic camera on node {name} ignored"));
             }
         }
         if let Some(light) = node.light() {
@@ -226,11 +269,15 @@ impl Importer {
         use gltf::khr_lights_punctual::Kind;
         let color = Vec3::from(light.color()) * light.intensity();
         let name = light.name().unwrap_or(node_name).to_string();
-        let forward = (-world.z_axis.truncate()).try_normalize().unwrap_or(Vec3::NEG_Z);
+        let forward = (-world.z_axis.truncate())
+            .try_normalize()
+            .unwrap_or(Vec3::NEG_Z);
         let color = if color.is_finite() && color.min_element() >= 0.0 {
             color
         } else {
-            self.scene.warnings.notes.push(format!("light {name}: non-finite or negative intensity, set to zero"));
+            self.scene.warnings.notes.push(format!(
+                "light {name}: non-finite or negative intensity, set to zero"
+            ));
             Vec3::ZERO
         };
         match light.kind() {
@@ -243,9 +290,13 @@ impl Importer {
             kind => self.scene.punctual_lights.push(PunctualLight {
                 name,
                 kind: match kind {
-                    Kind::Spot { inner_cone_angle, outer_cone_angle } => {
-                        PunctualKind::Spot { inner: inner_cone_angle, outer: outer_cone_angle }
-                    }
+                    Kind::Spot {
+                        inner_cone_angle,
+                        outer_cone_angle,
+                    } => PunctualKind::Spot {
+                        inner: inner_cone_angle,
+                        outer: outer_cone_angle,
+                    },
                     _ => PunctualKind::Point,
                 },
                 position: world.w_axis.truncate(),
@@ -257,7 +308,11 @@ impl Importer {
     }
 
     fn check_accessor(&self, acc: &gltf::Accessor) -> Result<(), SceneError> {
-        let bad = |reason: String| SceneError::BadAccessor { file: self.file.clone(), accessor: acc.index(), reason };
+        let bad = |reason: String| SceneError::BadAccessor {
+            file: self.file.clone(),
+            accessor: acc.index(),
+            reason,
+        };
         if acc.sparse().is_some() {
             return Err(bad("sparse accessors are not supported".into()));
         }
@@ -297,7 +352,11 @@ impl Importer {
         Ok(())
     }
 
-    fn mesh(&mut self, mesh: &gltf::Mesh, prim: &gltf::Primitive) -> Result<Option<u32>, SceneError> {
+    fn mesh(
+        &mut self,
+        mesh: &gltf::Mesh,
+        prim: &gltf::Primitive,
+    ) -> Result<Option<u32>, SceneError> {
         let key = (mesh.index(), prim.index());
         if let Some(&cached) = self.mesh_cache.get(&key) {
             return Ok(cached);
@@ -311,7 +370,11 @@ impl Importer {
         Ok(index)
     }
 
-    fn build_mesh(&mut self, mesh: &gltf::Mesh, prim: &gltf::Primitive) -> Result<Option<Mesh>, SceneError> {
+    fn build_mesh(
+        &mut self,
+        mesh: &gltf::Mesh,
+        prim: &gltf::Primitive,
+    ) -> Result<Option<Mesh>, SceneError> {
         let bad = |reason: String| SceneError::BadPrimitive {
             file: self.file.clone(),
             mesh: mesh.index(),
@@ -339,18 +402,30 @@ impl Importer {
             .map(Vec3::from)
             .collect();
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
-            return Err(bad(format!("vertex {i} has a non-finite position {:?}", positions[i])));
+            return Err(bad(format!(
+                "vertex {i} has a non-finite position {:?}",
+                positions[i]
+            )));
         }
         let n = positions.len();
         let count_check = |what: &str, len: usize| {
-            if len == n { Ok(()) } else { Err(bad(format!("{what} has {len} entries but POSITION has {n}"))) }
+            if len == n {
+                Ok(())
+            } else {
+                Err(bad(format!(
+                    "{what} has {len} entries but POSITION has {n}"
+                )))
+            }
         };
         let raw_indices: Vec<u32> = match reader.read_indices() {
             Some(it) => it.into_u32().collect(),
             None => (0..n as u32).collect(),
         };
         if let Some(i) = raw_indices.iter().position(|&v| v as usize >= n) {
-            return Err(bad(format!("index {} at position {i} is out of range ({n} vertices)", raw_indices[i])));
+            return Err(bad(format!(
+                "index {} at position {i} is out of range ({n} vertices)",
+                raw_indices[i]
+            )));
         }
         let indices = match prim.mode() {
             Mode::TriangleStrip => {
@@ -363,7 +438,10 @@ impl Importer {
             }
             _ => {
                 if raw_indices.len() % 3 != 0 {
-                    return Err(bad(format!("{} indices is not a multiple of 3", raw_indices.len())));
+                    return Err(bad(format!(
+                        "{} indices is not a multiple of 3",
+                        raw_indices.len()
+                    )));
                 }
                 raw_indices
             }
@@ -373,7 +451,10 @@ impl Importer {
             None => geometry::default_uvs(n),
         };
         count_check("TEXCOORD_0", uvs.len())?;
-        let uvs = uvs.into_iter().map(|v| if v.is_finite() { v } else { Vec2::ZERO }).collect();
+        let uvs = uvs
+            .into_iter()
+            .map(|v| if v.is_finite() { v } else { Vec2::ZERO })
+            .collect();
         let mut out = Mesh {
             name: format!("{}/{}", mesh.name().unwrap_or("mesh"), prim.index()),
             positions,
@@ -383,7 +464,10 @@ impl Importer {
         };
         self.scene.warnings.degenerate_triangles += geometry::drop_degenerate_triangles(&mut out);
         if out.indices.is_empty() {
-            self.scene.warnings.notes.push(format!("mesh {} has no valid triangle: skipped", out.name));
+            self.scene
+                .warnings
+                .notes
+                .push(format!("mesh {} has no valid triangle: skipped", out.name));
             return Ok(None);
         }
         out.normals = match reader.read_normals() {
@@ -392,7 +476,10 @@ impl Importer {
                 count_check("NORMAL", normals.len())?;
                 let fixed = geometry::sanitize_normals(&mut normals);
                 if fixed > 0 {
-                    self.scene.warnings.notes.push(format!("mesh {}: {fixed} zero or non-finite normal(s) replaced", out.name));
+                    self.scene.warnings.notes.push(format!(
+                        "mesh {}: {fixed} zero or non-finite normal(s) replaced",
+                        out.name
+                    ));
                 }
                 normals
             }
@@ -406,14 +493,21 @@ impl Importer {
             Some(it) => {
                 let t: Vec<Vec4> = it.map(Vec4::from).collect();
                 count_check("TANGENT", t.len())?;
-                t.into_iter().zip(&out.normals).map(|(t, n)| geometry::sanitize_tangent(t, *n)).collect()
+                t.into_iter()
+                    .zip(&out.normals)
+                    .map(|(t, n)| geometry::sanitize_tangent(t, *n))
+                    .collect()
             }
             None if has_normal_map => {
                 self.scene.warnings.generated_tangents += 1;
                 geometry::generate_tangents(&out)
             }
             // No normal map reads them: any frame around the normal will do.
-            None => out.normals.iter().map(|n| n.any_orthonormal_vector().extend(1.0)).collect(),
+            None => out
+                .normals
+                .iter()
+                .map(|n| n.any_orthonormal_vector().extend(1.0))
+                .collect(),
         };
         Ok(Some(out))
     }
@@ -432,34 +526,66 @@ impl Importer {
             ));
             emissive = Vec3::ZERO;
         }
-        let ior = m.ior().filter(|x| x.is_finite() && *x >= 1.0).unwrap_or(1.5);
+        let ior = m
+            .ior()
+            .filter(|x| x.is_finite() && *x >= 1.0)
+            .unwrap_or(1.5);
         let f0_ior = ((ior - 1.0) / (ior + 1.0)).powi(2);
         let (spec_factor, spec_color) = match m.specular() {
             Some(s) => (s.specular_factor(), Vec3::from(s.specular_color_factor())),
             None => (1.0, Vec3::ONE),
         };
         let dielectric_f0 = (spec_color * f0_ior).min(Vec3::ONE) * spec_factor.clamp(0.0, 1.0);
-        let tex = |this: &mut Self, info: Option<gltf::texture::Texture>, cs| -> Result<Option<u32>, SceneError> {
+        let tex = |this: &mut Self,
+                   info: Option<gltf::texture::Texture>,
+                   cs|
+         -> Result<Option<u32>, SceneError> {
             info.map(|t| this.texture(&t, cs)).transpose()
         };
-        let base_color_texture = tex(self, pbr.base_color_texture().map(|i| i.texture()), ColorSpace::Srgb)?;
-        let metallic_roughness_texture =
-            tex(self, pbr.metallic_roughness_texture().map(|i| i.texture()), ColorSpace::Linear)?;
+        let base_color_texture = tex(
+            self,
+            pbr.base_color_texture().map(|i| i.texture()),
+            ColorSpace::Srgb,
+        )?;
+        let metallic_roughness_texture = tex(
+            self,
+            pbr.metallic_roughness_texture().map(|i| i.texture()),
+            ColorSpace::Linear,
+        )?;
         let normal = m.normal_texture();
         let normal_scale = normal.as_ref().map(|n| n.scale()).unwrap_or(1.0);
         let normal_texture = tex(self, normal.map(|n| n.texture()), ColorSpace::Linear)?;
-        let emissive_texture = tex(self, m.emissive_texture().map(|i| i.texture()), ColorSpace::Srgb)?;
-        let clamp01 = |x: f32| if x.is_finite() { x.clamp(0.0, 1.0) } else { 0.0 };
+        let emissive_texture = tex(
+            self,
+            m.emissive_texture().map(|i| i.texture()),
+            ColorSpace::Srgb,
+        )?;
+        let clamp01 = |x: f32| {
+            if x.is_finite() {
+                x.clamp(0.0, 1.0)
+            } else {
+                0.0
+            }
+        };
         let base = Vec4::from(pbr.base_color_factor());
         let material = Material {
             name: m.name().unwrap_or("").to_string(),
-            base_color: Vec4::new(clamp01(base.x), clamp01(base.y), clamp01(base.z), clamp01(base.w)),
+            base_color: Vec4::new(
+                clamp01(base.x),
+                clamp01(base.y),
+                clamp01(base.z),
+                clamp01(base.w),
+            ),
             base_color_texture,
             metallic: clamp01(pbr.metallic_factor()),
             roughness: clamp01(pbr.roughness_factor()),
             metallic_roughness_texture,
             normal_texture,
-            normal_scale: if normal_scale.is_finite() { normal_scale } else { 1.0 },
+            normal_scale: if normal_scale.is_finite() {
+                normal_scale
+            } else {
+                1.0
+            },
             emissive,
             emissive_texture,
             dielectric_f0,
@@ -482,19 +608,31 @@ impl Importer {
             return Ok(i);
         }
         let image = t.source();
-        let bad = |reason: String| SceneError::BadImage { file: self.file.clone(), image: image.index(), reason };
+        let bad = |reason: String| SceneError::BadImage {
+            file: self.file.clone(),
+            image: image.index(),
+            reason,
+        };
         let (bytes, name) = match image.source() {
             gltf::image::Source::View { view, .. } => {
                 let data = &self.buffers[view.buffer().index()];
                 let range = view.offset()..view.offset().saturating_add(view.length());
-                let slice = data.get(range).ok_or_else(|| bad("buffer view reaches past its buffer".into()))?;
-                (slice.to_vec(), image.name().unwrap_or("embedded").to_string())
+                let slice = data
+                    .get(range)
+                    .ok_or_else(|| bad("buffer view reaches past its buffer".into()))?;
+                (
+                    slice.to_vec(),
+                    image.name().unwrap_or("embedded").to_string(),
+                )
             }
-            gltf::image::Source::Uri { uri, .. } => (read_uri(uri, &self.base).map_err(&bad)?, uri.to_string()),
+            gltf::image::Source::Uri { uri, .. } => {
+                (read_uri(uri, &self.base).map_err(&bad)?, uri.to_string())
+            }
         };
         use gltf::texture::WrappingMode;
         let sampler = t.sampler();
-        let repeat = sampler.wrap_s() != WrappingMode::ClampToEdge || sampler.wrap_t() != WrappingMode::ClampToEdge;
+        let repeat = sampler.wrap_s() != WrappingMode::ClampToEdge
+            || sampler.wrap_t() != WrappingMode::ClampToEdge;
         let texture = decode_texture(&bytes, &name, cs, repeat).map_err(bad)?;
         self.scene.textures.push(texture);
         let index = (self.scene.textures.len() - 1) as u32;

@@ -13,13 +13,20 @@
 //! println!("{:?}", scene.stats());
 //! ```
 
+pub mod bvh;
 pub mod default_scene;
 pub mod error;
 pub mod geometry;
 pub mod gltf_import;
+pub mod gpu;
+pub mod gpu_scene;
+pub mod gpu_types;
 pub mod model;
 pub mod render_setup;
+pub mod shaders;
 pub mod texture;
+pub mod trace_cpu;
+pub mod trace_pass;
 
 pub use error::{GpuError, SceneError};
 pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};

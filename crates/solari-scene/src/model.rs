@@ -276,9 +276,17 @@ impl Camera {
 /// forward). An `up` parallel to the view direction is replaced by any perpendicular vector.
 pub fn camera_to_world(eye: Vec3, target: Vec3, up: Vec3) -> Mat4 {
     let forward = (target - eye).try_normalize().unwrap_or(Vec3::NEG_Z);
-    let right = forward.cross(up).try_normalize().unwrap_or_else(|| forward.any_orthonormal_vector());
+    let right = forward
+        .cross(up)
+        .try_normalize()
+        .unwrap_or_else(|| forward.any_orthonormal_vector());
     let true_up = right.cross(forward);
-    Mat4::from_cols(right.extend(0.0), true_up.extend(0.0), (-forward).extend(0.0), eye.extend(1.0))
+    Mat4::from_cols(
+        right.extend(0.0),
+        true_up.extend(0.0),
+        (-forward).extend(0.0),
+        eye.extend(1.0),
+    )
 }
 
 /// What import dropped, converted or does not render yet. Never silent: `solari info` prints it.
@@ -312,12 +320,27 @@ impl ImportWarnings {
             }
         };
         push(self.degenerate_triangles, "zero-area triangle(s) dropped");
-        push(self.non_opaque_materials, "material(s) with alpha mask/blend rendered as opaque");
-        push(self.unrendered_lights, "point/spot light(s) imported but not rendered yet");
-        push(self.converted_topologies, "strip/fan primitive(s) converted to triangle lists");
+        push(
+            self.non_opaque_materials,
+            "material(s) with alpha mask/blend rendered as opaque",
+        );
+        push(
+            self.unrendered_lights,
+            "point/spot light(s) imported but not rendered yet",
+        );
+        push(
+            self.converted_topologies,
+            "strip/fan primitive(s) converted to triangle lists",
+        );
         push(self.skipped_primitives, "point/line primitive(s) skipped");
-        push(self.generated_normals, "mesh(es) without normals: normals generated");
-        push(self.generated_tangents, "mesh(es) with a normal map but no tangents: tangents generated");
+        push(
+            self.generated_normals,
+            "mesh(es) without normals: normals generated",
+        );
+        push(
+            self.generated_tangents,
+            "mesh(es) with a normal map but no tangents: tangents generated",
+        );
         out.extend(self.notes.iter().cloned());
         out
     }
@@ -398,12 +421,19 @@ impl Scene {
     /// Picks a camera by name or index (`None`: the first, else one that frames the scene).
     pub fn camera(&self, wanted: Option<&str>) -> Option<Camera> {
         match wanted {
-            None => Some(self.cameras.first().cloned().unwrap_or_else(|| self.framing_camera())),
+            None => Some(
+                self.cameras
+                    .first()
+                    .cloned()
+                    .unwrap_or_else(|| self.framing_camera()),
+            ),
             Some(w) => {
                 if let Some(c) = self.cameras.iter().find(|c| c.name == w) {
                     return Some(c.clone());
                 }
-                w.parse::<usize>().ok().and_then(|i| self.cameras.get(i).cloned())
+                w.parse::<usize>()
+                    .ok()
+                    .and_then(|i| self.cameras.get(i).cloned())
             }
         }
     }

@@ -6,7 +6,12 @@ use crate::model::{ColorSpace, MipLevel, Texture};
 ///
 /// Mips are box-filtered in linear light for sRGB textures (averaging encoded values would
 /// darken them) and directly for data textures.
-pub fn decode_texture(bytes: &[u8], name: &str, color_space: ColorSpace, repeat: bool) -> Result<Texture, String> {
+pub fn decode_texture(
+    bytes: &[u8],
+    name: &str,
+    color_space: ColorSpace,
+    repeat: bool,
+) -> Result<Texture, String> {
     let img = image::load_from_memory(bytes).map_err(|e| format!("cannot decode {name}: {e}"))?;
     let rgba = img.to_rgba8();
     let (w, h) = rgba.dimensions();
@@ -16,7 +21,14 @@ pub fn decode_texture(bytes: &[u8], name: &str, color_space: ColorSpace, repeat:
     Ok(Texture {
         name: name.to_string(),
         color_space,
-        mips: build_mips(MipLevel { width: w, height: h, rgba8: rgba.into_raw() }, color_space),
+        mips: build_mips(
+            MipLevel {
+                width: w,
+                height: h,
+                rgba8: rgba.into_raw(),
+            },
+            color_space,
+        ),
         repeat,
     })
 }
@@ -37,12 +49,20 @@ pub fn build_mips(level0: MipLevel, cs: ColorSpace) -> Vec<MipLevel> {
 
 fn srgb_to_linear(c: u8) -> f32 {
     let c = c as f32 / 255.0;
-    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 fn linear_to_srgb(l: f32) -> u8 {
     let l = l.clamp(0.0, 1.0);
-    let c = if l <= 0.0031308 { l * 12.92 } else { 1.055 * l.powf(1.0 / 2.4) - 0.055 };
+    let c = if l <= 0.0031308 {
+        l * 12.92
+    } else {
+        1.055 * l.powf(1.0 / 2.4) - 0.055
+    };
     (c * 255.0 + 0.5) as u8
 }
 
@@ -58,15 +78,26 @@ fn downsample(src: &MipLevel, cs: ColorSpace) -> MipLevel {
                     let sx = (x * 2 + dx).min(src.width - 1);
                     let sy = (y * 2 + dy).min(src.height - 1);
                     let v = src.rgba8[((sy * src.width + sx) * 4 + c) as usize];
-                    sum += if cs == ColorSpace::Srgb && c < 3 { srgb_to_linear(v) } else { v as f32 / 255.0 };
+                    sum += if cs == ColorSpace::Srgb && c < 3 {
+                        srgb_to_linear(v)
+                    } else {
+                        v as f32 / 255.0
+                    };
                 }
                 let avg = sum * 0.25;
-                out[((y * w + x) * 4 + c) as usize] =
-                    if cs == ColorSpace::Srgb && c < 3 { linear_to_srgb(avg) } else { (avg * 255.0 + 0.5) as u8 };
+                out[((y * w + x) * 4 + c) as usize] = if cs == ColorSpace::Srgb && c < 3 {
+                    linear_to_srgb(avg)
+                } else {
+                    (avg * 255.0 + 0.5) as u8
+                };
             }
         }
     }
-    MipLevel { width: w, height: h, rgba8: out }
+    MipLevel {
+        width: w,
+        height: h,
+        rgba8: out,
+    }
 }
 
 #[cfg(test)]
@@ -77,7 +108,14 @@ mod tests {
     fn mip_chain_reaches_one_texel_and_keeps_mean() {
         let (w, h) = (8u32, 4u32);
         let rgba8: Vec<u8> = (0..w * h * 4).map(|i| ((i * 37) % 256) as u8).collect();
-        let mips = build_mips(MipLevel { width: w, height: h, rgba8: rgba8.clone() }, ColorSpace::Linear);
+        let mips = build_mips(
+            MipLevel {
+                width: w,
+                height: h,
+                rgba8: rgba8.clone(),
+            },
+            ColorSpace::Linear,
+        );
         assert_eq!(mips.len(), 4);
         assert_eq!((mips[3].width, mips[3].height), (1, 1));
         let mean0: f32 = rgba8.iter().step_by(4).map(|&v| v as f32).sum::<f32>() / (w * h) as f32;
@@ -87,8 +125,17 @@ mod tests {
     #[test]
     fn srgb_mips_average_in_linear_light() {
         // Black and white checker: the linear mean is 0.5, which sRGB-encodes to 188, not 128.
-        let rgba8 = vec![0, 0, 0, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 0, 255];
-        let mips = build_mips(MipLevel { width: 2, height: 2, rgba8 }, ColorSpace::Srgb);
+        let rgba8 = vec![
+            0, 0, 0, 255, 255, 255, 255, 255, 255, 255, 255, 255, 0, 0, 0, 255,
+        ];
+        let mips = build_mips(
+            MipLevel {
+                width: 2,
+                height: 2,
+                rgba8,
+            },
+            ColorSpace::Srgb,
+        );
         assert!((mips[1].rgba8[0] as i32 - 188).abs() <= 1);
     }
 

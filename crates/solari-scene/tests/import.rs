@@ -13,17 +13,23 @@ fn shared_scenes() -> PathBuf {
 /// A minimal valid glTF: one triangle (or what `positions`/`indices` say), as JSON with an
 /// embedded base64 buffer.
 fn doc(positions: &[[f32; 3]], indices: &[u32]) -> Value {
-    let mut bytes: Vec<u8> = positions.iter().flatten().flat_map(|f| f.to_le_bytes()).collect();
+    let mut bytes: Vec<u8> = positions
+        .iter()
+        .flatten()
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
     let pos_len = bytes.len();
     bytes.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
     let b64 = base64::engine::general_purpose::STANDARD.encode(&bytes);
-    let (lo, hi) = positions.iter().fold(([f32::MAX; 3], [f32::MIN; 3]), |(mut lo, mut hi), p| {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-        (lo, hi)
-    });
+    let (lo, hi) = positions
+        .iter()
+        .fold(([f32::MAX; 3], [f32::MIN; 3]), |(mut lo, mut hi), p| {
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+            (lo, hi)
+        });
     let (lo, hi) = if lo.iter().all(|x| x.is_finite()) && hi.iter().all(|x| x.is_finite()) {
         (json!(lo), json!(hi))
     } else {
@@ -55,7 +61,12 @@ fn import_json(v: &Value) -> Result<Scene, SceneError> {
 
 fn import_dir_json(v: &Value, dir: &Path) -> Result<Scene, SceneError> {
     let bytes = serde_json::to_vec(v).unwrap();
-    import_slice(&bytes, dir, Path::new("test.gltf"), &ImportOptions::default())
+    import_slice(
+        &bytes,
+        dir,
+        Path::new("test.gltf"),
+        &ImportOptions::default(),
+    )
 }
 
 #[test]
@@ -97,7 +108,12 @@ fn shared_scene_details_are_imported() {
     let light = cornell.materials.iter().find(|m| m.is_emissive()).unwrap();
     assert!((light.emissive - glam::Vec3::new(17.0, 12.0, 4.0)).length() < 1e-4);
     // specularFactor 0 marks an exact Lambertian.
-    assert!(cornell.materials.iter().all(|m| m.dielectric_f0 == glam::Vec3::ZERO));
+    assert!(
+        cornell
+            .materials
+            .iter()
+            .all(|m| m.dielectric_f0 == glam::Vec3::ZERO)
+    );
     let cam = cornell.camera(Some("camera")).unwrap();
     assert!((cam.position() - glam::Vec3::new(2.78, 2.73, -8.0)).length() < 1e-5);
     // Looks along +Z: the camera's -Z axis is world +Z.
@@ -120,10 +136,19 @@ fn shared_scene_details_are_imported() {
     assert_eq!(helmet.environment_radiance, glam::Vec3::ONE);
     assert_eq!(helmet.camera(None).unwrap().name, "render_setup");
 
-    let strength = load_gltf(shared_scenes().join("emissive_strength_test/EmissiveStrengthTest.gltf")).unwrap();
-    let max_emission = strength.materials.iter().map(|m| m.emissive.max_element()).fold(0.0, f32::max);
+    let strength =
+        load_gltf(shared_scenes().join("emissive_strength_test/EmissiveStrengthTest.gltf"))
+            .unwrap();
+    let max_emission = strength
+        .materials
+        .iter()
+        .map(|m| m.emissive.max_element())
+        .fold(0.0, f32::max);
     // The brightest cube is emissiveFactor 0.9 × strength 16.
-    assert!((max_emission - 14.4).abs() < 1e-3, "emissive strength applied: {max_emission}");
+    assert!(
+        (max_emission - 14.4).abs() < 1e-3,
+        "emissive strength applied: {max_emission}"
+    );
 }
 
 #[test]
@@ -164,17 +189,33 @@ fn expect_err(v: &Value, check: impl Fn(&SceneError) -> bool) -> String {
 #[test]
 fn nan_and_inf_positions_are_refused() {
     for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
-        let v = doc(&[[0.0, 0.0, 0.0], [1.0, bad, 0.0], [0.0, 1.0, 0.0]], &[0, 1, 2]);
-        let msg = expect_err(&v, |e| matches!(e, SceneError::BadPrimitive { mesh: 0, primitive: 0, .. }));
+        let v = doc(
+            &[[0.0, 0.0, 0.0], [1.0, bad, 0.0], [0.0, 1.0, 0.0]],
+            &[0, 1, 2],
+        );
+        let msg = expect_err(&v, |e| {
+            matches!(
+                e,
+                SceneError::BadPrimitive {
+                    mesh: 0,
+                    primitive: 0,
+                    ..
+                }
+            )
+        });
         assert!(msg.contains("vertex 1"), "{msg}");
     }
 }
 
 #[test]
 fn out_of_range_indices_are_refused() {
-    let msg = expect_err(&doc(&TRI, &[0, 1, 3]), |e| matches!(e, SceneError::BadPrimitive { .. }));
+    let msg = expect_err(&doc(&TRI, &[0, 1, 3]), |e| {
+        matches!(e, SceneError::BadPrimitive { .. })
+    });
     assert!(msg.contains("index 3"), "{msg}");
-    let msg = expect_err(&doc(&TRI, &[0, 1, u32::MAX]), |e| matches!(e, SceneError::BadPrimitive { .. }));
+    let msg = expect_err(&doc(&TRI, &[0, 1, u32::MAX]), |e| {
+        matches!(e, SceneError::BadPrimitive { .. })
+    });
     assert!(msg.contains("out of range"), "{msg}");
 }
 
@@ -182,10 +223,14 @@ fn out_of_range_indices_are_refused() {
 fn accessors_past_their_view_are_refused() {
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["accessors"][1]["count"] = json!(6);
-    expect_err(&v, |e| matches!(e, SceneError::BadAccessor { accessor: 1, .. }));
+    expect_err(&v, |e| {
+        matches!(e, SceneError::BadAccessor { accessor: 1, .. })
+    });
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["accessors"][0]["byteOffset"] = json!(4);
-    expect_err(&v, |e| matches!(e, SceneError::BadAccessor { accessor: 0, .. }));
+    expect_err(&v, |e| {
+        matches!(e, SceneError::BadAccessor { accessor: 0, .. })
+    });
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["bufferViews"][1]["byteLength"] = json!(1 << 20);
     expect_err(&v, |e| matches!(e, SceneError::BadAccessor { .. }));
@@ -195,11 +240,22 @@ fn accessors_past_their_view_are_refused() {
 fn truncated_and_missing_buffers_are_refused() {
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["buffers"][0]["byteLength"] = json!(1000);
-    let msg = expect_err(&v, |e| matches!(e, SceneError::TruncatedBuffer { index: 0, declared: 1000, .. }));
+    let msg = expect_err(&v, |e| {
+        matches!(
+            e,
+            SceneError::TruncatedBuffer {
+                index: 0,
+                declared: 1000,
+                ..
+            }
+        )
+    });
     assert!(msg.contains("buffer 0"));
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["buffers"][0]["uri"] = json!("does_not_exist.bin");
-    let msg = expect_err(&v, |e| matches!(e, SceneError::MissingBuffer { index: 0, .. }));
+    let msg = expect_err(&v, |e| {
+        matches!(e, SceneError::MissingBuffer { index: 0, .. })
+    });
     assert!(msg.contains("does_not_exist.bin"), "{msg}");
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["buffers"][0]["uri"] = json!("data:application/octet-stream;base64,@@@@");
@@ -221,7 +277,12 @@ fn missing_and_broken_textures_are_refused() {
 
 #[test]
 fn zero_area_triangles_are_dropped_and_counted() {
-    let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [2.0, 0.0, 0.0]];
+    let p = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 0.0, 0.0],
+    ];
     // Second triangle is collinear, third repeats a vertex.
     let s = import_json(&doc(&p, &[0, 1, 2, 0, 1, 3, 2, 2, 1])).unwrap();
     assert_eq!(s.warnings.degenerate_triangles, 2);
@@ -233,7 +294,9 @@ fn zero_area_triangles_are_dropped_and_counted() {
 fn empty_scenes_are_refused() {
     // Only degenerate triangles.
     let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
-    expect_err(&doc(&p, &[0, 1, 2]), |e| matches!(e, SceneError::EmptyScene { .. }));
+    expect_err(&doc(&p, &[0, 1, 2]), |e| {
+        matches!(e, SceneError::EmptyScene { .. })
+    });
     // No nodes placing a mesh.
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["nodes"] = json!([{"name": "empty"}]);
@@ -247,9 +310,19 @@ fn empty_scenes_are_refused() {
 
 #[test]
 fn malformed_json_and_bad_references_are_refused() {
-    let e = import_slice(b"{ not json", Path::new("."), Path::new("test.gltf"), &ImportOptions::default());
+    let e = import_slice(
+        b"{ not json",
+        Path::new("."),
+        Path::new("test.gltf"),
+        &ImportOptions::default(),
+    );
     assert!(matches!(e, Err(SceneError::Gltf { .. })));
-    let e = import_slice(b"glTF\x02\x00\x00\x00", Path::new("."), Path::new("test.gltf"), &ImportOptions::default());
+    let e = import_slice(
+        b"glTF\x02\x00\x00\x00",
+        Path::new("."),
+        Path::new("test.gltf"),
+        &ImportOptions::default(),
+    );
     assert!(matches!(e, Err(SceneError::Gltf { .. })));
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["nodes"][0]["mesh"] = json!(7);
@@ -261,11 +334,23 @@ fn node_cycles_and_bad_transforms_are_refused() {
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["nodes"] = json!([{"mesh": 0, "children": [1]}, {"children": [0]}]);
     let r = import_json(&v);
-    assert!(matches!(r, Err(SceneError::BadNode { .. }) | Err(SceneError::Gltf { .. })), "{r:?}");
+    assert!(
+        matches!(
+            r,
+            Err(SceneError::BadNode { .. }) | Err(SceneError::Gltf { .. })
+        ),
+        "{r:?}"
+    );
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["nodes"][0]["matrix"] = json!([1e39, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]);
     let r = import_json(&v);
-    assert!(matches!(r, Err(SceneError::BadNode { node: 0, .. }) | Err(SceneError::Gltf { .. })), "{r:?}");
+    assert!(
+        matches!(
+            r,
+            Err(SceneError::BadNode { node: 0, .. }) | Err(SceneError::Gltf { .. })
+        ),
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -323,11 +408,26 @@ fn unreadable_file_is_an_io_error() {
 fn malformed_render_setup_is_refused() {
     let dir = std::env::temp_dir().join(format!("solari-rs-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("s.gltf"), serde_json::to_vec(&doc(&TRI, &[0, 1, 2])).unwrap()).unwrap();
-    std::fs::write(dir.join("render_setup.json"), r#"{"camera": {"eye": [0, 0], "target": [0, 0, 0]}}"#).unwrap();
+    std::fs::write(
+        dir.join("s.gltf"),
+        serde_json::to_vec(&doc(&TRI, &[0, 1, 2])).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("render_setup.json"),
+        r#"{"camera": {"eye": [0, 0], "target": [0, 0, 0]}}"#,
+    )
+    .unwrap();
     let e = load_gltf(dir.join("s.gltf")).unwrap_err();
     assert!(matches!(e, SceneError::BadSideFile { .. }), "{e}");
-    std::fs::write(dir.join("render_setup.json"), r#"{"environment_radiance": [0.5, 0.5, 0.5]}"#).unwrap();
-    assert_eq!(load_gltf(dir.join("s.gltf")).unwrap().environment_radiance, glam::Vec3::splat(0.5));
+    std::fs::write(
+        dir.join("render_setup.json"),
+        r#"{"environment_radiance": [0.5, 0.5, 0.5]}"#,
+    )
+    .unwrap();
+    assert_eq!(
+        load_gltf(dir.join("s.gltf")).unwrap().environment_radiance,
+        glam::Vec3::splat(0.5)
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,0 +1,261 @@
+//! GPU context creation and the small helpers every pass and test shares: buffer creation,
+//! readback and validation error scopes.
+
+use crate::error::GpuError;
+use crate::shaders::Backend;
+
+/// Features used when the adapter has them; none is required.
+pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::EXPERIMENTAL_RAY_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+    .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
+
+/// How to choose the tracing backend.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TracerChoice {
+    /// Ray queries when the adapter has them, else software (default).
+    #[default]
+    Auto,
+    /// Force one backend.
+    Force(Backend),
+}
+
+impl TracerChoice {
+    /// Parses `auto`, `ray-query` or `software`.
+    pub fn parse(s: &str) -> Option<Self> {
+        Some(match s {
+            "auto" => Self::Auto,
+            "ray-query" | "rayquery" | "ray_query" => Self::Force(Backend::RayQuery),
+            "software" | "sw" => Self::Force(Backend::Software),
+            _ => return None,
+        })
+    }
+
+    /// The `SOLARI_TRACER` environment variable, if set, overrides `self`.
+    pub fn with_env_override(self) -> Result<Self, String> {
+        match std::env::var("SOLARI_TRACER") {
+            Ok(v) if !v.is_empty() => Self::parse(&v)
+                .ok_or_else(|| format!("SOLARI_TRACER={v}: expected auto, ray-query or software")),
+            _ => Ok(self),
+        }
+    }
+}
+
+/// Device, queue and what the adapter can do.
+pub struct Gpu {
+    /// The wgpu instance.
+    pub instance: wgpu::Instance,
+    /// The chosen adapter.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// Adapter name, driver and backend.
+    pub info: wgpu::AdapterInfo,
+    /// Features enabled on the device.
+    pub features: wgpu::Features,
+}
+
+impl Gpu {
+    /// Creates a device on the best adapter (discrete over integrated over CPU), with every
+    /// optional feature the adapter offers and the adapter's own limits. Vulkan, Metal and
+    /// DX12 are tried (GL is skipped: it has no storage buffers in compute on some drivers);
+    /// `WGPU_BACKEND` overrides.
+    pub fn new() -> Result<Self, GpuError> {
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends,
+            flags: wgpu::InstanceFlags::from_env_or_default(),
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
+            wgpu::DeviceType::DiscreteGpu => 0,
+            wgpu::DeviceType::IntegratedGpu => 1,
+            wgpu::DeviceType::VirtualGpu => 2,
+            wgpu::DeviceType::Cpu => 3,
+            wgpu::DeviceType::Other => 4,
+        };
+        let adapter = adapters
+            .into_iter()
+            .min_by_key(rank)
+            .ok_or_else(|| GpuError::NoAdapter(format!("backends {backends:?}")))?;
+        let info = adapter.get_info();
+        let features = adapter.features() & OPTIONAL_FEATURES;
+        let experimental = if features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
+            // SAFETY: ray queries are wgpu's "experimental" API; we accept that it may have
+            // driver bugs, and the software backend gives the same results to compare with.
+            unsafe { wgpu::ExperimentalFeatures::enabled() }
+        } else {
+            wgpu::ExperimentalFeatures::disabled()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("solari"),
+            required_features: features,
+            required_limits: adapter.limits(),
+            experimental_features: experimental,
+            ..Default::default()
+        }))
+        .map_err(|source| GpuError::RequestDevice {
+            adapter: info.name.clone(),
+            source,
+        })?;
+        Ok(Self {
+            instance,
+            adapter,
+            device,
+            queue,
+            info,
+            features,
+        })
+    }
+
+    /// Whether the device can trace with ray queries.
+    pub fn has_ray_query(&self) -> bool {
+        self.features
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+    }
+
+    /// Resolves a tracer choice against this device.
+    pub fn backend(&self, choice: TracerChoice) -> Result<Backend, GpuError> {
+        match choice {
+            TracerChoice::Auto if self.has_ray_query() => Ok(Backend::RayQuery),
+            TracerChoice::Auto => Ok(Backend::Software),
+            TracerChoice::Force(Backend::RayQuery) if !self.has_ray_query() => {
+                Err(GpuError::NoRayQuery(self.info.name.clone()))
+            }
+            TracerChoice::Force(b) => Ok(b),
+        }
+    }
+
+    /// Runs `f` inside a validation error scope and turns a captured error into `Err`.
+    pub fn scoped<T>(&self, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        match pollster::block_on(scope.pop()) {
+            Some(e) => Err(GpuError::Validation(e.to_string())),
+            None => Ok(value),
+        }
+    }
+
+    /// A storage buffer holding `data` (at least 16 bytes, so empty arrays still bind),
+    /// checked against the device's binding limit.
+    pub fn storage_buffer(
+        &self,
+        label: &str,
+        data: &[u8],
+        extra: wgpu::BufferUsages,
+    ) -> Result<wgpu::Buffer, GpuError> {
+        let limit = self.device.limits().max_storage_buffer_binding_size as u64;
+        if data.len() as u64 > limit {
+            return Err(GpuError::OverLimit {
+                what: label.to_string(),
+                needed: data.len() as u64,
+                limit,
+            });
+        }
+        let size = (data.len() as u64).max(16).next_multiple_of(4);
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | extra,
+            mapped_at_creation: false,
+        });
+        if !data.is_empty() {
+            let mut padded = data.to_vec();
+            padded.resize(data.len().next_multiple_of(4), 0);
+            self.queue.write_buffer(&buffer, 0, &padded);
+        }
+        Ok(buffer)
+    }
+
+    /// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) back to the CPU. Blocks.
+    pub fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, GpuError> {
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari/readback"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        self.queue.submit([encoder.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| GpuError::Readback(e.to_string()))?
+            .map_err(|e| GpuError::Readback(e.to_string()))?;
+        let data = staging
+            .slice(..)
+            .get_mapped_range()
+            .map_err(|e| GpuError::Readback(format!("{e:?}")))?
+            .to_vec();
+        staging.unmap();
+        Ok(data)
+    }
+
+    /// Creates a compute pipeline from composed WGSL. `trusted` skips wgpu's bounds checks and
+    /// loop bounding (only for shaders whose indices tests prove in range).
+    pub fn compute_pipeline(
+        &self,
+        label: &str,
+        wgsl: &str,
+        layouts: &[Option<&wgpu::BindGroupLayout>],
+        trusted: bool,
+    ) -> Result<wgpu::ComputePipeline, GpuError> {
+        self.scoped(|| {
+            let desc = wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            };
+            let module = if trusted {
+                // SAFETY: used only for the traversal kernels; every index they read comes from
+                // BVH data whose ranges `SoftwareBvh` builds and the tests verify.
+                unsafe {
+                    self.device
+                        .create_shader_module_trusted(desc, wgpu::ShaderRuntimeChecks::unchecked())
+                }
+            } else {
+                self.device.create_shader_module(desc)
+            };
+            let layout = self
+                .device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    bind_group_layouts: layouts,
+                    immediate_size: 0,
+                });
+            self.device
+                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&layout),
+                    module: &module,
+                    entry_point: Some("main"),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
+        })
+    }
+}
+
+/// A device for a GPU test, or `None` (test skipped with a note) when no adapter exists and
+/// `SOLARI_REQUIRE_GPU` is not `1`. With `SOLARI_REQUIRE_GPU=1` a missing adapter panics, so
+/// CI can never pass with its GPU tests silently skipped.
+pub fn test_gpu() -> Option<Gpu> {
+    match Gpu::new() {
+        Ok(gpu) => Some(gpu),
+        Err(e) if std::env::var("SOLARI_REQUIRE_GPU").as_deref() == Ok("1") => {
+            panic!("SOLARI_REQUIRE_GPU=1 but no GPU device: {e}")
+        }
+        Err(e) => {
+            eprintln!("skipping GPU test: {e}");
+            None
+        }
+    }
+}

@@ -1,0 +1,665 @@
+//! Upload of a [`Scene`] to the GPU: bind group 0 (geometry, materials, textures and the
+//! acceleration structure of the chosen tracing backend).
+
+use crate::bvh::{BvhQuality, SoftwareBvh};
+use crate::error::GpuError;
+use crate::gpu::Gpu;
+use crate::gpu_types::*;
+use crate::model::{ColorSpace, MipLevel, Scene};
+use crate::shaders::Backend;
+use bytemuck::cast_slice;
+use glam::Mat4;
+
+/// Upload settings.
+#[derive(Clone, Debug)]
+pub struct GpuSceneOptions {
+    /// BVH build quality for the software backend. Higher quality costs build time and
+    /// traverses faster.
+    pub bvh_quality: BvhQuality,
+    /// Largest texture-array layer edge in texels. Every texture is resampled to one square
+    /// layer size (the largest texture, capped here) so textures work on adapters without
+    /// binding arrays; larger values keep detail at the cost of memory. Default 1024.
+    pub max_texture_size: u32,
+}
+
+impl Default for GpuSceneOptions {
+    fn default() -> Self {
+        Self {
+            bvh_quality: BvhQuality::Medium,
+            max_texture_size: 1024,
+        }
+    }
+}
+
+/// Bind group 0 entries: (binding, WGSL name). Kept beside the layout so the order is written
+/// out, not implied.
+const BINDINGS: &[(u32, &str)] = &[
+    (0, "instances"),
+    (1, "materials"),
+    (2, "vertices"),
+    (3, "indices"),
+    (4, "textures_srgb"),
+    (5, "textures_linear"),
+    (6, "texture_sampler"),
+    (7, "scene_info"),
+    (8, "scene_tlas | bvh_nodes"),
+    (9, "bvh_triangles"),
+    (10, "tlas_instances"),
+];
+
+enum Accel {
+    RayQuery {
+        blas: Vec<wgpu::Blas>,
+        tlas: wgpu::Tlas,
+    },
+    Software {
+        bvh: SoftwareBvh,
+        nodes: wgpu::Buffer,
+        triangles: wgpu::Buffer,
+        tlas_instances: wgpu::Buffer,
+    },
+}
+
+/// A scene on the GPU.
+pub struct GpuScene {
+    /// The backend the acceleration structure was built for.
+    pub backend: Backend,
+    layout: wgpu::BindGroupLayout,
+    bind_group: wgpu::BindGroup,
+    instances: wgpu::Buffer,
+    materials: wgpu::Buffer,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    srgb: wgpu::TextureView,
+    linear: wgpu::TextureView,
+    sampler: wgpu::Sampler,
+    info: wgpu::Buffer,
+    accel: Accel,
+    mesh_offsets: Vec<(u32, u32)>,
+    options: GpuSceneOptions,
+    info_data: GpuSceneInfo,
+}
+
+fn rows(m: Mat4) -> [[f32; 4]; 3] {
+    let t = m.transpose();
+    [t.x_axis.into(), t.y_axis.into(), t.z_axis.into()]
+}
+
+fn normal_rows(m: Mat4) -> [[f32; 4]; 3] {
+    let n = glam::Mat3::from_mat4(m).inverse().transpose();
+    let n4 = Mat4::from_mat3(n);
+    rows(n4)
+}
+
+impl GpuScene {
+    /// The bind group layout for `backend` (group 0).
+    pub fn layout_for(gpu: &Gpu, backend: Backend) -> wgpu::BindGroupLayout {
+        let storage = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let texture = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2Array,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let mut entries = vec![
+            storage(0),
+            storage(1),
+            storage(2),
+            storage(3),
+            texture(4),
+            texture(5),
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 7,
+                visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+        ];
+        match backend {
+            Backend::RayQuery => entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 8,
+                visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::AccelerationStructure {
+                    vertex_return: false,
+                },
+                count: None,
+            }),
+            Backend::Software => entries.extend([storage(8), storage(9), storage(10)]),
+        }
+        debug_assert!(
+            entries
+                .iter()
+                .all(|e| BINDINGS.iter().any(|b| b.0 == e.binding))
+        );
+        gpu.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(match backend {
+                    Backend::RayQuery => "solari_scene/scene_layout:ray_query",
+                    Backend::Software => "solari_scene/scene_layout:software",
+                }),
+                entries: &entries,
+            })
+    }
+
+    /// Uploads `scene` and builds the acceleration structure for `backend`.
+    pub fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        backend: Backend,
+        options: &GpuSceneOptions,
+    ) -> Result<Self, GpuError> {
+        if backend == Backend::RayQuery && !gpu.has_ray_query() {
+            return Err(GpuError::NoRayQuery(gpu.info.name.clone()));
+        }
+        let mut vertices = Vec::new();
+        let mut indices: Vec<u32> = Vec::new();
+        let mut mesh_offsets = Vec::new();
+        for m in &scene.meshes {
+            mesh_offsets.push((vertices.len() as u32, indices.len() as u32));
+            for i in 0..m.positions.len() {
+                vertices.push(GpuVertex {
+                    position: m.positions[i].into(),
+                    uv_x: m.uvs[i].x,
+                    normal: m.normals[i].into(),
+                    uv_y: m.uvs[i].y,
+                    tangent: m.tangents[i].into(),
+                });
+            }
+            indices.extend_from_slice(&m.indices);
+        }
+        let rq_usage = if backend == Backend::RayQuery {
+            wgpu::BufferUsages::BLAS_INPUT
+        } else {
+            wgpu::BufferUsages::empty()
+        };
+        let vertex_buf =
+            gpu.storage_buffer("solari_scene/vertices", cast_slice(&vertices), rq_usage)?;
+        let index_buf =
+            gpu.storage_buffer("solari_scene/indices", cast_slice(&indices), rq_usage)?;
+
+        let (srgb, linear, layer_size, layer_of) =
+            upload_textures(gpu, scene, options.max_texture_size)?;
+        let materials: Vec<GpuMaterial> = scene
+            .materials
+            .iter()
+            .map(|m| {
+                let tex = |t: Option<u32>| t.map(|i| layer_of[i as usize]).unwrap_or(NO_TEXTURE);
+                GpuMaterial {
+                    base_color: m.base_color.into(),
+                    emissive: m.emissive.into(),
+                    metallic: m.metallic,
+                    dielectric_f0: m.dielectric_f0.into(),
+                    roughness: m.roughness,
+                    base_color_texture: tex(m.base_color_texture),
+                    metallic_roughness_texture: tex(m.metallic_roughness_texture),
+                    normal_texture: tex(m.normal_texture),
+                    emissive_texture: tex(m.emissive_texture),
+                    normal_scale: m.normal_scale,
+                    flags: m.double_sided as u32,
+                    _pad: [0; 2],
+                }
+            })
+            .collect();
+        let material_buf = gpu.storage_buffer(
+            "solari_scene/materials",
+            cast_slice(&materials),
+            wgpu::BufferUsages::empty(),
+        )?;
+        let sampler = gpu.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("solari_scene/texture_sampler"),
+            address_mode_u: wgpu::AddressMode::Repeat,
+            address_mode_v: wgpu::AddressMode::Repeat,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
+        let info_data = GpuSceneInfo {
+            environment_radiance: scene.environment_radiance.into(),
+            instance_count: scene.instances.len() as u32,
+            tlas_root: 0,
+            texture_layer_size: layer_size,
+            _pad: [0; 2],
+        };
+        let info = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_scene/scene_info"),
+            size: size_of::<GpuSceneInfo>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let accel = match backend {
+            Backend::Software => {
+                let bvh = SoftwareBvh::build(scene, options.bvh_quality);
+                log::info!(
+                    "software BVH: {} nodes, {} triangles, {:.1} MiB, BLAS {:?}, TLAS {:?}",
+                    bvh.nodes.len(),
+                    bvh.triangles.len(),
+                    bvh.gpu_bytes() as f64 / 1048576.0,
+                    bvh.blas_build_time,
+                    bvh.tlas_build_time
+                );
+                Accel::Software {
+                    nodes: gpu.storage_buffer(
+                        "solari_scene/bvh_nodes",
+                        cast_slice(&bvh.nodes),
+                        wgpu::BufferUsages::empty(),
+                    )?,
+                    triangles: gpu.storage_buffer(
+                        "solari_scene/bvh_triangles",
+                        cast_slice(&bvh.triangles),
+                        wgpu::BufferUsages::empty(),
+                    )?,
+                    tlas_instances: gpu.storage_buffer(
+                        "solari_scene/tlas_instances",
+                        cast_slice(&bvh.tlas_instances),
+                        wgpu::BufferUsages::empty(),
+                    )?,
+                    bvh,
+                }
+            }
+            Backend::RayQuery => {
+                build_ray_query(gpu, scene, &vertex_buf, &index_buf, &mesh_offsets)?
+            }
+        };
+        let layout = Self::layout_for(gpu, backend);
+        // Placeholder buffer until the first `set_instances`.
+        let instances = gpu.storage_buffer(
+            "solari_scene/instances",
+            &[0u8; 16],
+            wgpu::BufferUsages::empty(),
+        )?;
+        let mut this = Self {
+            backend,
+            bind_group: gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("solari_scene/empty"),
+                layout: &gpu
+                    .device
+                    .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                        label: None,
+                        entries: &[],
+                    }),
+                entries: &[],
+            }),
+            layout,
+            instances,
+            materials: material_buf,
+            vertices: vertex_buf,
+            indices: index_buf,
+            srgb,
+            linear,
+            sampler,
+            info,
+            accel,
+            mesh_offsets,
+            options: options.clone(),
+            info_data,
+        };
+        this.set_instances(gpu, scene)?;
+        Ok(this)
+    }
+
+    /// Uploads instance transforms and rebuilds only the top level of the acceleration
+    /// structure. Use after moving, adding or removing instances (meshes must be unchanged).
+    pub fn set_instances(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
+        let blas_root = |mesh: u32| match &self.accel {
+            Accel::Software { bvh, .. } => bvh.blas_roots[mesh as usize],
+            Accel::RayQuery { .. } => 0,
+        };
+        let mut gpu_instances = Vec::with_capacity(scene.instances.len());
+        for inst in &scene.instances {
+            let m = inst.transform;
+            if !m.is_finite() || m.determinant() == 0.0 || !m.determinant().is_finite() {
+                return Err(GpuError::Validation(format!(
+                    "instance {}: transform is singular or not finite",
+                    inst.name
+                )));
+            }
+            let (vo, io) = self.mesh_offsets[inst.mesh as usize];
+            gpu_instances.push(GpuInstance {
+                world_to_object: rows(m.inverse()),
+                object_to_world: rows(m),
+                normal_to_world: normal_rows(m),
+                vertex_offset: vo,
+                index_offset: io,
+                material: inst.material,
+                blas_root: blas_root(inst.mesh),
+            });
+        }
+        self.instances = gpu.storage_buffer(
+            "solari_scene/instances",
+            cast_slice(&gpu_instances),
+            wgpu::BufferUsages::empty(),
+        )?;
+        self.info_data.instance_count = scene.instances.len() as u32;
+        match &mut self.accel {
+            Accel::Software {
+                bvh,
+                nodes,
+                tlas_instances,
+                ..
+            } => {
+                bvh.rebuild_tlas(scene, self.options.bvh_quality);
+                *nodes = gpu.storage_buffer(
+                    "solari_scene/bvh_nodes",
+                    cast_slice(&bvh.nodes),
+                    wgpu::BufferUsages::empty(),
+                )?;
+                *tlas_instances = gpu.storage_buffer(
+                    "solari_scene/tlas_instances",
+                    cast_slice(&bvh.tlas_instances),
+                    wgpu::BufferUsages::empty(),
+                )?;
+                self.info_data.tlas_root = bvh.tlas_root;
+            }
+            Accel::RayQuery { blas, tlas } => {
+                if tlas.get().len() < scene.instances.len() {
+                    *tlas = gpu.device.create_tlas(&wgpu::CreateTlasDescriptor {
+                        label: Some("solari_scene/tlas"),
+                        max_instances: (scene.instances.len() as u32).max(1),
+                        flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+                        update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+                    });
+                }
+                let slots = tlas.get().len();
+                for i in 0..slots {
+                    *tlas.get_mut_single(i).expect("in range") =
+                        scene.instances.get(i).map(|inst| {
+                            let r = rows(inst.transform);
+                            let flat: [f32; 12] =
+                                [r[0], r[1], r[2]].concat().try_into().expect("12 floats");
+                            wgpu::TlasInstance::new(&blas[inst.mesh as usize], flat, i as u32, 0xff)
+                        });
+                }
+                let mut encoder = gpu.device.create_command_encoder(&Default::default());
+                encoder.build_acceleration_structures(std::iter::empty(), std::iter::once(&*tlas));
+                gpu.queue.submit([encoder.finish()]);
+            }
+        }
+        gpu.queue
+            .write_buffer(&self.info, 0, bytemuck::bytes_of(&self.info_data));
+        self.rebind(gpu);
+        Ok(())
+    }
+
+    fn rebind(&mut self, gpu: &Gpu) {
+        fn buf(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry {
+                binding,
+                resource: b.as_entire_binding(),
+            }
+        }
+        let mut entries = vec![
+            buf(0, &self.instances),
+            buf(1, &self.materials),
+            buf(2, &self.vertices),
+            buf(3, &self.indices),
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: wgpu::BindingResource::TextureView(&self.srgb),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(&self.linear),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: wgpu::BindingResource::Sampler(&self.sampler),
+            },
+            buf(7, &self.info),
+        ];
+        match &self.accel {
+            Accel::RayQuery { tlas, .. } => entries.push(wgpu::BindGroupEntry {
+                binding: 8,
+                resource: tlas.as_binding(),
+            }),
+            Accel::Software {
+                nodes,
+                triangles,
+                tlas_instances,
+                ..
+            } => entries.extend([buf(8, nodes), buf(9, triangles), buf(10, tlas_instances)]),
+        }
+        self.bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_scene/scene"),
+            layout: &self.layout,
+            entries: &entries,
+        });
+    }
+
+    /// Bind group 0's layout.
+    pub fn layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// Bind group 0.
+    pub fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.bind_group
+    }
+
+    /// The software BVH, when that backend is in use.
+    pub fn software_bvh(&self) -> Option<&SoftwareBvh> {
+        match &self.accel {
+            Accel::Software { bvh, .. } => Some(bvh),
+            Accel::RayQuery { .. } => None,
+        }
+    }
+}
+
+fn build_ray_query(
+    gpu: &Gpu,
+    scene: &Scene,
+    vertices: &wgpu::Buffer,
+    indices: &wgpu::Buffer,
+    offsets: &[(u32, u32)],
+) -> Result<Accel, GpuError> {
+    let sizes: Vec<wgpu::BlasTriangleGeometrySizeDescriptor> = scene
+        .meshes
+        .iter()
+        .map(|m| wgpu::BlasTriangleGeometrySizeDescriptor {
+            vertex_format: wgpu::VertexFormat::Float32x3,
+            vertex_count: m.positions.len() as u32,
+            index_format: Some(wgpu::IndexFormat::Uint32),
+            index_count: Some(m.indices.len() as u32),
+            flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+        })
+        .collect();
+    let blas: Vec<wgpu::Blas> = sizes
+        .iter()
+        .map(|s| {
+            gpu.device.create_blas(
+                &wgpu::CreateBlasDescriptor {
+                    label: Some("solari_scene/blas"),
+                    flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+                    update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+                },
+                wgpu::BlasGeometrySizeDescriptors::Triangles {
+                    descriptors: vec![s.clone()],
+                },
+            )
+        })
+        .collect();
+    let entries: Vec<wgpu::BlasBuildEntry> = blas
+        .iter()
+        .zip(&sizes)
+        .zip(offsets)
+        .map(|((b, size), &(vo, io))| wgpu::BlasBuildEntry {
+            blas: b,
+            geometry: wgpu::BlasGeometries::TriangleGeometries(vec![wgpu::BlasTriangleGeometry {
+                size,
+                vertex_buffer: vertices,
+                first_vertex: vo,
+                vertex_stride: size_of::<GpuVertex>() as u64,
+                index_buffer: Some(indices),
+                first_index: Some(io),
+                transform_buffer: None,
+                transform_buffer_offset: None,
+            }]),
+        })
+        .collect();
+    let tlas = gpu.device.create_tlas(&wgpu::CreateTlasDescriptor {
+        label: Some("solari_scene/tlas"),
+        max_instances: (scene.instances.len() as u32).max(1),
+        flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+        update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+    });
+    gpu.scoped(|| {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.build_acceleration_structures(entries.iter(), std::iter::empty());
+        gpu.queue.submit([encoder.finish()]);
+    })?;
+    Ok(Accel::RayQuery { blas, tlas })
+}
+
+/// Uploads textures into one sRGB and one linear 2D array (one layer each, resampled to a
+/// common square size). Returns the views, the layer size and each scene texture's layer.
+fn upload_textures(
+    gpu: &Gpu,
+    scene: &Scene,
+    max_size: u32,
+) -> Result<(wgpu::TextureView, wgpu::TextureView, u32, Vec<u32>), GpuError> {
+    let limits = gpu.device.limits();
+    let largest = scene
+        .textures
+        .iter()
+        .map(|t| t.mips[0].width.max(t.mips[0].height))
+        .max()
+        .unwrap_or(1);
+    let size = largest
+        .min(max_size.max(1))
+        .min(limits.max_texture_dimension_2d)
+        .max(1);
+    let mut layer_of = Vec::with_capacity(scene.textures.len());
+    let (mut srgb_layers, mut linear_layers) = (Vec::new(), Vec::new());
+    for t in &scene.textures {
+        let list = if t.color_space == ColorSpace::Srgb {
+            &mut srgb_layers
+        } else {
+            &mut linear_layers
+        };
+        layer_of.push(list.len() as u32);
+        list.push(resample(t, size));
+    }
+    for (n, what) in [
+        (srgb_layers.len(), "sRGB texture layers"),
+        (linear_layers.len(), "linear texture layers"),
+    ] {
+        if n as u32 > limits.max_texture_array_layers {
+            return Err(GpuError::OverLimit {
+                what: what.into(),
+                needed: n as u64,
+                limit: limits.max_texture_array_layers as u64,
+            });
+        }
+    }
+    let make = |layers: Vec<Vec<MipLevel>>, format, label| {
+        let white = vec![MipLevel {
+            width: 1,
+            height: 1,
+            rgba8: vec![255; 4],
+        }];
+        let layers = if layers.is_empty() {
+            vec![white]
+        } else {
+            layers
+        };
+        let (w, mips) = (layers[0][0].width, layers[0].len() as u32);
+        let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: w,
+                height: w,
+                depth_or_array_layers: layers.len() as u32,
+            },
+            mip_level_count: mips,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        for (layer, chain) in layers.iter().enumerate() {
+            for (level, mip) in chain.iter().enumerate() {
+                gpu.queue.write_texture(
+                    wgpu::TexelCopyTextureInfo {
+                        texture: &texture,
+                        mip_level: level as u32,
+                        origin: wgpu::Origin3d {
+                            x: 0,
+                            y: 0,
+                            z: layer as u32,
+                        },
+                        aspect: wgpu::TextureAspect::All,
+                    },
+                    &mip.rgba8,
+                    wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(mip.width * 4),
+                        rows_per_image: Some(mip.height),
+                    },
+                    wgpu::Extent3d {
+                        width: mip.width,
+                        height: mip.height,
+                        depth_or_array_layers: 1,
+                    },
+                );
+            }
+        }
+        texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        })
+    };
+    let srgb = make(
+        srgb_layers,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        "solari_scene/textures_srgb",
+    );
+    let linear = make(
+        linear_layers,
+        wgpu::TextureFormat::Rgba8Unorm,
+        "solari_scene/textures_linear",
+    );
+    Ok((srgb, linear, size, layer_of))
+}
+
+/// The texture's mip chain at `size`×`size` (resampled from level 0 when the size differs).
+fn resample(t: &crate::model::Texture, size: u32) -> Vec<MipLevel> {
+    let l0 = &t.mips[0];
+    if l0.width == size && l0.height == size {
+        return t.mips.clone();
+    }
+    let img = image::RgbaImage::from_raw(l0.width, l0.height, l0.rgba8.clone())
+        .expect("mip 0 holds w*h*4 bytes");
+    let resized = image::imageops::resize(&img, size, size, image::imageops::FilterType::Triangle);
+    crate::texture::build_mips(
+        MipLevel {
+            width: size,
+            height: size,
+            rgba8: resized.into_raw(),
+        },
+        t.color_space,
+    )
+}

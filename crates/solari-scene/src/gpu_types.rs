@@ -1,0 +1,181 @@
+//! Rust mirrors of the scene's GPU structs. Each names its WGSL twin; `tests/layout.rs` checks
+//! every size against naga's layout of the composed shaders.
+
+use bytemuck::{Pod, Zeroable};
+
+/// WGSL twin: `GpuInstance` in `scene_types.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuInstance {
+    /// Rows of the 3×4 world-to-object matrix.
+    pub world_to_object: [[f32; 4]; 3],
+    /// Rows of the 3×4 object-to-world matrix.
+    pub object_to_world: [[f32; 4]; 3],
+    /// Rows of the inverse-transpose of the linear part (normals); w unused.
+    pub normal_to_world: [[f32; 4]; 3],
+    /// First vertex of the mesh in the shared vertex buffer.
+    pub vertex_offset: u32,
+    /// First index of the mesh in the shared index buffer.
+    pub index_offset: u32,
+    /// Material index.
+    pub material: u32,
+    /// Root node of the mesh's software BLAS.
+    pub blas_root: u32,
+}
+const _: () = assert!(size_of::<GpuInstance>() == 160);
+
+/// WGSL twin: `GpuMaterial` in `scene_types.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuMaterial {
+    /// Linear base colour factor.
+    pub base_color: [f32; 4],
+    /// Emitted radiance.
+    pub emissive: [f32; 3],
+    /// Metallic factor.
+    pub metallic: f32,
+    /// Dielectric F0.
+    pub dielectric_f0: [f32; 3],
+    /// Perceptual roughness factor.
+    pub roughness: f32,
+    /// Layer in the sRGB texture array, or `NO_TEXTURE`.
+    pub base_color_texture: u32,
+    /// Layer in the linear texture array, or `NO_TEXTURE`.
+    pub metallic_roughness_texture: u32,
+    /// Layer in the linear texture array, or `NO_TEXTURE`.
+    pub normal_texture: u32,
+    /// Layer in the sRGB texture array, or `NO_TEXTURE`.
+    pub emissive_texture: u32,
+    /// Normal map XY scale.
+    pub normal_scale: f32,
+    /// Bit 0: double sided.
+    pub flags: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<GpuMaterial>() == 80);
+
+/// Marks an absent texture in [`GpuMaterial`].
+pub const NO_TEXTURE: u32 = u32::MAX;
+/// Marks a miss in a [`GpuRayHit`].
+pub const NO_HIT: u32 = u32::MAX;
+
+/// WGSL twin: `GpuVertex` in `scene_types.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuVertex {
+    /// Object-space position.
+    pub position: [f32; 3],
+    /// U of the first texture coordinate set.
+    pub uv_x: f32,
+    /// Object-space unit normal.
+    pub normal: [f32; 3],
+    /// V of the first texture coordinate set.
+    pub uv_y: f32,
+    /// Tangent with handedness in w.
+    pub tangent: [f32; 4],
+}
+const _: () = assert!(size_of::<GpuVertex>() == 48);
+
+/// WGSL twin: `GpuSceneInfo` in `scene_types.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuSceneInfo {
+    /// Uniform environment radiance.
+    pub environment_radiance: [f32; 3],
+    /// Number of instances.
+    pub instance_count: u32,
+    /// Root node of the software TLAS.
+    pub tlas_root: u32,
+    /// Width and height of each texture-array layer.
+    pub texture_layer_size: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<GpuSceneInfo>() == 32);
+
+/// WGSL twin: `GpuView` in `view.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuView {
+    /// Camera position.
+    pub origin: [f32; 3],
+    /// tan(yfov / 2).
+    pub tan_half_fov: f32,
+    /// Unit right vector.
+    pub right: [f32; 3],
+    /// Width / height.
+    pub aspect: f32,
+    /// Unit up vector.
+    pub up: [f32; 3],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Unit forward vector.
+    pub forward: [f32; 3],
+    /// Image height in pixels.
+    pub height: u32,
+    /// Frame index (seeds random numbers).
+    pub frame: u32,
+    /// Pass-specific mode (the debug view for `primary`).
+    pub view_mode: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+const _: () = assert!(size_of::<GpuView>() == 80);
+
+impl GpuView {
+    /// The view of `camera` for an image of `width × height` (the image decides the aspect).
+    pub fn new(camera: &crate::model::Camera, width: u32, height: u32) -> Self {
+        let m = camera.transform;
+        let right = m.x_axis.truncate().normalize_or_zero();
+        let up = m.y_axis.truncate().normalize_or_zero();
+        let forward = -m.z_axis.truncate().normalize_or_zero();
+        Self {
+            origin: m.w_axis.truncate().into(),
+            tan_half_fov: (camera.yfov * 0.5).tan(),
+            right: right.into(),
+            aspect: width as f32 / height.max(1) as f32,
+            up: up.into(),
+            width,
+            forward: forward.into(),
+            height,
+            ..Default::default()
+        }
+    }
+}
+
+/// WGSL twin: `GpuRay` in `trace_rays.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuRay {
+    /// Ray origin.
+    pub origin: [f32; 3],
+    /// Lower bound of the hit interval (exclusive).
+    pub t_min: f32,
+    /// Ray direction (need not be unit length).
+    pub direction: [f32; 3],
+    /// Upper bound of the hit interval (exclusive).
+    pub t_max: f32,
+    /// Ray flags (`trace_cpu::RAY_FLAG_*`).
+    pub flags: u32,
+    /// Padding.
+    pub _pad: [u32; 3],
+}
+const _: () = assert!(size_of::<GpuRay>() == 48);
+
+/// WGSL twin: `RayHit` in `scene_types.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct GpuRayHit {
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Instance index or [`NO_HIT`].
+    pub instance: u32,
+    /// Triangle index within the mesh.
+    pub primitive: u32,
+    /// 1 when the front face was hit.
+    pub front_face: u32,
+    /// Barycentrics (weights of corners 1 and 2).
+    pub barycentrics: [f32; 2],
+}
+const _: () = assert!(size_of::<GpuRayHit>() == 24);

@@ -1,0 +1,104 @@
+//! WGSL composition with WESL. Every call into the `wesl` crate lives in this module, so an
+//! upgrade (the crate is pinned to 0.4.0 for this toolchain) touches one place.
+//!
+//! The crate's modules are embedded in the binary and registered under `package::<name>`;
+//! the tracing backend is a WESL feature (`@if(ray_query)`), chosen when a pipeline is built.
+
+use crate::error::GpuError;
+use std::borrow::Cow;
+
+/// Which `trace_ray` implementation a shader is composed with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// Hardware ray queries (`EXPERIMENTAL_RAY_QUERY`).
+    RayQuery,
+    /// The compute-shader CWBVH traversal; runs on every adapter.
+    Software,
+}
+
+impl Backend {
+    /// Both backends, for tests that loop over them.
+    pub const ALL: [Backend; 2] = [Backend::RayQuery, Backend::Software];
+
+    /// The name used on the command line and in `SOLARI_TRACER`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::RayQuery => "ray-query",
+            Backend::Software => "software",
+        }
+    }
+}
+
+/// The importable modules of `solari-scene`, by module name.
+pub const MODULES: &[(&str, &str)] = &[
+    ("scene_types", include_str!("../shaders/scene_types.wesl")),
+    (
+        "scene_bindings",
+        include_str!("../shaders/scene_bindings.wesl"),
+    ),
+    ("trace", include_str!("../shaders/trace.wesl")),
+    ("hit", include_str!("../shaders/hit.wesl")),
+    ("rng", include_str!("../shaders/rng.wesl")),
+    ("view", include_str!("../shaders/view.wesl")),
+];
+
+/// The entry-point files of `solari-scene`, by module name.
+pub const ENTRY_POINTS: &[(&str, &str)] = &[
+    ("primary", include_str!("../shaders/primary.wesl")),
+    ("trace_rays", include_str!("../shaders/trace_rays.wesl")),
+    ("ray_bench", include_str!("../shaders/ray_bench.wesl")),
+];
+
+/// Composes the entry module `entry` (one of `extra` or [`ENTRY_POINTS`]) for `backend` into
+/// plain WGSL. `extra` adds further modules (other crates' shaders) as `package::<name>`.
+pub fn compose(entry: &str, backend: Backend, extra: &[(&str, &str)]) -> Result<String, GpuError> {
+    let err = |message: String| GpuError::Shader {
+        name: entry.to_string(),
+        message,
+    };
+    let mut resolver = wesl::VirtualResolver::new();
+    for (name, source) in MODULES.iter().chain(ENTRY_POINTS).chain(extra) {
+        let path: wesl::ModulePath = format!("package::{name}")
+            .parse()
+            .map_err(|e| err(format!("bad module name {name}: {e:?}")))?;
+        resolver.add_module(path, Cow::Borrowed(*source));
+    }
+    let mut compiler = wesl::Wesl::new("").set_custom_resolver(resolver);
+    compiler.set_feature("ray_query", backend == Backend::RayQuery);
+    // Wesl's own validator does not know naga's ray-query built-ins; naga validates instead.
+    let mut options = wesl::CompileOptions {
+        validate: false,
+        ..Default::default()
+    };
+    options.features.flags.insert(
+        "ray_query".to_string(),
+        (backend == Backend::RayQuery).into(),
+    );
+    compiler.set_options(options);
+    let root: wesl::ModulePath = format!("package::{entry}")
+        .parse()
+        .map_err(|e| err(format!("{e:?}")))?;
+    let compiled = compiler.compile(&root).map_err(|e| err(e.to_string()))?;
+    let mut wgsl = compiled.to_string();
+    if backend == Backend::RayQuery {
+        // An enable directive must open the module; WESL cannot gate directives by feature.
+        wgsl = format!("enable wgpu_ray_query;\n{wgsl}");
+    }
+    Ok(wgsl)
+}
+
+/// Parses and validates composed WGSL with naga, as wgpu would, returning the module.
+pub fn validate(name: &str, wgsl: &str) -> Result<naga::Module, GpuError> {
+    let err = |message: String| GpuError::Shader {
+        name: name.to_string(),
+        message,
+    };
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| err(e.emit_to_string(wgsl)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| err(e.emit_to_string(wgsl)))?;
+    Ok(module)
+}

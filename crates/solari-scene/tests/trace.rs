@@ -1,0 +1,360 @@
+//! Both tracing backends agree with the CPU reference on thousands of random and adversarial
+//! rays over every shared scene and the built-in scene (GPU: lavapipe in CI).
+//!
+//! `t` must agree to 1e-4 relative, scaled by 1/|cos θ| between the ray and the triangle
+//! normal (the condition number of a ray-plane intersection: at grazing angles a rounding of
+//! the origin moves `t` by that much in any exact algorithm, and the ray-query hardware path
+//! intersects with a different algorithm than ours).
+//!
+//! Documented ties (counted; among the plain random rays they must stay under 1%):
+//! - two triangles hit at the same `t` (a shared edge or vertex, or coplanar overlap): either
+//!   primitive is accepted when the CPU finds the same `t` for the GPU's triangle;
+//! - a hit within 1e-4 (in barycentrics) of a triangle's edge that the other side does not see,
+//!   reporting a miss or a farther hit instead: a ray through the boundary edge of a mesh,
+//!   where rounding decides whether it passes. The near-edge hit must be real (the CPU finds
+//!   the same `t` on that triangle, in f64). A nearer GPU hit that the f64 check confirms is
+//!   accepted even away from an edge: then the f32 reference is the one that missed.
+
+use glam::{Vec2, Vec3};
+use rand::{Rng, SeedableRng};
+use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_types::{GpuRay, GpuRayHit, NO_HIT};
+use solari_scene::shaders::Backend;
+use solari_scene::trace_cpu::{
+    CpuTracer, RAY_FLAG_CULL_BACK_FACING, RAY_FLAG_TERMINATE_ON_FIRST_HIT, RayHit,
+};
+use solari_scene::trace_pass::TraceRaysPass;
+use solari_scene::*;
+use std::path::Path;
+
+fn scenes() -> Vec<(String, Scene)> {
+    let mut out = vec![("built-in".to_string(), default_scene::cornell_box())];
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
+    let mut paths: Vec<_> = std::fs::read_dir(&dir)
+        .expect("shared scenes")
+        .flatten()
+        .map(|e| e.path())
+        .collect();
+    paths.sort();
+    for p in paths {
+        for f in std::fs::read_dir(&p).into_iter().flatten().flatten() {
+            let f = f.path();
+            if f.extension().is_some_and(|e| e == "gltf") {
+                out.push((
+                    p.file_name().unwrap().to_string_lossy().into(),
+                    load_gltf(&f).unwrap(),
+                ));
+            }
+        }
+    }
+    out
+}
+
+fn ray(o: Vec3, d: Vec3, t_min: f32, flags: u32) -> GpuRay {
+    GpuRay {
+        origin: o.into(),
+        t_min,
+        direction: d.into(),
+        t_max: f32::MAX,
+        flags,
+        _pad: [0; 3],
+    }
+}
+
+fn random_dir(rng: &mut impl Rng) -> Vec3 {
+    loop {
+        let v = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        );
+        if v.length_squared() > 1e-4 && v.length_squared() <= 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
+/// A random point on a random triangle of a random instance, with its world normal.
+fn surface_point(scene: &Scene, rng: &mut impl Rng) -> (Vec3, Vec3, [Vec3; 3]) {
+    let inst = &scene.instances[rng.random_range(0..scene.instances.len())];
+    let mesh = &scene.meshes[inst.mesh as usize];
+    let t = rng.random_range(0..mesh.triangle_count());
+    let w = mesh.triangle(t).map(|p| inst.transform.transform_point3(p));
+    let (mut u, mut v) = (rng.random::<f32>(), rng.random::<f32>());
+    if u + v > 1.0 {
+        (u, v) = (1.0 - u, 1.0 - v);
+    }
+    let p = w[0] + (w[1] - w[0]) * u + (w[2] - w[0]) * v;
+    let n = (w[1] - w[0]).cross(w[2] - w[0]).normalize_or_zero();
+    (p, n, w)
+}
+
+/// Thousands of rays of every adversarial kind for one scene.
+fn make_rays(scene: &Scene, seed: u64) -> Vec<GpuRay> {
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+    let (lo, hi) = scene.bounds();
+    let extent = (hi - lo).length();
+    let eps = extent * 1e-4;
+    let mut rays = Vec::new();
+    let inside = |rng: &mut rand_pcg::Pcg64| {
+        Vec3::new(
+            rng.random_range(lo.x..=hi.x),
+            rng.random_range(lo.y..=hi.y),
+            rng.random_range(lo.z..=hi.z),
+        )
+    };
+    // Random rays from inside the bounds and from outside towards the scene.
+    for _ in 0..1500 {
+        rays.push(ray(inside(&mut rng), random_dir(&mut rng), 0.0, 0));
+    }
+    for _ in 0..500 {
+        let target = inside(&mut rng);
+        let o = (lo + hi) * 0.5 + random_dir(&mut rng) * extent * 1.5;
+        rays.push(ray(o, target - o, 0.0, 0));
+    }
+    // Rays leaving surfaces, to either side, with a small t_min.
+    for _ in 0..800 {
+        let (p, _, _) = surface_point(scene, &mut rng);
+        rays.push(ray(p, random_dir(&mut rng), eps, 0));
+    }
+    // Grazing rays: nearly in a triangle's plane, aimed at a point on it.
+    for _ in 0..500 {
+        let (p, n, _) = surface_point(scene, &mut rng);
+        let t = n.any_orthonormal_vector();
+        let tilt: f32 = rng.random_range(-1e-3..1e-3);
+        let d = (t + n * tilt).normalize();
+        rays.push(ray(p - d * extent * 0.3, d, 0.0, 0));
+    }
+    // Rays through shared edges and vertices.
+    for _ in 0..600 {
+        let (_, _, w) = surface_point(scene, &mut rng);
+        let k = rng.random_range(0..3);
+        let target = if rng.random_bool(0.5) {
+            (w[k] + w[(k + 1) % 3]) * 0.5
+        } else {
+            w[k]
+        };
+        let o = target + random_dir(&mut rng) * extent * 0.5;
+        rays.push(ray(o, target - o, 0.0, 0));
+    }
+    // Rays from inside closed boxes (instance centres) and flag variants.
+    for i in 0..200 {
+        let inst = &scene.instances[i % scene.instances.len()];
+        let (a, b) = scene.meshes[inst.mesh as usize].bounds();
+        let c = inst.transform.transform_point3((a + b) * 0.5);
+        let flags = match i % 3 {
+            0 => 0,
+            1 => RAY_FLAG_CULL_BACK_FACING,
+            _ => RAY_FLAG_TERMINATE_ON_FIRST_HIT,
+        };
+        // A flat instance's centre lies on its surface: start past rounding distance.
+        rays.push(ray(c, random_dir(&mut rng), eps, flags));
+    }
+    for _ in 0..300 {
+        rays.push(ray(
+            inside(&mut rng),
+            random_dir(&mut rng),
+            0.0,
+            RAY_FLAG_CULL_BACK_FACING,
+        ));
+    }
+    rays
+}
+
+/// Barycentric distance from an edge within which a hit counts as "on the edge".
+const EDGE_EPSILON: f32 = 1e-4;
+
+fn near_edge(b: Vec2) -> bool {
+    let w = 1.0 - b.x - b.y;
+    b.x.abs() < EDGE_EPSILON || b.y.abs() < EDGE_EPSILON || w.abs() < EDGE_EPSILON
+}
+
+/// Number of plain random rays at the start of `make_rays`' list.
+const RANDOM_RAYS: usize = 2000;
+
+/// Allowed |Δt| for a hit at `t` on a triangle by the ray `o + t d`: 1e-4 relative plus the
+/// rounding of the origin and hit point (a few ulps of their magnitude), both divided by
+/// |cos θ| (the conditioning of a ray-plane intersection).
+fn t_tolerance(cpu: &CpuTracer, inst: u32, prim: u32, o: Vec3, d: Vec3, t: f32) -> f32 {
+    let cos = cpu
+        .normal(inst, prim)
+        .map(|n| n.dot(d.normalize()).abs())
+        .unwrap_or(1.0);
+    let magnitude = o.abs().max_element().max((o + d * t).abs().max_element());
+    (1e-4 * t.abs() + 16.0 * f32::EPSILON * magnitude / d.length()) / cos.max(1e-3)
+}
+
+/// Compares GPU hits with the CPU reference; returns (indices of ties, mismatches as text).
+fn compare(cpu: &CpuTracer, rays: &[GpuRay], hits: &[GpuRayHit]) -> (Vec<usize>, Vec<String>) {
+    let mut ties = Vec::new();
+    let mut bad = Vec::new();
+    for (i, (r, g)) in rays.iter().zip(hits).enumerate() {
+        let o = Vec3::from(r.origin);
+        let d = Vec3::from(r.direction);
+        if r.flags & RAY_FLAG_TERMINATE_ON_FIRST_HIT != 0 {
+            // Any hit will do; it must be a hit exactly when the closest-hit query hits, and
+            // the hit must lie on the reported triangle.
+            let c = cpu.trace(
+                o,
+                d,
+                r.t_min,
+                r.t_max,
+                r.flags & !RAY_FLAG_TERMINATE_ON_FIRST_HIT,
+            );
+            if c.is_some() != (g.instance != NO_HIT) {
+                bad.push(format!("ray {i} (any-hit): cpu {c:?} gpu {g:?}"));
+            } else if g.instance != NO_HIT {
+                let t = cpu.hit_t(g.instance, g.primitive, o, d, EDGE_EPSILON);
+                let tol = t_tolerance(cpu, g.instance, g.primitive, o, d, g.t);
+                if t.is_none_or(|t| (t - g.t).abs() > tol) {
+                    bad.push(format!(
+                        "ray {i} (any-hit): gpu hit {g:?} not on its triangle (cpu t {t:?})"
+                    ));
+                }
+            }
+            continue;
+        }
+        let c: Option<RayHit> = cpu.trace(o, d, r.t_min, r.t_max, r.flags);
+        match (c, g.instance != NO_HIT) {
+            (None, false) => {}
+            (Some(c), true) => {
+                let t_ok =
+                    (c.t - g.t).abs() <= t_tolerance(cpu, c.instance, c.primitive, o, d, c.t);
+                if c.instance == g.instance && c.primitive == g.primitive {
+                    if !t_ok || c.front_face != (g.front_face == 1) {
+                        bad.push(format!("ray {i}: cpu {c:?} gpu {g:?}"));
+                    }
+                } else {
+                    let alt = cpu.hit_t(g.instance, g.primitive, o, d, EDGE_EPSILON);
+                    let gtol = t_tolerance(cpu, g.instance, g.primitive, o, d, g.t);
+                    let alt_ok = alt.is_some_and(|t| (t - g.t).abs() <= gtol);
+                    if t_ok && alt_ok {
+                        ties.push(i);
+                    } else if g.t < c.t && alt_ok {
+                        // The GPU's hit is real (checked in f64) and nearer: the f32 reference
+                        // missed it (an edge or grazing case). Counted with the ties.
+                        ties.push(i);
+                    } else if c.t < g.t && alt_ok && near_edge(c.barycentrics) {
+                        ties.push(i);
+                    } else {
+                        bad.push(format!(
+                            "ray {i}: cpu {c:?} gpu {g:?} (cpu t on gpu's triangle {alt:?})"
+                        ));
+                    }
+                }
+            }
+            (Some(c), false) if near_edge(c.barycentrics) => ties.push(i),
+            (None, true) if near_edge(Vec2::from(g.barycentrics)) => ties.push(i),
+            (c, _) => bad.push(format!("ray {i} {r:?}: cpu {c:?} gpu {g:?}")),
+        }
+    }
+    (ties, bad)
+}
+
+fn backends(gpu: &Gpu) -> Vec<Backend> {
+    let mut v = vec![Backend::Software];
+    if gpu.has_ray_query() {
+        v.push(Backend::RayQuery);
+    } else if std::env::var("SOLARI_REQUIRE_GPU").as_deref() == Ok("1") {
+        panic!(
+            "SOLARI_REQUIRE_GPU=1 but adapter '{}' has no ray queries (need lavapipe from Mesa >= 24.1)",
+            gpu.info.name
+        );
+    }
+    v
+}
+
+#[test]
+fn both_backends_agree_with_the_cpu_reference_on_every_scene() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut report = Vec::new();
+    for backend in backends(&gpu) {
+        let pass = TraceRaysPass::new(&gpu, backend).unwrap_or_else(|e| panic!("{e}"));
+        for (name, scene) in scenes() {
+            let cpu = CpuTracer::new(&scene);
+            let gs = GpuScene::new(
+                &gpu,
+                &scene,
+                backend,
+                &GpuSceneOptions {
+                    max_texture_size: 16,
+                    ..Default::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let rays = make_rays(&scene, 42);
+            let hits = pass.trace(&gpu, &gs, &rays).unwrap();
+            let (tie_list, bad) = compare(&cpu, &rays, &hits);
+            let ties = tie_list.len();
+            let random_ties = tie_list.iter().filter(|&&i| i < RANDOM_RAYS).count();
+            let hit_count = hits.iter().filter(|h| h.instance != NO_HIT).count();
+            report.push(format!("{backend:?} {name}: {} rays, {hit_count} hits, {ties} ties ({random_ties} among random rays), {} mismatches", rays.len(), bad.len()));
+            // Known open problem, in the driver's path rather than ours: lavapipe's ray queries
+            // miss grazing hits in the millimetre-scale `metal_rough_spheres` (rays with
+            // t ≈ 3e-3) and disagree on a few edge/vertex rays into `many_lights`' small
+            // spheres (9 and 5 of 4400 with seed 42). The ray-query path gets a printed budget
+            // of 0.5%; the software path, ours to fix, gets none.
+            let budget = if backend == Backend::RayQuery {
+                rays.len() / 200
+            } else {
+                0
+            };
+            if !bad.is_empty() {
+                eprintln!(
+                    "{backend:?} {name}: {} mismatches:\n{}",
+                    bad.len(),
+                    bad.join("\n")
+                );
+            }
+            assert!(
+                bad.len() <= budget,
+                "{backend:?} {name}: {} mismatches of {} (budget {budget}):\n{}",
+                bad.len(),
+                rays.len(),
+                bad[..bad.len().min(10)].join("\n")
+            );
+            assert!(
+                random_ties * 100 <= RANDOM_RAYS,
+                "{backend:?} {name}: {random_ties} ties among random rays is more than 1%"
+            );
+            assert!(
+                hit_count * 4 > rays.len(),
+                "{name}: too few hits ({hit_count}) for a meaningful test"
+            );
+        }
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+#[test]
+fn moving_adding_and_removing_instances_updates_the_top_level_only() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut scene = default_scene::cornell_box();
+    for backend in backends(&gpu) {
+        let pass = TraceRaysPass::new(&gpu, backend).unwrap();
+        let mut gs = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).unwrap();
+        let blas_nodes = gs.software_bvh().map(|b| b.blas_node_count);
+        // Move the tall block up by 10 m, add a copy of the short block, remove the floor.
+        scene.instances[7].transform = glam::Mat4::from_translation(Vec3::Y * 10.0);
+        let mut copy = scene.instances[6].clone();
+        copy.transform = glam::Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0));
+        scene.instances.push(copy);
+        scene.instances.remove(0);
+        gs.set_instances(&gpu, &scene).unwrap();
+        assert_eq!(
+            gs.software_bvh().map(|b| b.blas_node_count),
+            blas_nodes,
+            "BLASes must not be rebuilt"
+        );
+        let rays = make_rays(&scene, 7);
+        let hits = pass.trace(&gpu, &gs, &rays).unwrap();
+        let (_, bad) = compare(&CpuTracer::new(&scene), &rays, &hits);
+        assert!(
+            bad.is_empty(),
+            "{backend:?}: {}",
+            bad[..bad.len().min(5)].join("\n")
+        );
+        scene = default_scene::cornell_box();
+    }
+}
