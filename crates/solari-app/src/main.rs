@@ -1,1 +1,28 @@
-fn main() {}
+//! `solari`: the Solari workspace's command-line tool.
+//!
+//! - `solari render [SCENE] --view albedo|normal|depth|instance --size WxH --out FILE.png`
+//! - `solari info [SCENE] [--json]`
+//! - `solari bench-rays [SCENE | --heightfield N] [--json]`
+//!
+//! With no SCENE the built-in Cornell box is used.
+
+mod bench;
+mod cli;
+mod info;
+mod render;
+
+use clap::Parser;
+
+fn main() {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let args = cli::Cli::parse();
+    let result = match args.command {
+        cli::Command::Render(a) => render::run(&a),
+        cli::Command::Info(a) => info::run(&a),
+        cli::Command::BenchRays(a) => bench::run(&a),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}

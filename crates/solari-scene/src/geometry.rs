@@ -1,4 +1,6 @@
 //! Mesh clean-up shared by every importer: degenerate-triangle removal, normal and tangent
+// Negated comparisons are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 //! generation.
 
 use crate::model::Mesh;

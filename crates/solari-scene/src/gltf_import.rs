@@ -133,12 +133,13 @@ fn percent_decode(s: &str) -> String {
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
     while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            if let Ok(v) = u8::from_str_radix(&s[i + 1..i + 3], 16) {
-                out.push(v);
-                i += 3;
-                continue;
-            }
+        if bytes[i] == b'%'
+            && i + 2 < bytes.len()
+            && let Ok(v) = u8::from_str_radix(&s[i + 1..i + 3], 16)
+        {
+            out.push(v);
+            i += 3;
+            continue;
         }
         out.push(bytes[i]);
         i += 1;
@@ -437,7 +438,7 @@ impl Importer {
                 fan_to_list(&raw_indices)
             }
             _ => {
-                if raw_indices.len() % 3 != 0 {
+                if !raw_indices.len().is_multiple_of(3) {
                     return Err(bad(format!(
                         "{} indices is not a multiple of 3",
                         raw_indices.len()

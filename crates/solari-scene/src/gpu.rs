@@ -147,7 +147,7 @@ impl Gpu {
         data: &[u8],
         extra: wgpu::BufferUsages,
     ) -> Result<wgpu::Buffer, GpuError> {
-        let limit = self.device.limits().max_storage_buffer_binding_size as u64;
+        let limit = self.device.limits().max_storage_buffer_binding_size;
         if data.len() as u64 > limit {
             return Err(GpuError::OverLimit {
                 what: label.to_string(),

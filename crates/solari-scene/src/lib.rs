@@ -27,6 +27,7 @@ pub mod shaders;
 pub mod texture;
 pub mod trace_cpu;
 pub mod trace_pass;
+pub mod view_pass;
 
 pub use error::{GpuError, SceneError};
 pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};

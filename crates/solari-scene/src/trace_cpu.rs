@@ -1,4 +1,6 @@
 //! CPU reference tracer: the twin of the WGSL `trace_ray`, used by tests and tools.
+// Negated comparisons are deliberate: they also reject NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 //!
 //! It shares the triangle test ([`intersect_triangle`]) with the GPU code but not the
 //! acceleration structure: a plain median-split binary BVH built here, so a traversal bug on
@@ -425,10 +427,9 @@ mod tests {
                         d,
                         0.0,
                         f32::INFINITY,
-                    ) {
-                        if brute.is_none_or(|(bt, _)| th < bt) {
-                            brute = Some((th, ii as u32));
-                        }
+                    ) && brute.is_none_or(|(bt, _)| th < bt)
+                    {
+                        brute = Some((th, ii as u32));
                     }
                 }
             }

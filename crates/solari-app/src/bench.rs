@@ -1,0 +1,235 @@
+//! `solari bench-rays`: BVH build speed and GPU ray throughput, timed with timestamp queries.
+//!
+//! Workload (the tray_racing peer's): one primary ray per pixel plus one cosine-distributed
+//! hemisphere ray from every primary hit, both closest-hit. Also primary rays alone.
+
+use crate::cli::{BenchArgs, parse_size};
+use glam::Vec3;
+use solari_scene::bvh::{BvhQuality, SoftwareBvh};
+use solari_scene::gpu::Gpu;
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_types::GpuView;
+use solari_scene::shaders::Backend;
+use solari_scene::view_pass::ViewPass;
+use solari_scene::{Camera, Instance, Material, Mesh, Scene};
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// obvhs's procedural "demoscene" heightfield, welded into an indexed mesh, with the camera of
+/// obvhs's `demoscene` example (seed 570, yfov 17°).
+pub fn heightfield_scene(res: usize) -> Scene {
+    let tris = obvhs::test_util::geometry::demoscene(res, 570);
+    let mut index_of: HashMap<[u32; 3], u32> = HashMap::with_capacity(tris.len() / 2);
+    let mut positions = Vec::new();
+    let mut indices = Vec::with_capacity(tris.len() * 3);
+    for t in &tris {
+        for v in [t.v0, t.v1, t.v2] {
+            let key = [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+            let i = *index_of.entry(key).or_insert_with(|| {
+                positions.push(Vec3::from(v));
+                (positions.len() - 1) as u32
+            });
+            indices.push(i);
+        }
+    }
+    let mut mesh = Mesh {
+        name: format!("demoscene{res}"),
+        positions,
+        indices,
+        ..Default::default()
+    };
+    solari_scene::geometry::drop_degenerate_triangles(&mut mesh);
+    mesh.normals = solari_scene::geometry::generate_normals(&mesh.positions, &mesh.indices);
+    mesh.uvs = vec![glam::Vec2::ZERO; mesh.positions.len()];
+    mesh.tangents = mesh
+        .normals
+        .iter()
+        .map(|n| n.any_orthonormal_vector().extend(1.0))
+        .collect();
+    let eye = Vec3::new(0.0, 0.0, 1.35);
+    Scene {
+        meshes: vec![mesh],
+        instances: vec![Instance {
+            name: "terrain".into(),
+            mesh: 0,
+            material: 0,
+            transform: glam::Mat4::IDENTITY,
+        }],
+        materials: vec![Material::default()],
+        cameras: vec![Camera::look_at(
+            "demoscene",
+            eye,
+            eye + Vec3::new(0.0, 0.16, -1.0),
+            Vec3::Y,
+            17f32.to_radians(),
+        )],
+        ..Default::default()
+    }
+}
+
+struct Measurement {
+    median_ms: f64,
+    rays_per_frame: u64,
+}
+
+/// Times `frames` dispatches of the bench pass (after warm-up) and counts the rays traced.
+fn measure(
+    gpu: &Gpu,
+    pass: &ViewPass,
+    scene: &GpuScene,
+    view: &GpuView,
+    frames: u32,
+) -> Result<Measurement, String> {
+    let target = pass.target(gpu, view).map_err(|e| e.to_string())?;
+    let counts = pass.run(gpu, scene, &target).map_err(|e| e.to_string())?;
+    let counts: &[u32] = bytemuck::cast_slice(&counts);
+    // count: 1 = primary only, 2 = a hemisphere ray that missed, 3 = one that hit.
+    let rays_per_frame: u64 = counts.iter().map(|&c| if c >= 2 { 2 } else { 1 }).sum();
+    let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("solari_app/bench_timestamps"),
+        ty: wgpu::QueryType::Timestamp,
+        count: 2,
+    });
+    let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("solari_app/bench_resolve"),
+        size: 16,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let period = gpu.queue.get_timestamp_period() as f64;
+    let mut times = Vec::new();
+    for frame in 0..frames + 10 {
+        let mut v = *view;
+        v.frame = frame;
+        gpu.queue
+            .write_buffer(&target.uniform, 0, bytemuck::bytes_of(&v));
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        pass.encode(&mut encoder, scene, &target, Some((&queries, 0)));
+        encoder.resolve_query_set(&queries, 0..2, &resolve, 0);
+        gpu.queue.submit([encoder.finish()]);
+        let ts = gpu.read_buffer(&resolve, 16).map_err(|e| e.to_string())?;
+        let ts: &[u64] = bytemuck::cast_slice(&ts);
+        if frame >= 10 {
+            times.push(ts[1].wrapping_sub(ts[0]) as f64 * period * 1e-6);
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(Measurement {
+        median_ms: times[times.len() / 2],
+        rays_per_frame,
+    })
+}
+
+pub fn run(args: &BenchArgs) -> Result<(), String> {
+    let (w, h) = parse_size(&args.size)?;
+    let (name, scene) = match args.heightfield {
+        Some(n) => {
+            eprintln!("generating the {n}x{n} heightfield...");
+            (format!("heightfield{n}"), heightfield_scene(n))
+        }
+        None => args.scene.load()?,
+    };
+    let gpu = Gpu::new().map_err(|e| e.to_string())?;
+    if !gpu.features.contains(wgpu::Features::TIMESTAMP_QUERY) {
+        return Err(format!(
+            "adapter '{}' has no timestamp queries: GPU times cannot be measured",
+            gpu.info.name
+        ));
+    }
+    let backends: Vec<Backend> = match args.scene.tracer()? {
+        solari_scene::gpu::TracerChoice::Auto => {
+            let mut b = vec![Backend::Software];
+            if gpu.has_ray_query() {
+                b.push(Backend::RayQuery);
+            }
+            b
+        }
+        solari_scene::gpu::TracerChoice::Force(b) => vec![
+            gpu.backend(solari_scene::gpu::TracerChoice::Force(b))
+                .map_err(|e| e.to_string())?,
+        ],
+    };
+    let camera = scene
+        .camera(args.scene.camera.as_deref())
+        .ok_or("no such camera")?;
+    let tris = scene.stats().triangles;
+    if !args.json {
+        println!(
+            "# {name}: {tris} triangles, {w}x{h}, adapter {}",
+            gpu.info.name
+        );
+        println!(
+            "| backend | preset | checks | BVH build s | build Mtri/s | primary ms | primary Grays/s | primary+hemi ms | rays/frame | Grays/s |"
+        );
+        println!("|---|---|---|---|---|---|---|---|---|---|");
+    }
+    for backend in backends {
+        let presets: Vec<&str> = if backend == Backend::Software {
+            args.presets.split(',').collect()
+        } else {
+            vec!["-"]
+        };
+        for preset in presets {
+            let quality = if preset == "-" {
+                BvhQuality::Medium
+            } else {
+                BvhQuality::parse(preset).ok_or_else(|| format!("unknown preset {preset}"))?
+            };
+            let (build_s, build_rate) = if backend == Backend::Software {
+                let t = Instant::now();
+                let bvh = SoftwareBvh::build(&scene, quality);
+                let s = t.elapsed().as_secs_f64();
+                drop(bvh);
+                (s, tris as f64 / s / 1e6)
+            } else {
+                (f64::NAN, f64::NAN)
+            };
+            let gs = GpuScene::new(
+                &gpu,
+                &scene,
+                backend,
+                &GpuSceneOptions {
+                    bvh_quality: quality,
+                    max_texture_size: 256,
+                },
+            )
+            .map_err(|e| e.to_string())?;
+            let variants: Vec<bool> = if args.compare_trusted && backend == Backend::Software {
+                vec![false, true]
+            } else {
+                vec![false]
+            };
+            for trusted in variants {
+                let pass =
+                    ViewPass::ray_bench(&gpu, backend, trusted).map_err(|e| e.to_string())?;
+                let mut view = GpuView::new(&camera, w, h);
+                view.view_mode = 0;
+                let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;
+                view.view_mode = 1;
+                let both = measure(&gpu, &pass, &gs, &view, args.frames)?;
+                let primary_rate = primary.rays_per_frame as f64 / (primary.median_ms * 1e-3) / 1e9;
+                let rate = both.rays_per_frame as f64 / (both.median_ms * 1e-3) / 1e9;
+                let checks = if trusted { "off" } else { "on" };
+                if args.json {
+                    println!(
+                        "{}",
+                        serde_json::json!({"scene": name, "triangles": tris, "width": w, "height": h,
+                        "adapter": gpu.info.name, "backend": backend.name(), "preset": preset, "runtime_checks": checks,
+                        "bvh_build_s": build_s, "build_mtris_per_s": build_rate,
+                        "primary_ms": primary.median_ms, "primary_rays": primary.rays_per_frame, "primary_grays_per_s": primary_rate,
+                        "ao_ms": both.median_ms, "ao_rays": both.rays_per_frame, "ao_grays_per_s": rate, "frames": args.frames})
+                    );
+                } else {
+                    println!(
+                        "| {} | {preset} | {checks} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
+                        backend.name(),
+                        primary.median_ms,
+                        both.median_ms,
+                        both.rays_per_frame as f64 / 1e6
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}

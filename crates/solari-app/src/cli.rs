@@ -1,0 +1,151 @@
+//! Command-line arguments, and the scene/device setup every command shares.
+
+use clap::{Args, Parser, Subcommand};
+use solari_scene::gpu::{Gpu, TracerChoice};
+use solari_scene::shaders::Backend;
+use solari_scene::{Scene, default_scene, load_gltf};
+use std::path::PathBuf;
+
+/// Real-time ray-traced lighting components: headless tools.
+#[derive(Parser)]
+#[command(name = "solari", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// Render a debug view of primary rays headless and write a PNG.
+    Render(RenderArgs),
+    /// Print the adapter, the chosen tracing backend, scene statistics and import warnings.
+    Info(InfoArgs),
+    /// Measure BVH build speed and GPU ray throughput (primary and hemisphere rays).
+    BenchRays(BenchArgs),
+}
+
+/// Options shared by every command that loads a scene.
+#[derive(Args, Clone)]
+pub struct SceneArgs {
+    /// A .gltf/.glb file; the built-in Cornell box when absent.
+    pub scene: Option<PathBuf>,
+    /// Tracing backend: auto, ray-query or software (SOLARI_TRACER overrides).
+    #[arg(long, default_value = "auto")]
+    pub tracer: String,
+    /// Camera by name or index (default: the file's first, else one framing the scene).
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// BVH build quality for the software backend: fastest, fast, medium, slow, very-slow.
+    #[arg(long, default_value = "medium")]
+    pub bvh_quality: String,
+}
+
+#[derive(Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Debug view: albedo, normal, depth or instance.
+    #[arg(long, default_value = "albedo")]
+    pub view: String,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "512x512")]
+    pub size: String,
+    /// Output PNG.
+    #[arg(long, default_value = "solari.png")]
+    pub out: PathBuf,
+    /// Print a JSON summary instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Args)]
+pub struct InfoArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Machine-readable output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Args)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Use obvhs's procedural heightfield of N×N vertices instead of a scene (2048: 8.4 M
+    /// triangles), with that example's camera.
+    #[arg(long)]
+    pub heightfield: Option<usize>,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080")]
+    pub size: String,
+    /// Timed frames per measurement (after 10 warm-up frames).
+    #[arg(long, default_value_t = 100)]
+    pub frames: u32,
+    /// Build presets to measure (comma separated).
+    #[arg(long, default_value = "medium")]
+    pub presets: String,
+    /// Compile the traversal without wgpu's runtime bounds checks as well, and compare.
+    #[arg(long)]
+    pub compare_trusted: bool,
+    /// JSON lines instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Parses `WxH`.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("--size {s}: expected WIDTHxHEIGHT"))?;
+    let w: u32 = w.parse().map_err(|_| format!("--size {s}: bad width"))?;
+    let h: u32 = h.parse().map_err(|_| format!("--size {s}: bad height"))?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        return Err(format!("--size {s}: each side must be 1..=16384"));
+    }
+    Ok((w, h))
+}
+
+impl SceneArgs {
+    /// Loads the scene (or the built-in one).
+    pub fn load(&self) -> Result<(String, Scene), String> {
+        match &self.scene {
+            Some(p) => Ok((
+                p.display().to_string(),
+                load_gltf(p).map_err(|e| e.to_string())?,
+            )),
+            None => Ok((
+                "<built-in cornell box>".into(),
+                default_scene::cornell_box(),
+            )),
+        }
+    }
+
+    /// The tracer choice after the `SOLARI_TRACER` override.
+    pub fn tracer(&self) -> Result<TracerChoice, String> {
+        TracerChoice::parse(&self.tracer)
+            .ok_or_else(|| {
+                format!(
+                    "--tracer {}: expected auto, ray-query or software",
+                    self.tracer
+                )
+            })?
+            .with_env_override()
+    }
+
+    /// Creates the device and resolves the backend.
+    pub fn device(&self) -> Result<(Gpu, Backend), String> {
+        let gpu = Gpu::new().map_err(|e| e.to_string())?;
+        let backend = gpu.backend(self.tracer()?).map_err(|e| e.to_string())?;
+        Ok((gpu, backend))
+    }
+
+    /// The BVH preset.
+    pub fn quality(&self) -> Result<solari_scene::bvh::BvhQuality, String> {
+        solari_scene::bvh::BvhQuality::parse(&self.bvh_quality).ok_or_else(|| {
+            format!(
+                "--bvh-quality {}: expected fastest, fast, medium, slow or very-slow",
+                self.bvh_quality
+            )
+        })
+    }
+}

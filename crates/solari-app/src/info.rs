@@ -1,0 +1,65 @@
+//! `solari info`.
+
+use crate::cli::InfoArgs;
+
+pub fn run(args: &InfoArgs) -> Result<(), String> {
+    let (name, scene) = args.scene.load()?;
+    let (gpu, backend) = args.scene.device()?;
+    let s = scene.stats();
+    let warnings = scene.warnings.lines();
+    let camera = scene
+        .camera(args.scene.camera.as_deref())
+        .ok_or("no such camera")?;
+    if args.json {
+        let v = serde_json::json!({
+            "scene": name,
+            "adapter": {"name": gpu.info.name, "backend": format!("{:?}", gpu.info.backend),
+                        "device_type": format!("{:?}", gpu.info.device_type), "driver": gpu.info.driver_info,
+                        "ray_query": gpu.has_ray_query()},
+            "tracer": backend.name(),
+            "stats": {"meshes": s.meshes, "instances": s.instances, "triangles": s.triangles,
+                      "unique_triangles": s.unique_triangles, "emissive_triangles": s.emissive_triangles,
+                      "lights": s.lights, "directional_lights": scene.directional_lights.len(),
+                      "textures": s.textures, "materials": scene.materials.len(), "cameras": scene.cameras.len()},
+            "camera": camera.name,
+            "warnings": warnings,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+    } else {
+        println!("scene      {name}");
+        println!(
+            "adapter    {} ({:?}, {:?}, {})",
+            gpu.info.name, gpu.info.backend, gpu.info.device_type, gpu.info.driver_info
+        );
+        println!(
+            "tracer     {} (ray queries {})",
+            backend.name(),
+            if gpu.has_ray_query() {
+                "available"
+            } else {
+                "unavailable"
+            }
+        );
+        println!("meshes     {}", s.meshes);
+        println!("instances  {}", s.instances);
+        println!("triangles  {} ({} unique)", s.triangles, s.unique_triangles);
+        println!("emissive   {} triangles", s.emissive_triangles);
+        println!(
+            "lights     {} ({} directional)",
+            s.lights,
+            scene.directional_lights.len()
+        );
+        println!("textures   {}", s.textures);
+        println!("camera     {}", camera.name);
+        if warnings.is_empty() {
+            println!("warnings   none");
+        }
+        for w in warnings {
+            println!("warning    {w}");
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,222 @@
+//! Per-pixel passes over a camera view: the primary-ray debug views and the ray-throughput
+//! benchmark. Both bind group 0 (scene), 1 (view uniform) and 2 (one output buffer).
+
+use crate::error::GpuError;
+use crate::gpu::Gpu;
+use crate::gpu_scene::GpuScene;
+use crate::gpu_types::GpuView;
+use crate::shaders::{Backend, compose};
+
+/// What the primary pass writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DebugView {
+    /// Base colour after textures (the environment colour on a miss).
+    Albedo = 0,
+    /// Shading normal mapped to \[0, 1\].
+    Normal = 1,
+    /// Distance from the camera.
+    Depth = 2,
+    /// Instance index.
+    Instance = 3,
+}
+
+impl DebugView {
+    /// Parses `albedo`, `normal`, `depth` or `instance`.
+    pub fn parse(s: &str) -> Option<Self> {
+        Some(match s {
+            "albedo" => Self::Albedo,
+            "normal" => Self::Normal,
+            "depth" => Self::Depth,
+            "instance" => Self::Instance,
+            _ => return None,
+        })
+    }
+}
+
+/// A compute pass over every pixel of a view, writing one output element per pixel.
+pub struct ViewPass {
+    pipeline: wgpu::ComputePipeline,
+    view_layout: wgpu::BindGroupLayout,
+    out_layout: wgpu::BindGroupLayout,
+    element_size: u64,
+    label: &'static str,
+}
+
+impl ViewPass {
+    /// The primary-ray debug-view pass (`primary.wesl`, 16 bytes per pixel).
+    pub fn primary(gpu: &Gpu, backend: Backend) -> Result<Self, GpuError> {
+        Self::new(gpu, backend, "primary", "solari_scene/primary", 16, false)
+    }
+
+    /// The ray-throughput benchmark pass (`ray_bench.wesl`, 4 bytes per pixel). `trusted`
+    /// drops wgpu's runtime bounds checks (see [`Gpu::compute_pipeline`]).
+    pub fn ray_bench(gpu: &Gpu, backend: Backend, trusted: bool) -> Result<Self, GpuError> {
+        Self::new(
+            gpu,
+            backend,
+            "ray_bench",
+            "solari_scene/ray_bench",
+            4,
+            trusted,
+        )
+    }
+
+    fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        entry: &str,
+        label: &'static str,
+        element_size: u64,
+        trusted: bool,
+    ) -> Result<Self, GpuError> {
+        let entry_of = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let view_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_scene/view"),
+                // binding 0: view
+                entries: &[entry_of(0, wgpu::BufferBindingType::Uniform)],
+            });
+        let out_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                // binding 0: out_pixels / out_counts
+                entries: &[entry_of(
+                    0,
+                    wgpu::BufferBindingType::Storage { read_only: false },
+                )],
+            });
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let wgsl = compose(entry, backend, &[])?;
+        let pipeline = gpu.compute_pipeline(
+            label,
+            &wgsl,
+            &[Some(&scene_layout), Some(&view_layout), Some(&out_layout)],
+            trusted,
+        )?;
+        Ok(Self {
+            pipeline,
+            view_layout,
+            out_layout,
+            element_size,
+            label,
+        })
+    }
+
+    /// Resources for one view size: the view uniform, the output buffer and bind groups.
+    pub fn target(&self, gpu: &Gpu, view: &GpuView) -> Result<ViewTarget, GpuError> {
+        let pixels = view.width as u64 * view.height as u64;
+        let size = pixels * self.element_size;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if size > limit {
+            return Err(GpuError::OverLimit {
+                what: format!("{} output", self.label),
+                needed: size,
+                limit,
+            });
+        }
+        let uniform = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_scene/view"),
+            size: size_of::<GpuView>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        gpu.queue
+            .write_buffer(&uniform, 0, bytemuck::bytes_of(view));
+        let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(self.label),
+            size: size.max(16),
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let view_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_scene/view"),
+            layout: &self.view_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            }],
+        });
+        let out_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(self.label),
+            layout: &self.out_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: output.as_entire_binding(),
+            }],
+        });
+        Ok(ViewTarget {
+            uniform,
+            output,
+            view_group,
+            out_group,
+            view: *view,
+            bytes: size,
+        })
+    }
+
+    /// Records the pass; `timestamps` brackets it with two timestamp queries.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        target: &ViewTarget,
+        timestamps: Option<(&wgpu::QuerySet, u32)>,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(self.label),
+            timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: Some(i),
+                end_of_pass_write_index: Some(i + 1),
+            }),
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, scene.bind_group(), &[]);
+        pass.set_bind_group(1, &target.view_group, &[]);
+        pass.set_bind_group(2, &target.out_group, &[]);
+        pass.dispatch_workgroups(
+            target.view.width.div_ceil(8),
+            target.view.height.div_ceil(8),
+            1,
+        );
+    }
+
+    /// Runs the pass once and reads the output back.
+    pub fn run(
+        &self,
+        gpu: &Gpu,
+        scene: &GpuScene,
+        target: &ViewTarget,
+    ) -> Result<Vec<u8>, GpuError> {
+        gpu.scoped(|| {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            self.encode(&mut encoder, scene, target, None);
+            gpu.queue.submit([encoder.finish()]);
+        })?;
+        gpu.read_buffer(&target.output, target.bytes)
+    }
+}
+
+/// Per-size resources of a [`ViewPass`].
+pub struct ViewTarget {
+    /// The view uniform buffer (rewrite it with `queue.write_buffer` to change frames).
+    pub uniform: wgpu::Buffer,
+    /// The output buffer.
+    pub output: wgpu::Buffer,
+    view_group: wgpu::BindGroup,
+    out_group: wgpu::BindGroup,
+    /// The view these resources were made for.
+    pub view: GpuView,
+    bytes: u64,
+}
