@@ -388,22 +388,13 @@ impl Scene {
 
     /// World-space bounds of all instances.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for inst in &self.instances {
-            let (a, b) = self.meshes[inst.mesh as usize].bounds();
-            for i in 0..8 {
-                let c = Vec3::new(
-                    if i & 1 == 0 { a.x } else { b.x },
-                    if i & 2 == 0 { a.y } else { b.y },
-                    if i & 4 == 0 { a.z } else { b.z },
-                );
-                let w = inst.transform.transform_point3(c);
-                lo = lo.min(w);
-                hi = hi.max(w);
-            }
-        }
-        (lo, hi)
+        self.instances
+            .iter()
+            .map(|i| crate::trace_cpu::instance_bounds(self, i))
+            .fold(
+                (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+            )
     }
 
     /// A camera that frames the whole scene from the front (+Z), for files without one.
