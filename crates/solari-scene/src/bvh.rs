@@ -166,11 +166,9 @@ impl SoftwareBvh {
                 Aabb::new(Vec3A::from(lo), Vec3A::from(hi))
             })
             .collect();
-        // A TLAS is small; the slow preset costs little and traverses faster. No pre-splits:
-        // they apply to triangles only.
+        // Same preset as the BLASes, minus pre-splits (they split triangles, not boxes).
         let mut params = quality.params();
         params.pre_split = false;
-        let _ = quality;
         let tlas = obvhs::cwbvh::builder::build_cwbvh(&aabbs, params, &mut Duration::default());
         let mut nodes = tlas.nodes;
         self.tlas_root = self.nodes.len() as u32;

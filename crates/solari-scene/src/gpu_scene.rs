@@ -362,11 +362,25 @@ impl GpuScene {
                 ..
             } => {
                 bvh.rebuild_tlas(scene, self.options.bvh_quality);
-                *nodes = gpu.storage_buffer(
-                    "solari_scene/bvh_nodes",
-                    cast_slice(&bvh.nodes),
-                    wgpu::BufferUsages::empty(),
-                )?;
+                let node_bytes: &[u8] = cast_slice(&bvh.nodes);
+                if (node_bytes.len() as u64) <= nodes.size() {
+                    // The BLAS nodes in front are unchanged: write only the top level.
+                    let start =
+                        bvh.blas_node_count as usize * size_of::<obvhs::cwbvh::node::CwBvhNode>();
+                    gpu.queue
+                        .write_buffer(nodes, start as u64, &node_bytes[start..]);
+                } else {
+                    // Grow with headroom (one more TLAS, at least 64 nodes) so later instance
+                    // changes fit without re-uploading the BLASes.
+                    let tlas_bytes = node_bytes.len() - bvh.blas_node_count as usize * 80;
+                    let mut padded = node_bytes.to_vec();
+                    padded.resize(node_bytes.len() + tlas_bytes.max(80 * 64), 0);
+                    *nodes = gpu.storage_buffer(
+                        "solari_scene/bvh_nodes",
+                        &padded,
+                        wgpu::BufferUsages::empty(),
+                    )?;
+                }
                 *tlas_instances = gpu.storage_buffer(
                     "solari_scene/tlas_instances",
                     cast_slice(&bvh.tlas_instances),
