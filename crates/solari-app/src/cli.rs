@@ -84,9 +84,10 @@ pub struct BenchArgs {
     /// Build presets to measure (comma separated).
     #[arg(long, default_value = "medium")]
     pub presets: String,
-    /// Compile the traversal without wgpu's runtime bounds checks as well, and compare.
+    /// Also measure the traversal under wgpu's full runtime checks and under none, next to the
+    /// shipped bounds-checks-only build (software backend).
     #[arg(long)]
-    pub compare_trusted: bool,
+    pub compare_checks: bool,
     /// JSON lines instead of a table.
     #[arg(long)]
     pub json: bool,

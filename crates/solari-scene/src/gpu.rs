@@ -10,6 +10,33 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::EXPERIMENTAL_RAY_Q
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
 
+/// The wgpu runtime checks a shader module is compiled with.
+///
+/// wgpu's forced loop bounding costs the software traversal about 45% of its speed on an H200
+/// (bounds checks cost under 1%; `benches/RESULTS.md`), so solari's passes use
+/// [`ShaderChecks::BoundsOnly`] and guarantee termination themselves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShaderChecks {
+    /// wgpu's defaults: bounds checks and forced loop bounding.
+    All,
+    /// Every check but forced loop bounding. For shaders in which every loop provably ends, as
+    /// solari's do.
+    BoundsOnly,
+    /// No checks at all: for measuring what the checks cost, not for shipping.
+    None,
+}
+
+impl ShaderChecks {
+    /// Short name used in benchmark output.
+    pub fn name(self) -> &'static str {
+        match self {
+            ShaderChecks::All => "all",
+            ShaderChecks::BoundsOnly => "bounds",
+            ShaderChecks::None => "none",
+        }
+    }
+}
+
 /// How to choose the tracing backend.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TracerChoice {
@@ -200,29 +227,35 @@ impl Gpu {
         Ok(data)
     }
 
-    /// Creates a compute pipeline from composed WGSL. `trusted` skips wgpu's bounds checks and
-    /// loop bounding (only for shaders whose indices tests prove in range).
+    /// Creates a compute pipeline from composed WGSL with the given runtime checks.
     pub fn compute_pipeline(
         &self,
         label: &str,
         wgsl: &str,
         layouts: &[Option<&wgpu::BindGroupLayout>],
-        trusted: bool,
+        checks: ShaderChecks,
     ) -> Result<wgpu::ComputePipeline, GpuError> {
         self.scoped(|| {
             let desc = wgpu::ShaderModuleDescriptor {
                 label: Some(label),
                 source: wgpu::ShaderSource::Wgsl(wgsl.into()),
             };
-            let module = if trusted {
-                // SAFETY: used only for the traversal kernels; every index they read comes from
-                // BVH data whose ranges `SoftwareBvh` builds and the tests verify.
-                unsafe {
-                    self.device
-                        .create_shader_module_trusted(desc, wgpu::ShaderRuntimeChecks::unchecked())
+            let module = match checks {
+                ShaderChecks::All => self.device.create_shader_module(desc),
+                ShaderChecks::BoundsOnly | ShaderChecks::None => {
+                    let runtime = if checks == ShaderChecks::BoundsOnly {
+                        wgpu::ShaderRuntimeChecks {
+                            force_loop_bounding: false,
+                            ..wgpu::ShaderRuntimeChecks::checked()
+                        }
+                    } else {
+                        wgpu::ShaderRuntimeChecks::unchecked()
+                    };
+                    // SAFETY: every loop in solari's shaders has a constant trip count or its
+                    // own iteration cap (`tests/shaders.rs` requires a `// bound:` note on
+                    // each), so no loop can run forever; `None` is for benchmarks only.
+                    unsafe { self.device.create_shader_module_trusted(desc, runtime) }
                 }
-            } else {
-                self.device.create_shader_module(desc)
             };
             let layout = self
                 .device

@@ -2,7 +2,7 @@
 //! with [`crate::trace_cpu::CpuTracer`]; tools use it to probe a scene.
 
 use crate::error::GpuError;
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::{GpuRay, GpuRayHit};
 use crate::shaders::{Backend, compose};
@@ -46,7 +46,7 @@ impl TraceRaysPass {
             "solari_scene/trace_rays",
             &wgsl,
             &[Some(&scene_layout), Some(&empty), Some(&layout)],
-            false,
+            ShaderChecks::BoundsOnly,
         )?;
         Ok(Self {
             pipeline,

@@ -2,7 +2,7 @@
 //! benchmark. Both bind group 0 (scene), 1 (view uniform) and 2 (one output buffer).
 
 use crate::error::GpuError;
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::GpuView;
 use crate::shaders::{Backend, compose};
@@ -45,19 +45,26 @@ pub struct ViewPass {
 impl ViewPass {
     /// The primary-ray debug-view pass (`primary.wesl`, 16 bytes per pixel).
     pub fn primary(gpu: &Gpu, backend: Backend) -> Result<Self, GpuError> {
-        Self::new(gpu, backend, "primary", "solari_scene/primary", 16, false)
+        Self::new(
+            gpu,
+            backend,
+            "primary",
+            "solari_scene/primary",
+            16,
+            ShaderChecks::BoundsOnly,
+        )
     }
 
-    /// The ray-throughput benchmark pass (`ray_bench.wesl`, 4 bytes per pixel). `trusted`
-    /// drops wgpu's runtime bounds checks (see [`Gpu::compute_pipeline`]).
-    pub fn ray_bench(gpu: &Gpu, backend: Backend, trusted: bool) -> Result<Self, GpuError> {
+    /// The ray-throughput benchmark pass (`ray_bench.wesl`, 4 bytes per pixel), compiled with
+    /// the given runtime checks so their cost can be measured.
+    pub fn ray_bench(gpu: &Gpu, backend: Backend, checks: ShaderChecks) -> Result<Self, GpuError> {
         Self::new(
             gpu,
             backend,
             "ray_bench",
             "solari_scene/ray_bench",
             4,
-            trusted,
+            checks,
         )
     }
 
@@ -67,7 +74,7 @@ impl ViewPass {
         entry: &str,
         label: &'static str,
         element_size: u64,
-        trusted: bool,
+        checks: ShaderChecks,
     ) -> Result<Self, GpuError> {
         let entry_of = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
@@ -102,7 +109,7 @@ impl ViewPass {
             label,
             &wgsl,
             &[Some(&scene_layout), Some(&view_layout), Some(&out_layout)],
-            trusted,
+            checks,
         )?;
         Ok(Self {
             pipeline,
