@@ -91,6 +91,25 @@ pub struct SoftwareBvh {
     pub tlas_build_time: Duration,
 }
 
+/// Meshes with fewer triangles than this build on one thread. obvhs's parallel build (its
+/// `parallel` feature) is 1.8–5× faster on an 8.4M-triangle mesh with 16 cores but 3–4× slower
+/// on scenes of small meshes, where thread hand-offs outweigh the work (`benches/RESULTS.md`).
+pub const PARALLEL_BUILD_MIN_TRIANGLES: usize = 65_536;
+
+/// Runs a BVH build on all cores when it has at least [`PARALLEL_BUILD_MIN_TRIANGLES`]
+/// primitives, else on the calling thread's own one-thread pool.
+fn run_build<R: Send>(primitives: usize, build: impl FnOnce() -> R + Send) -> R {
+    static SERIAL: std::sync::OnceLock<Option<rayon::ThreadPool>> = std::sync::OnceLock::new();
+    if primitives >= PARALLEL_BUILD_MIN_TRIANGLES {
+        return build();
+    }
+    // A pool that cannot start (no threads allowed) just means building on the global pool.
+    match SERIAL.get_or_init(|| rayon::ThreadPoolBuilder::new().num_threads(1).build().ok()) {
+        Some(pool) => pool.install(build),
+        None => build(),
+    }
+}
+
 /// Builds one mesh's CWBVH and returns (nodes, triangles) with indices relative to 0.
 fn build_blas(
     mesh: &crate::model::Mesh,
@@ -106,11 +125,13 @@ fn build_blas(
             }
         })
         .collect();
-    let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
-        &tris,
-        quality.params(),
-        &mut Duration::default(),
-    );
+    let bvh = run_build(tris.len(), || {
+        obvhs::cwbvh::builder::build_cwbvh_from_tris(
+            &tris,
+            quality.params(),
+            &mut Duration::default(),
+        )
+    });
     let triangles = bvh
         .primitive_indices
         .iter()
@@ -169,7 +190,9 @@ impl SoftwareBvh {
         // Same preset as the BLASes, minus pre-splits (they split triangles, not boxes).
         let mut params = quality.params();
         params.pre_split = false;
-        let tlas = obvhs::cwbvh::builder::build_cwbvh(&aabbs, params, &mut Duration::default());
+        let tlas = run_build(aabbs.len(), || {
+            obvhs::cwbvh::builder::build_cwbvh(&aabbs, params, &mut Duration::default())
+        });
         let mut nodes = tlas.nodes;
         self.tlas_root = self.nodes.len() as u32;
         offset_nodes(&mut nodes, self.tlas_root, 0);
