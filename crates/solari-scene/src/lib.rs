@@ -13,6 +13,7 @@
 //! println!("{:?}", scene.stats());
 //! ```
 
+pub mod brdf;
 pub mod bvh;
 pub mod default_scene;
 pub mod error;

@@ -1,0 +1,344 @@
+//! CPU-only statistical tests of the BRDF (`solari_scene::brdf`, the twin of `brdf.wesl`):
+//! sampling matches its pdf (chi-square), pdfs integrate to one, reciprocity, albedo bounded
+//! by one, and the white furnace for rough metals.
+
+// `!(x > 0.0)` is deliberate throughout: it rejects NaN along with non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use glam::Vec3;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_scene::brdf::{self, BrdfMaterial, Lobe};
+use std::f32::consts::PI;
+
+fn material(base: f32, metallic: f32, roughness: f32) -> BrdfMaterial {
+    BrdfMaterial {
+        base_color: Vec3::splat(base),
+        metallic,
+        roughness,
+        dielectric_f0: Vec3::splat(0.04),
+    }
+}
+
+fn view(cos_o: f32) -> Vec3 {
+    Vec3::new((1.0 - cos_o * cos_o).max(0.0).sqrt(), 0.0, cos_o)
+}
+
+fn random_material(rng: &mut Pcg32) -> BrdfMaterial {
+    BrdfMaterial {
+        base_color: Vec3::new(rng.random(), rng.random(), rng.random()),
+        metallic: if rng.random_bool(0.3) {
+            rng.random_range(0.0..1.0)
+        } else {
+            0.0
+        },
+        roughness: rng.random_range(0.0..1.0),
+        dielectric_f0: Vec3::splat(rng.random_range(0.0..0.1)),
+    }
+}
+
+fn random_upper(rng: &mut Pcg32) -> Vec3 {
+    let z: f32 = rng.random_range(0.01..1.0);
+    let phi: f32 = rng.random_range(0.0..2.0 * PI);
+    let s = (1.0 - z * z).sqrt();
+    Vec3::new(s * phi.cos(), s * phi.sin(), z)
+}
+
+/// ∫ f cos dωi (the albedo) with `n`² stratified samples of the BRDF's own sampling routine,
+/// delta lobe included. Returns (mean, standard error) of the luminance-free red channel.
+fn albedo(m: &BrdfMaterial, wo: Vec3, n: usize) -> (f64, f64) {
+    let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+    let mut rng = Pcg32::seed_from_u64(7);
+    for i in 0..n {
+        for j in 0..n {
+            let u = [
+                rng.random::<f32>(),
+                (i as f32 + rng.random::<f32>()) / n as f32,
+                (j as f32 + rng.random::<f32>()) / n as f32,
+            ];
+            let w = brdf::sample(m, wo, u).map_or(0.0, |s| s.weight.x as f64);
+            sum += w;
+            sum2 += w * w;
+        }
+    }
+    let count = (n * n) as f64;
+    let mean = sum / count;
+    (mean, ((sum2 / count - mean * mean).max(0.0) / count).sqrt())
+}
+
+#[test]
+fn energy_table_matches_an_independent_integration() {
+    let table = brdf::energy_table();
+    // Brute force over (θ, φ) with a fine midpoint grid, for rough-enough lobes.
+    for &roughness in &[0.3f32, 0.5, 0.8, 1.0] {
+        for &cos_o in &[0.1f32, 0.5, 0.9] {
+            let alpha = roughness * roughness;
+            let wo = view(cos_o);
+            let (nt, np) = (1200, 600);
+            let mut sum = 0.0f64;
+            for i in 0..nt {
+                let z = (i as f32 + 0.5) / nt as f32;
+                let s = (1.0 - z * z).sqrt();
+                for j in 0..np {
+                    let phi = PI * (j as f32 + 0.5) / np as f32;
+                    let wi = Vec3::new(s * phi.cos(), s * phi.sin(), z);
+                    let h = (wo + wi).normalize();
+                    let f = brdf::d_ggx(alpha, h.z) * brdf::v_smith_ggx_correlated(alpha, cos_o, z);
+                    // dω = dz dφ; φ ∈ [0, π] doubled by symmetry.
+                    sum += (f * z) as f64;
+                }
+            }
+            let brute = sum * 2.0 * (1.0 / nt as f64) * (PI as f64 / np as f64);
+            let e = table.e(cos_o, alpha) as f64;
+            assert!(
+                (e - brute).abs() < 3e-3,
+                "E({cos_o}, r={roughness}): table {e:.5}, brute force {brute:.5}"
+            );
+        }
+    }
+}
+
+/// A white metal reflects all light at every roughness and angle: single scattering plus the
+/// multiple-scattering lobe. Tolerance: 1.5% (the energy table's interpolation error).
+#[test]
+fn white_furnace_rough_metal_keeps_its_energy() {
+    let mut worst = 0.0f64;
+    for r in 0..=20 {
+        let roughness = r as f32 / 20.0;
+        let m = material(1.0, 1.0, roughness);
+        for &cos_o in &[0.05f32, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0] {
+            let (a, se) = albedo(&m, view(cos_o), 160);
+            worst = worst.max((a - 1.0).abs());
+            assert!(
+                (a - 1.0).abs() < 0.015 + 4.0 * se,
+                "white metal roughness {roughness} cos {cos_o}: albedo {a:.4} ± {se:.4}"
+            );
+        }
+    }
+    eprintln!("white furnace: worst |albedo - 1| = {worst:.4}");
+}
+
+#[test]
+fn albedo_never_exceeds_one() {
+    let mut rng = Pcg32::seed_from_u64(3);
+    for _ in 0..120 {
+        let mut m = random_material(&mut rng);
+        m.base_color = Vec3::ONE; // the hardest case for energy
+        let wo = random_upper(&mut rng);
+        let (a, se) = albedo(&m, wo, 64);
+        assert!(
+            a <= 1.0 + 0.01 + 4.0 * se,
+            "{m:?} wo {wo}: albedo {a:.4} ± {se:.4}"
+        );
+    }
+}
+
+#[test]
+fn brdf_is_reciprocal() {
+    let mut rng = Pcg32::seed_from_u64(11);
+    for _ in 0..5000 {
+        let m = random_material(&mut rng);
+        let (a, b) = (random_upper(&mut rng), random_upper(&mut rng));
+        // eval includes cos θi; divide it out to compare f(a, b) with f(b, a).
+        let fab = brdf::eval(&m, a, b) / b.z;
+        let fba = brdf::eval(&m, b, a) / a.z;
+        let scale = fab.abs().max_element().max(1e-3);
+        assert!(
+            (fab - fba).abs().max_element() <= 1e-4 * scale,
+            "{m:?}: f({a}, {b}) = {fab} but f({b}, {a}) = {fba}"
+        );
+    }
+}
+
+/// Midpoint quadrature of a density over the sphere (z and φ uniform, so cells are equal area).
+fn integrate_sphere(f: impl Fn(Vec3) -> f32, nz: usize, nphi: usize) -> f64 {
+    let mut sum = 0.0f64;
+    for i in 0..nz {
+        let z = -1.0 + 2.0 * (i as f32 + 0.5) / nz as f32;
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        for j in 0..nphi {
+            let phi = 2.0 * PI * (j as f32 + 0.5) / nphi as f32;
+            sum += f(Vec3::new(s * phi.cos(), s * phi.sin(), z)) as f64;
+        }
+    }
+    sum * 4.0 * PI as f64 / (nz * nphi) as f64
+}
+
+#[test]
+fn pdfs_integrate_to_one() {
+    let cosine = integrate_sphere(|w| w.z.max(0.0) / PI, 2000, 200);
+    assert!(
+        (cosine - 1.0).abs() < 1e-3,
+        "cosine pdf integrates to {cosine}"
+    );
+    for &roughness in &[0.35f32, 0.6, 1.0] {
+        for &cos_o in &[0.15f32, 0.5, 1.0] {
+            let alpha = roughness * roughness;
+            let wo = view(cos_o);
+            // The pdf formula holds above the surface; below it the bounded cap already
+            // removed some normals, so the mass there is measured as the rejection rate.
+            let upper = integrate_sphere(
+                |wi| {
+                    if wi.z > 0.0 {
+                        brdf::vndf_pdf(wo, wi, alpha)
+                    } else {
+                        0.0
+                    }
+                },
+                4000,
+                400,
+            );
+            let mut rng = Pcg32::seed_from_u64(5);
+            let n = 400_000;
+            let below = (0..n)
+                .filter(|_| {
+                    let u = glam::Vec2::new(rng.random(), rng.random());
+                    !(brdf::sample_vndf(wo, alpha, u).z > 0.0)
+                })
+                .count() as f64
+                / n as f64;
+            let total = upper + below;
+            assert!(
+                (total - 1.0).abs() < 5e-3,
+                "bounded VNDF (r={roughness}, cos={cos_o}): pdf above {upper:.4} + rejected {below:.4}"
+            );
+        }
+    }
+}
+
+/// Wilson–Hilferty: the chi-square statistic as a standard normal z-score.
+fn chi_square_z(chi2: f64, dof: f64) -> f64 {
+    let k = dof;
+    ((chi2 / k).powf(1.0 / 3.0) - (1.0 - 2.0 / (9.0 * k))) / (2.0 / (9.0 * k)).sqrt()
+}
+
+/// Histograms `sample` in (z, φ) cells of equal solid angle, plus a "rejected" cell, and compares
+/// with the expected counts from integrating `pdf` over each cell.
+fn chi_square_of(m: &BrdfMaterial, wo: Vec3, samples: usize) -> f64 {
+    let (nz, nphi, sub) = (16usize, 32usize, 12usize);
+    let mut counts = vec![0u64; nz * nphi + 1];
+    let mut rng = Pcg32::seed_from_u64(99);
+    for _ in 0..samples {
+        let u = [rng.random(), rng.random(), rng.random()];
+        match brdf::sample(m, wo, u) {
+            Some(s) => {
+                assert!(s.lobe != Lobe::Mirror);
+                let zi = ((s.wi.z * nz as f32) as usize).min(nz - 1);
+                let phi = s.wi.y.atan2(s.wi.x).rem_euclid(2.0 * PI);
+                let pi = ((phi / (2.0 * PI) * nphi as f32) as usize).min(nphi - 1);
+                counts[zi * nphi + pi] += 1;
+            }
+            None => counts[nz * nphi] += 1,
+        }
+    }
+    let mut expected = vec![0.0f64; nz * nphi + 1];
+    let cell = (1.0 / nz as f64) * (2.0 * PI as f64 / nphi as f64);
+    for zi in 0..nz {
+        for pi in 0..nphi {
+            let mut s = 0.0f64;
+            for a in 0..sub {
+                let z = (zi as f32 + (a as f32 + 0.5) / sub as f32) / nz as f32;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                for b in 0..sub {
+                    let phi = 2.0 * PI * (pi as f32 + (b as f32 + 0.5) / sub as f32) / nphi as f32;
+                    s += brdf::pdf(m, wo, Vec3::new(r * phi.cos(), r * phi.sin(), z)) as f64;
+                }
+            }
+            expected[zi * nphi + pi] = s / (sub * sub) as f64 * cell * samples as f64;
+        }
+    }
+    let inside: f64 = expected[..nz * nphi].iter().sum();
+    expected[nz * nphi] = (samples as f64 - inside).max(0.0);
+    // Pool cells with small expectations so the statistic stays chi-square distributed.
+    let (mut chi2, mut dof, mut pool_e, mut pool_o) = (0.0f64, 0usize, 0.0f64, 0.0f64);
+    for (e, &o) in expected.iter().zip(&counts) {
+        if *e < 20.0 {
+            pool_e += e;
+            pool_o += o as f64;
+            continue;
+        }
+        chi2 += (o as f64 - e).powi(2) / e;
+        dof += 1;
+    }
+    if pool_e >= 20.0 {
+        chi2 += (pool_o - pool_e).powi(2) / pool_e;
+        dof += 1;
+    }
+    chi_square_z(chi2, (dof - 1) as f64)
+}
+
+#[test]
+fn sampling_matches_its_pdf_chi_square() {
+    let cases = [
+        ("white diffuse", material(0.8, 0.0, 1.0), 0.7f32),
+        ("rough metal", material(0.9, 1.0, 0.8), 0.6),
+        ("glossy metal", material(0.9, 1.0, 0.4), 0.8),
+        ("glossy metal, grazing", material(0.9, 1.0, 0.45), 0.15),
+        ("glossy plastic", material(0.5, 0.0, 0.4), 0.5),
+        ("rough plastic, grazing", material(0.5, 0.0, 0.7), 0.1),
+    ];
+    for (name, m, cos_o) in cases {
+        let z = chi_square_of(&m, view(cos_o), 400_000);
+        assert!(z < 4.0, "{name}: chi-square z-score {z:.2}");
+    }
+}
+
+#[test]
+fn mirror_reflects_with_fresnel_weight_and_infinite_pdf() {
+    let m = material(0.9, 1.0, 0.0);
+    let wo = Vec3::new(0.6, 0.0, 0.8);
+    let s = brdf::sample(&m, wo, [0.99, 0.3, 0.7]).expect("mirror sample");
+    assert_eq!(s.lobe, Lobe::Mirror);
+    assert!(s.pdf.is_infinite());
+    assert!((s.wi - Vec3::new(-0.6, 0.0, 0.8)).length() < 1e-6);
+    let f = brdf::fresnel(m.f0(), 0.8);
+    assert!((s.weight - f).abs().max_element() < 1e-5);
+    // Any explicitly evaluated direction gets nothing from the delta lobe.
+    assert_eq!(brdf::eval(&m, wo, s.wi), Vec3::ZERO);
+    // MIS against the infinite pdf: the mirror's technique takes all the weight.
+    assert_eq!(brdf::balance_heuristic(f32::INFINITY, 3.0), 1.0);
+    assert_eq!(brdf::balance_heuristic(3.0, f32::INFINITY), 0.0);
+    assert_eq!(brdf::balance_heuristic(0.0, 0.0), 0.0);
+    assert!((brdf::balance_heuristic(1.0, 3.0) - 0.25).abs() < 1e-7);
+}
+
+#[test]
+fn adversarial_inputs_never_give_non_finite_values() {
+    let bad = [f32::NAN, f32::INFINITY, -1.0, 1e30, -0.0, 0.0, 1.0];
+    let dirs = [
+        Vec3::Z,
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 1e-7).normalize(),
+        Vec3::new(0.0, 0.0, -1.0),
+        Vec3::new(-1e-7, 1.0, 1e-7).normalize(),
+    ];
+    for &x in &bad {
+        for &r in &[0.0f32, 1e-4, MIRROR_EDGE, 0.5, 1.0, x] {
+            let m = BrdfMaterial {
+                base_color: Vec3::splat(x),
+                metallic: x,
+                roughness: r,
+                dielectric_f0: Vec3::splat(x),
+            }
+            .sanitized();
+            for &wo in &dirs {
+                for &wi in &dirs {
+                    assert!(brdf::eval(&m, wo, wi).is_finite(), "{m:?} {wo} {wi}");
+                    assert!(brdf::pdf(&m, wo, wi).is_finite(), "{m:?} {wo} {wi}");
+                }
+                for u in [
+                    [0.0, 0.0, 0.0],
+                    [0.999_999, 0.999_999, 0.999_999],
+                    [0.5, 1e-9, 0.5],
+                ] {
+                    if let Some(s) = brdf::sample(&m, wo, u) {
+                        assert!(s.weight.is_finite() && s.wi.is_finite(), "{m:?} {wo} {u:?}");
+                        assert!(s.wi.z > 0.0);
+                    }
+                }
+            }
+        }
+    }
+}
+
+const MIRROR_EDGE: f32 = brdf::MIRROR_ROUGHNESS;
