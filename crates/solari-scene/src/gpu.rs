@@ -227,6 +227,32 @@ impl Gpu {
         Ok(data)
     }
 
+    /// Records one compute dispatch with `bind_groups` at groups 0, 1, … and submits it,
+    /// inside a validation scope. Blocks only on validation, not on the GPU.
+    pub fn dispatch(
+        &self,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        bind_groups: &[&wgpu::BindGroup],
+        workgroups: [u32; 3],
+    ) -> Result<(), GpuError> {
+        self.scoped(|| {
+            let mut encoder = self.device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                for (i, group) in bind_groups.iter().enumerate() {
+                    pass.set_bind_group(i as u32, *group, &[]);
+                }
+                pass.dispatch_workgroups(workgroups[0], workgroups[1], workgroups[2]);
+            }
+            self.queue.submit([encoder.finish()]);
+        })
+    }
+
     /// Creates a compute pipeline from composed WGSL with the given runtime checks.
     pub fn compute_pipeline(
         &self,

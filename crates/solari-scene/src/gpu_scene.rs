@@ -45,6 +45,7 @@ const BINDINGS: &[(u32, &str)] = &[
     (8, "scene_tlas | bvh_nodes"),
     (9, "bvh_triangles"),
     (10, "tlas_instances"),
+    (11, "brdf_energy"),
 ];
 
 enum Accel {
@@ -73,6 +74,7 @@ pub struct GpuScene {
     srgb: wgpu::TextureView,
     linear: wgpu::TextureView,
     sampler: wgpu::Sampler,
+    brdf_energy: wgpu::TextureView,
     info: wgpu::Buffer,
     accel: Accel,
     mesh_offsets: Vec<(u32, u32)>,
@@ -149,6 +151,16 @@ impl GpuScene {
             }),
             Backend::Software => entries.extend([storage(8), storage(9), storage(10)]),
         }
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: 11,
+            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        });
         debug_assert!(
             entries
                 .iter()
@@ -207,12 +219,21 @@ impl GpuScene {
             .iter()
             .map(|m| {
                 let tex = |t: Option<u32>| t.map(|i| layer_of[i as usize]).unwrap_or(NO_TEXTURE);
-                GpuMaterial {
-                    base_color: m.base_color.into(),
-                    emissive: m.emissive.into(),
+                // Materials built in code skip the importer's clamping: the BRDF must never see
+                // values outside its ranges.
+                let brdf = crate::brdf::BrdfMaterial {
+                    base_color: m.base_color.truncate(),
                     metallic: m.metallic,
-                    dielectric_f0: m.dielectric_f0.into(),
                     roughness: m.roughness,
+                    dielectric_f0: m.dielectric_f0,
+                }
+                .sanitized();
+                GpuMaterial {
+                    base_color: brdf.base_color.extend(m.base_color.w).into(),
+                    emissive: m.emissive.into(),
+                    metallic: brdf.metallic,
+                    dielectric_f0: brdf.dielectric_f0.into(),
+                    roughness: brdf.roughness,
                     base_color_texture: tex(m.base_color_texture),
                     metallic_roughness_texture: tex(m.metallic_roughness_texture),
                     normal_texture: tex(m.normal_texture),
@@ -311,6 +332,7 @@ impl GpuScene {
             srgb,
             linear,
             sampler,
+            brdf_energy: upload_energy_table(gpu),
             info,
             accel,
             mesh_offsets,
@@ -456,6 +478,10 @@ impl GpuScene {
                 ..
             } => entries.extend([buf(8, nodes), buf(9, triangles), buf(10, tlas_instances)]),
         }
+        entries.push(wgpu::BindGroupEntry {
+            binding: 11,
+            resource: wgpu::BindingResource::TextureView(&self.brdf_energy),
+        });
         self.bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_scene/scene"),
             layout: &self.layout,
@@ -676,4 +702,42 @@ fn resample(t: &crate::model::Texture, size: u32) -> Vec<MipLevel> {
         },
         t.color_space,
     )
+}
+
+/// The BRDF's energy table ([`crate::brdf::EnergyTable`]) as an R32Float texture read with
+/// `textureLoad`: N+1 columns per roughness row, `E(cos θ)` in the first N and `E_avg` last.
+fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
+    let table = crate::brdf::energy_table();
+    let n = table.e_avg.len();
+    let mut texels = Vec::with_capacity((n + 1) * n);
+    for r in 0..n {
+        texels.extend_from_slice(&table.e[r * n..(r + 1) * n]);
+        texels.push(table.e_avg[r]);
+    }
+    let size = wgpu::Extent3d {
+        width: n as u32 + 1,
+        height: n as u32,
+        depth_or_array_layers: 1,
+    };
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("solari_scene/brdf_energy"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some((n as u32 + 1) * 4),
+            rows_per_image: Some(n as u32),
+        },
+        size,
+    );
+    texture.create_view(&Default::default())
 }

@@ -40,6 +40,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("hit", include_str!("../shaders/hit.wesl")),
     ("rng", include_str!("../shaders/rng.wesl")),
     ("view", include_str!("../shaders/view.wesl")),
+    ("brdf", include_str!("../shaders/brdf.wesl")),
 ];
 
 /// The entry-point files of `solari-scene`, by module name.
@@ -47,6 +48,7 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     ("primary", include_str!("../shaders/primary.wesl")),
     ("trace_rays", include_str!("../shaders/trace_rays.wesl")),
     ("ray_bench", include_str!("../shaders/ray_bench.wesl")),
+    ("brdf_test", include_str!("../shaders/brdf_test.wesl")),
 ];
 
 /// Composes the entry module `entry` (one of `extra` or [`ENTRY_POINTS`]) for `backend` into

@@ -96,24 +96,15 @@ impl TraceRaysPass {
             layout: &self.empty,
             entries: &[],
         });
-        gpu.scoped(|| {
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("solari_scene/trace_rays"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, scene.bind_group(), &[]);
-                pass.set_bind_group(1, &empty, &[]);
-                pass.set_bind_group(2, &bind, &[]);
-                let groups = (rays.len() as u32).div_ceil(64);
-                // Stay under the 65535 workgroups-per-dimension limit by folding into y.
-                let x = groups.min(65535);
-                pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
-            }
-            gpu.queue.submit([encoder.finish()]);
-        })?;
+        let groups = (rays.len() as u32).div_ceil(64);
+        // Stay under the 65535 workgroups-per-dimension limit by folding into y.
+        let x = groups.min(65535);
+        gpu.dispatch(
+            "solari_scene/trace_rays",
+            &self.pipeline,
+            &[scene.bind_group(), &empty, &bind],
+            [x, groups.div_ceil(x), 1],
+        )?;
         let bytes = gpu.read_buffer(&hit_buf, hit_bytes)?;
         Ok(bytemuck::cast_slice(&bytes).to_vec())
     }

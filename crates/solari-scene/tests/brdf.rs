@@ -83,7 +83,7 @@ fn energy_table_matches_an_independent_integration() {
                     let phi = PI * (j as f32 + 0.5) / np as f32;
                     let wi = Vec3::new(s * phi.cos(), s * phi.sin(), z);
                     let h = (wo + wi).normalize();
-                    let f = brdf::d_ggx(alpha, h.z) * brdf::v_smith_ggx_correlated(alpha, cos_o, z);
+                    let f = brdf::d_ggx(alpha, h) * brdf::v_smith_ggx_correlated(alpha, cos_o, z);
                     // dω = dz dφ; φ ∈ [0, π] doubled by symmetry.
                     sum += (f * z) as f64;
                 }
