@@ -33,3 +33,8 @@ pub mod view_pass;
 pub use error::{GpuError, SceneError};
 pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};
 pub use model::*;
+
+/// The README's examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

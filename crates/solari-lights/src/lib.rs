@@ -1,0 +1,50 @@
+//! # solari-lights
+//!
+//! The light sampling core of the Solari workspace: the light list built from a scene
+//! (emissive instances with their triangles, directional lights as sun disks), light selection
+//! (uniform, as Solari does, or proportional to emitted power through an alias table), and the
+//! resolution of a light sample at a shading point with its solid-angle pdf. Lights keep
+//! stable keys across frames and [`LightList::translation_from`] maps last frame's light
+//! indices to this frame's, so temporal reuse never shades with a removed light.
+//!
+//! ```
+//! use solari_lights::{LightList, Selection, unshadowed_contribution};
+//! use solari_scene::brdf::BrdfMaterial;
+//! use glam::Vec3;
+//!
+//! let scene = solari_scene::default_scene::cornell_box();
+//! let lights = LightList::build(&scene);
+//! assert!(!lights.is_empty());
+//! // A point on the floor, lit by the ceiling light.
+//! let x = Vec3::new(0.0, 0.01, 0.0);
+//! if let Some(s) = lights.sample(Selection::Power, x, [0.5, 0.5, 0.3, 0.7]) {
+//!     let white = BrdfMaterial {
+//!         base_color: Vec3::ONE,
+//!         metallic: 0.0,
+//!         roughness: 1.0,
+//!         dielectric_f0: Vec3::splat(0.04),
+//!     };
+//!     let c = unshadowed_contribution(&s, &white, Vec3::Y, Vec3::Y);
+//!     assert!(c.is_finite());
+//! }
+//! ```
+//!
+//! The CPU code here is the reference the GPU light-sampling module is tested against.
+
+// `!(x > 0.0)` is deliberate throughout: it rejects NaN along with non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub mod alias;
+pub mod light_list;
+pub mod sample;
+
+pub use alias::{AliasEntry, AliasTable};
+pub use light_list::{
+    EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection,
+};
+pub use sample::{LightSample, unshadowed_contribution};
+
+/// The README's examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

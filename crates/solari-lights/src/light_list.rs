@@ -1,0 +1,262 @@
+//! The light list: which lights a scene has, their stable keys and their selection weights.
+
+use crate::alias::AliasTable;
+use glam::Vec3;
+use solari_scene::Scene;
+use solari_scene::brdf::luminance;
+
+/// Marks a light that no longer exists in a translation table.
+pub const LIGHT_GONE: u32 = u32::MAX;
+
+/// What identifies a light across frames: the same key means the same light.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum LightKey {
+    /// An emissive instance, by instance index, mesh and material (so a replaced instance at
+    /// the same index is a new light).
+    Emissive {
+        /// Index into `Scene::instances`.
+        instance: u32,
+        /// Its mesh.
+        mesh: u32,
+        /// Its material.
+        material: u32,
+    },
+    /// A directional light, by index into `Scene::directional_lights`.
+    Directional {
+        /// Index into `Scene::directional_lights`.
+        index: u32,
+    },
+}
+
+/// One light.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Light {
+    /// An instance with an emissive material; its triangles are
+    /// `LightList::triangles[first_triangle..][..triangle_count]`.
+    Emissive {
+        /// Index into `Scene::instances`.
+        instance: u32,
+        /// First of its triangles in [`LightList::triangles`].
+        first_triangle: u32,
+        /// How many triangles it has (all with positive area).
+        triangle_count: u32,
+        /// Total world-space area.
+        area: f32,
+        /// Emitted radiance (the material's emissive factor; textures modulate it on the GPU).
+        radiance: Vec3,
+        /// Whether it emits from both faces (double-sided material).
+        double_sided: bool,
+    },
+    /// A directional light seen as a disk of uniform radiance.
+    Directional {
+        /// Unit direction towards the light (opposite to the direction light travels).
+        to_light: Vec3,
+        /// Irradiance on a surface facing the light.
+        irradiance: Vec3,
+        /// Cosine of the disk's angular radius; 1 for a delta (zero-size) light.
+        cos_radius: f32,
+    },
+}
+
+/// An emissive triangle in world space.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EmissiveTriangle {
+    /// Triangle index within its mesh.
+    pub primitive: u32,
+    /// World-space corner 0.
+    pub v0: Vec3,
+    /// World-space edge v1 − v0.
+    pub e1: Vec3,
+    /// World-space edge v2 − v0.
+    pub e2: Vec3,
+    /// World-space area.
+    pub area: f32,
+    /// Cumulative area fraction of its light up to and including this triangle (the last is 1).
+    pub cdf: f32,
+}
+
+/// How the light to sample is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Selection {
+    /// Every light equally likely (what Solari does).
+    Uniform,
+    /// Proportional to emitted power, through an alias table.
+    #[default]
+    Power,
+}
+
+/// Lights left out of a [`LightList`], and why (reported, not silently dropped).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LightListReport {
+    /// Emissive instances whose emission was not finite (left out).
+    pub non_finite_emission: Vec<u32>,
+    /// Emissive instances whose triangles all had zero area (left out).
+    pub zero_area: Vec<u32>,
+    /// Emissive triangles of zero or non-finite area skipped inside kept lights.
+    pub skipped_triangles: usize,
+    /// Directional lights that were black or not finite (left out).
+    pub dark_directional: Vec<u32>,
+}
+
+/// Every light of a scene that can contribute, with both selection distributions.
+#[derive(Clone, Debug, Default)]
+pub struct LightList {
+    /// The lights.
+    pub lights: Vec<Light>,
+    /// Each light's key, parallel to `lights`.
+    pub keys: Vec<LightKey>,
+    /// Emissive triangles, grouped per light.
+    pub triangles: Vec<EmissiveTriangle>,
+    /// Each light's emitted power (W, luminance-weighted), parallel to `lights`.
+    pub power: Vec<f32>,
+    /// Power-proportional selection.
+    pub power_table: AliasTable,
+    /// What was left out.
+    pub report: LightListReport,
+}
+
+impl LightList {
+    /// Collects the lights of `scene`. Black emitters, zero-area emitters and lights with
+    /// non-finite values are left out and listed in [`LightList::report`].
+    pub fn build(scene: &Scene) -> Self {
+        let mut list = LightList::default();
+        for (index, inst) in scene.instances.iter().enumerate() {
+            let Some(material) = scene.materials.get(inst.material as usize) else {
+                continue;
+            };
+            let Some(mesh) = scene.meshes.get(inst.mesh as usize) else {
+                continue;
+            };
+            if !material.is_emissive() {
+                continue;
+            }
+            if !material.emissive.is_finite() {
+                list.report.non_finite_emission.push(index as u32);
+                continue;
+            }
+            let first = list.triangles.len();
+            let mut area = 0.0f64;
+            for t in 0..mesh.triangle_count() {
+                let [a, b, c] = mesh.triangle(t).map(|p| inst.transform.transform_point3(p));
+                let (e1, e2) = (b - a, c - a);
+                let tri_area = 0.5 * e1.cross(e2).length();
+                if !(tri_area > 0.0 && tri_area.is_finite() && a.is_finite()) {
+                    list.report.skipped_triangles += 1;
+                    continue;
+                }
+                area += tri_area as f64;
+                list.triangles.push(EmissiveTriangle {
+                    primitive: t as u32,
+                    v0: a,
+                    e1,
+                    e2,
+                    area: tri_area,
+                    cdf: area as f32,
+                });
+            }
+            if list.triangles.len() == first {
+                list.report.zero_area.push(index as u32);
+                continue;
+            }
+            for tri in &mut list.triangles[first..] {
+                tri.cdf = (tri.cdf as f64 / area) as f32;
+            }
+            if let Some(last) = list.triangles.last_mut() {
+                last.cdf = 1.0;
+            }
+            let sides = if material.double_sided { 2.0 } else { 1.0 };
+            list.power
+                .push(luminance(material.emissive) * area as f32 * std::f32::consts::PI * sides);
+            list.keys.push(LightKey::Emissive {
+                instance: index as u32,
+                mesh: inst.mesh,
+                material: inst.material,
+            });
+            list.lights.push(Light::Emissive {
+                instance: index as u32,
+                first_triangle: first as u32,
+                triangle_count: (list.triangles.len() - first) as u32,
+                area: area as f32,
+                radiance: material.emissive,
+                double_sided: material.double_sided,
+            });
+        }
+        // A directional light's power: its irradiance over the scene's cross-section.
+        let (lo, hi) = scene.bounds();
+        let radius = if lo.is_finite() && hi.is_finite() {
+            0.5 * (hi - lo).length()
+        } else {
+            1.0
+        };
+        for (index, light) in scene.directional_lights.iter().enumerate() {
+            let dir = light.direction.normalize_or_zero();
+            let lit = light.irradiance.is_finite()
+                && light.irradiance.max_element() > 0.0
+                && dir != Vec3::ZERO;
+            if !lit {
+                list.report.dark_directional.push(index as u32);
+                continue;
+            }
+            let radius_angle =
+                (0.5 * light.angular_diameter).clamp(0.0, 0.5 * std::f32::consts::PI);
+            list.power
+                .push(luminance(light.irradiance) * std::f32::consts::PI * radius * radius);
+            list.keys.push(LightKey::Directional {
+                index: index as u32,
+            });
+            list.lights.push(Light::Directional {
+                to_light: -dir,
+                irradiance: light.irradiance,
+                cos_radius: radius_angle.cos(),
+            });
+        }
+        list.power_table = AliasTable::new(&list.power);
+        list
+    }
+
+    /// Number of lights.
+    pub fn len(&self) -> usize {
+        self.lights.len()
+    }
+
+    /// Whether the scene has no light that can contribute (passes that need lights skip).
+    pub fn is_empty(&self) -> bool {
+        self.lights.is_empty()
+    }
+
+    /// Probability that `selection` picks `light`.
+    pub fn selection_pdf(&self, selection: Selection, light: usize) -> f32 {
+        match selection {
+            Selection::Uniform => 1.0 / self.lights.len() as f32,
+            Selection::Power => self.power_table.pmf[light],
+        }
+    }
+
+    /// Picks a light index from one uniform number.
+    pub fn select(&self, selection: Selection, u: f32) -> usize {
+        let n = self.lights.len();
+        let x = u.clamp(0.0, 1.0) * n as f32;
+        let slot = (x as usize).min(n - 1);
+        match selection {
+            Selection::Uniform => slot,
+            // The fraction left in u after choosing the slot is a fresh uniform number.
+            Selection::Power => self.power_table.sample(u, x - slot as f32),
+        }
+    }
+
+    /// For each light of `previous`, its index in `self`, or [`LIGHT_GONE`]: lets temporal
+    /// reuse follow lights across frames and drop removed ones.
+    pub fn translation_from(&self, previous: &LightList) -> Vec<u32> {
+        let current: std::collections::HashMap<LightKey, u32> = self
+            .keys
+            .iter()
+            .enumerate()
+            .map(|(i, k)| (*k, i as u32))
+            .collect();
+        previous
+            .keys
+            .iter()
+            .map(|k| current.get(k).copied().unwrap_or(LIGHT_GONE))
+            .collect()
+    }
+}

@@ -1,0 +1,298 @@
+//! The light list, selection and sample resolution against analytic answers.
+
+// `!(x > 0.0)` is deliberate: it rejects NaN along with non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use glam::{Mat4, Vec3};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_lights::{AliasTable, LIGHT_GONE, Light, LightList, Selection};
+use solari_scene::{DirectionalLight, Instance, Material, Mesh, Scene};
+
+/// A unit square in the xz plane at the origin, facing down (-y), as two triangles.
+fn down_quad() -> Mesh {
+    Mesh {
+        name: "quad".into(),
+        positions: vec![
+            Vec3::new(-0.5, 0.0, -0.5),
+            Vec3::new(0.5, 0.0, -0.5),
+            Vec3::new(0.5, 0.0, 0.5),
+            Vec3::new(-0.5, 0.0, 0.5),
+        ],
+        // Counter-clockwise seen from below: normal -y.
+        indices: vec![0, 1, 2, 0, 2, 3],
+        ..Default::default()
+    }
+}
+
+fn emitter(emissive: Vec3) -> Material {
+    Material {
+        emissive,
+        ..Default::default()
+    }
+}
+
+/// Quads placed by `transforms`, each with its own material.
+fn scene_of(quads: &[(Mat4, Vec3)]) -> Scene {
+    let mut scene = Scene {
+        meshes: vec![down_quad()],
+        ..Default::default()
+    };
+    for (i, (m, e)) in quads.iter().enumerate() {
+        scene.materials.push(emitter(*e));
+        scene.instances.push(Instance {
+            name: format!("light{i}"),
+            mesh: 0,
+            material: i as u32,
+            transform: *m,
+        });
+    }
+    scene
+}
+
+/// Irradiance at `x` (normal `n`) from a uniformly bright convex polygon `poly` of radiance
+/// `l` facing `x`: Lambert's formula, E = L/2 Σ θᵢ (n · ĉᵢ).
+fn polygon_irradiance(x: Vec3, n: Vec3, poly: &[Vec3], l: f32) -> f32 {
+    let mut sum = 0.0;
+    for i in 0..poly.len() {
+        let a = (poly[i] - x).normalize();
+        let b = (poly[(i + 1) % poly.len()] - x).normalize();
+        let theta = a.dot(b).clamp(-1.0, 1.0).acos();
+        sum += theta * n.dot(a.cross(b).normalize());
+    }
+    0.5 * l * sum.abs()
+}
+
+/// Monte Carlo irradiance at `x` with normal `n` by light sampling: mean and standard error.
+fn estimate(list: &LightList, sel: Selection, x: Vec3, n: Vec3, samples: usize) -> (f64, f64) {
+    let mut rng = Pcg32::seed_from_u64(17);
+    let (mut s1, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..samples {
+        let u = [rng.random(), rng.random(), rng.random(), rng.random()];
+        let v = list
+            .sample(sel, x, u)
+            .map(|s| (s.radiance.x * n.dot(s.direction).max(0.0) / s.pdf) as f64)
+            .unwrap_or(0.0);
+        s1 += v;
+        s2 += v * v;
+    }
+    let m = s1 / samples as f64;
+    (
+        m,
+        ((s2 / samples as f64 - m * m).max(0.0) / samples as f64).sqrt(),
+    )
+}
+
+#[test]
+fn alias_table_draws_in_proportion_to_weights() {
+    let weights = [3.0, 0.0, 1.0, 7.5, f32::NAN, 0.25, 12.0, -4.0, 1.0];
+    let table = AliasTable::new(&weights);
+    let total: f32 = [3.0, 1.0, 7.5, 0.25, 12.0, 1.0].iter().sum();
+    let mut rng = Pcg32::seed_from_u64(1);
+    let n = 1_000_000;
+    let mut counts = [0u64; 9];
+    for _ in 0..n {
+        counts[table.sample(rng.random(), rng.random())] += 1;
+    }
+    let (mut chi2, mut dof) = (0.0, 0usize);
+    for (i, &w) in weights.iter().enumerate() {
+        let p = if w.is_finite() && w > 0.0 {
+            w / total
+        } else {
+            0.0
+        };
+        assert!(
+            (table.pmf[i] - p).abs() < 1e-6,
+            "pmf[{i}] = {}",
+            table.pmf[i]
+        );
+        if p == 0.0 {
+            assert_eq!(counts[i], 0, "weight {w} was drawn");
+            continue;
+        }
+        let e = p as f64 * n as f64;
+        chi2 += (counts[i] as f64 - e).powi(2) / e;
+        dof += 1;
+    }
+    // 99.99th percentile of chi-square with 5 degrees of freedom is 25.7.
+    assert!(chi2 < 25.7 && dof == 6, "chi-square {chi2} ({dof} cells)");
+    // All-zero weights fall back to uniform.
+    let uniform = AliasTable::new(&[0.0, 0.0, f32::INFINITY]);
+    assert!(uniform.pmf.iter().all(|&p| (p - 1.0 / 3.0).abs() < 1e-6));
+}
+
+#[test]
+fn lights_that_cannot_contribute_are_left_out_and_reported() {
+    let mut scene = scene_of(&[
+        (Mat4::IDENTITY, Vec3::ONE),
+        (Mat4::IDENTITY, Vec3::ZERO),
+        (Mat4::from_scale(Vec3::new(1.0, 1.0, 0.0)), Vec3::ONE),
+        (Mat4::IDENTITY, Vec3::new(f32::NAN, 1.0, 1.0)),
+    ]);
+    scene.directional_lights.push(DirectionalLight {
+        name: "black".into(),
+        direction: -Vec3::Y,
+        irradiance: Vec3::ZERO,
+        angular_diameter: 0.01,
+    });
+    let list = LightList::build(&scene);
+    assert_eq!(list.len(), 1);
+    assert_eq!(list.report.zero_area, vec![2]);
+    assert_eq!(list.report.non_finite_emission, vec![3]);
+    assert_eq!(list.report.dark_directional, vec![0]);
+    // A scene with nothing bright has an empty list, and sampling it gives nothing.
+    let dark = LightList::build(&scene_of(&[(Mat4::IDENTITY, Vec3::ZERO)]));
+    assert!(dark.is_empty());
+    assert!(
+        dark.sample(Selection::Power, Vec3::ZERO, [0.5; 4])
+            .is_none()
+    );
+}
+
+#[test]
+fn translation_follows_keys_and_drops_removed_lights() {
+    let t = |y: f32| Mat4::from_translation(Vec3::new(0.0, y, 0.0));
+    let before = scene_of(&[
+        (t(1.0), Vec3::ONE),
+        (t(2.0), Vec3::ONE),
+        (t(3.0), Vec3::ONE),
+    ]);
+    let mut after = before.clone();
+    // Light 0 dims to black (gone), light 2 moves (same light), light 1 changes material.
+    after.materials[0].emissive = Vec3::ZERO;
+    after.instances[2].transform = t(5.0);
+    after.materials.push(emitter(Vec3::splat(2.0)));
+    after.instances[1].material = 3;
+    let (a, b) = (LightList::build(&before), LightList::build(&after));
+    let map = b.translation_from(&a);
+    assert_eq!(map, vec![LIGHT_GONE, LIGHT_GONE, 1]);
+    assert_eq!(a.translation_from(&a), vec![0, 1, 2]);
+}
+
+#[test]
+fn area_light_irradiance_matches_the_analytic_answer() {
+    // A bright small quad and a dim large one, so the two selections differ.
+    let small =
+        Mat4::from_translation(Vec3::new(0.3, 1.0, 0.0)) * Mat4::from_scale(Vec3::splat(0.3));
+    let large =
+        Mat4::from_translation(Vec3::new(-0.5, 1.5, 0.2)) * Mat4::from_scale(Vec3::splat(2.0));
+    let scene = scene_of(&[(small, Vec3::splat(50.0)), (large, Vec3::splat(0.5))]);
+    let list = LightList::build(&scene);
+    let corners = |m: &Mat4| {
+        down_quad()
+            .positions
+            .iter()
+            .map(|p| m.transform_point3(*p))
+            .collect::<Vec<_>>()
+    };
+    for x in [
+        Vec3::ZERO,
+        Vec3::new(0.7, 0.2, -0.4),
+        Vec3::new(-1.0, 0.0, 1.0),
+    ] {
+        let n = Vec3::Y;
+        let exact = polygon_irradiance(x, n, &corners(&small), 50.0)
+            + polygon_irradiance(x, n, &corners(&large), 0.5);
+        for sel in [Selection::Uniform, Selection::Power] {
+            let (e, se) = estimate(&list, sel, x, n, 200_000);
+            assert!(
+                (e - exact as f64).abs() < 4.0 * se + 2e-3 * exact as f64,
+                "{sel:?} at {x}: estimate {e:.5} ± {se:.5}, exact {exact:.5}"
+            );
+        }
+    }
+}
+
+#[test]
+fn power_selection_beats_uniform_when_lights_differ() {
+    let small =
+        Mat4::from_translation(Vec3::new(0.3, 1.0, 0.0)) * Mat4::from_scale(Vec3::splat(0.3));
+    let mut quads = vec![(small, Vec3::splat(50.0))];
+    for i in 0..8 {
+        let far = Mat4::from_translation(Vec3::new(-3.0 + i as f32, 4.0, 3.0));
+        quads.push((far, Vec3::splat(0.05)));
+    }
+    let list = LightList::build(&scene_of(&quads));
+    let (_, se_uniform) = estimate(&list, Selection::Uniform, Vec3::ZERO, Vec3::Y, 50_000);
+    let (_, se_power) = estimate(&list, Selection::Power, Vec3::ZERO, Vec3::Y, 50_000);
+    eprintln!("standard error: uniform {se_uniform:.5}, power {se_power:.5}");
+    assert!(se_power < 0.5 * se_uniform);
+}
+
+#[test]
+fn sun_disk_delivers_its_irradiance() {
+    for diameter in [0.0f32, 0.0093, 0.2] {
+        let mut scene = scene_of(&[]);
+        scene.directional_lights.push(DirectionalLight {
+            name: "sun".into(),
+            direction: Vec3::new(0.0, -1.0, 0.0),
+            irradiance: Vec3::splat(3.0),
+            angular_diameter: diameter,
+        });
+        let list = LightList::build(&scene);
+        assert!(matches!(list.lights[0], Light::Directional { .. }));
+        let (e, se) = estimate(&list, Selection::Power, Vec3::ZERO, Vec3::Y, 100_000);
+        // L = E / (π sin² r) makes a facing surface receive exactly E.
+        assert!((e - 3.0).abs() <= 4.0 * se + 1e-4, "d={diameter}: {e}");
+        let tilted = Vec3::new(0.6, 0.8, 0.0);
+        let (et, se) = estimate(&list, Selection::Power, Vec3::ZERO, tilted, 100_000);
+        assert!(
+            (et - 2.4).abs() < 4.0 * se + 0.02,
+            "d={diameter}: tilted {et}"
+        );
+    }
+}
+
+#[test]
+fn emissive_pdf_matches_the_sampling_pdf() {
+    let scene = scene_of(&[
+        (Mat4::from_translation(Vec3::Y), Vec3::ONE),
+        (
+            Mat4::from_translation(Vec3::new(1.0, 2.0, 0.0)) * Mat4::from_rotation_z(0.3),
+            Vec3::splat(4.0),
+        ),
+    ]);
+    let list = LightList::build(&scene);
+    let mut rng = Pcg32::seed_from_u64(2);
+    let x = Vec3::new(0.1, -0.5, 0.2);
+    for sel in [Selection::Uniform, Selection::Power] {
+        for _ in 0..1000 {
+            let u = [rng.random(), rng.random(), rng.random(), rng.random()];
+            let Some(s) = list.sample(sel, x, u) else {
+                continue;
+            };
+            let Light::Emissive { first_triangle, .. } = list.lights[s.light as usize] else {
+                unreachable!()
+            };
+            let tri = list.triangles[first_triangle as usize];
+            let n = tri.e1.cross(tri.e2).normalize();
+            let y = x + s.direction * s.distance;
+            let p = list.emissive_pdf(sel, s.light as usize, x, y, n);
+            assert!((p - s.pdf).abs() <= 1e-3 * s.pdf, "{p} vs {}", s.pdf);
+        }
+    }
+}
+
+#[test]
+fn absurd_emission_and_degenerate_points_stay_finite() {
+    let scene = scene_of(&[
+        (Mat4::IDENTITY, Vec3::splat(1e30)),
+        (Mat4::from_scale(Vec3::splat(1e15)), Vec3::splat(1e30)),
+    ]);
+    let list = LightList::build(&scene);
+    assert!(list.power_table.pmf.iter().all(|p| p.is_finite()));
+    let mut rng = Pcg32::seed_from_u64(9);
+    for x in [
+        Vec3::ZERO,
+        Vec3::new(0.0, -1.0, 0.0),
+        Vec3::new(0.5, 0.0, 0.5),
+    ] {
+        for _ in 0..200 {
+            let u = [rng.random(), rng.random(), rng.random(), rng.random()];
+            if let Some(s) = list.sample(Selection::Power, x, u) {
+                assert!(s.pdf.is_finite() && s.pdf > 0.0 && s.direction.is_finite());
+                assert!(s.radiance.is_finite());
+            }
+        }
+    }
+}
