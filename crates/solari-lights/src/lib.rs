@@ -35,10 +35,12 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod alias;
+pub mod gpu;
 pub mod light_list;
 pub mod sample;
 
 pub use alias::{AliasEntry, AliasTable};
+pub use gpu::{GpuLights, MODULES};
 pub use light_list::{
     EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection,
 };

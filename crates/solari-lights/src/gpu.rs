@@ -1,0 +1,235 @@
+//! The light list on the GPU: bind group 3 for `shaders/light_sampling.wesl`.
+
+use crate::light_list::{Light, LightList, Selection};
+use bytemuck::{Pod, Zeroable};
+use solari_scene::GpuError;
+use solari_scene::gpu::Gpu;
+use std::f32::consts::PI;
+
+/// WGSL twin: `GpuLight` in `light_sampling.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuLight {
+    /// Emissive: radiance. Directional: disk radiance, or irradiance for a delta light.
+    pub radiance: [f32; 3],
+    /// Emissive: total area. Directional: the disk's solid angle (0 for a delta light).
+    pub area: f32,
+    /// Directional: unit direction towards the light.
+    pub to_light: [f32; 3],
+    /// Directional: cosine of the disk's angular radius.
+    pub cos_radius: f32,
+    /// Kind (0 emissive, 1 directional) | 0x100 when double-sided.
+    pub kind: u32,
+    /// Emissive: instance index.
+    pub instance: u32,
+    /// Emissive: first triangle.
+    pub first_triangle: u32,
+    /// Emissive: triangle count.
+    pub triangle_count: u32,
+    /// Probability under power-proportional selection.
+    pub power_pmf: f32,
+    /// Alias-table slot: probability of keeping this light.
+    pub alias_threshold: f32,
+    /// Alias-table slot: the light taken otherwise.
+    pub alias_index: u32,
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// WGSL twin: `GpuEmissiveTriangle` in `light_sampling.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuEmissiveTriangle {
+    /// World-space corner 0.
+    pub v0: [f32; 3],
+    /// Cumulative area fraction within its light.
+    pub cdf: f32,
+    /// Edge 1.
+    pub e1: [f32; 3],
+    /// Area.
+    pub area: f32,
+    /// Edge 2.
+    pub e2: [f32; 3],
+    /// Triangle index in its mesh.
+    pub primitive: u32,
+}
+
+/// WGSL twin: `GpuLightInfo` in `light_sampling.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuLightInfo {
+    /// Number of lights.
+    pub light_count: u32,
+    /// 0 uniform, 1 power-proportional.
+    pub selection: u32,
+    /// Padding.
+    pub _pad: [u32; 2],
+}
+
+/// The GPU form of a [`LightList`], flattened for upload.
+pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>) {
+    let lights = list
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let alias = list.power_table.entries[i];
+            let mut g = GpuLight {
+                power_pmf: list.power_table.pmf[i],
+                alias_threshold: alias.threshold,
+                alias_index: alias.alias,
+                ..Zeroable::zeroed()
+            };
+            match *l {
+                Light::Emissive {
+                    instance,
+                    first_triangle,
+                    triangle_count,
+                    area,
+                    radiance,
+                    double_sided,
+                } => {
+                    g.radiance = radiance.into();
+                    g.area = area;
+                    g.kind = if double_sided { 0x100 } else { 0 };
+                    g.instance = instance;
+                    g.first_triangle = first_triangle;
+                    g.triangle_count = triangle_count;
+                }
+                Light::Directional {
+                    to_light,
+                    irradiance,
+                    cos_radius,
+                } => {
+                    g.kind = 1;
+                    g.to_light = to_light.into();
+                    g.cos_radius = cos_radius;
+                    if cos_radius >= 1.0 {
+                        g.radiance = irradiance.into();
+                    } else {
+                        // Same arithmetic as `LightList::sample`.
+                        let sin2 = 1.0 - cos_radius * cos_radius;
+                        g.radiance = (irradiance / (PI * sin2)).into();
+                        g.area = 2.0 * PI * (1.0 - cos_radius);
+                    }
+                }
+            }
+            g
+        })
+        .collect();
+    let triangles = list
+        .triangles
+        .iter()
+        .map(|t| GpuEmissiveTriangle {
+            v0: t.v0.into(),
+            cdf: t.cdf,
+            e1: t.e1.into(),
+            area: t.area,
+            e2: t.e2.into(),
+            primitive: t.primitive,
+        })
+        .collect();
+    (lights, triangles)
+}
+
+/// Bind group 3: the light list on the GPU.
+pub struct GpuLights {
+    /// The layout every pass that samples lights includes as group 3.
+    pub layout: wgpu::BindGroupLayout,
+    /// The bind group.
+    pub bind_group: wgpu::BindGroup,
+    /// Number of lights (0: passes that need lights can skip).
+    pub light_count: u32,
+}
+
+impl GpuLights {
+    /// The layout of bind group 3.
+    pub fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        gpu.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_lights/lights"),
+                entries: &[
+                    buffer(0, read),
+                    buffer(1, read),
+                    buffer(2, wgpu::BufferBindingType::Uniform),
+                ],
+            })
+    }
+
+    /// Uploads `list` for sampling with `selection`.
+    pub fn new(gpu: &Gpu, list: &LightList, selection: Selection) -> Result<Self, GpuError> {
+        let (lights, triangles) = gpu_lights(list);
+        // Storage bindings must not be empty: one zeroed element stands in.
+        let light_bytes = if lights.is_empty() {
+            vec![0u8; size_of::<GpuLight>()]
+        } else {
+            bytemuck::cast_slice(&lights).to_vec()
+        };
+        let tri_bytes = if triangles.is_empty() {
+            vec![0u8; size_of::<GpuEmissiveTriangle>()]
+        } else {
+            bytemuck::cast_slice(&triangles).to_vec()
+        };
+        let empty = wgpu::BufferUsages::empty();
+        let light_buf = gpu.storage_buffer("solari_lights/lights", &light_bytes, empty)?;
+        let tri_buf = gpu.storage_buffer("solari_lights/triangles", &tri_bytes, empty)?;
+        let info = GpuLightInfo {
+            light_count: lights.len() as u32,
+            selection: match selection {
+                Selection::Uniform => 0,
+                Selection::Power => 1,
+            },
+            _pad: [0; 2],
+        };
+        let info_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_lights/info"),
+            size: size_of::<GpuLightInfo>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        gpu.queue
+            .write_buffer(&info_buf, 0, bytemuck::bytes_of(&info));
+        let layout = Self::layout(gpu);
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_lights/lights"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: light_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: tri_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: info_buf.as_entire_binding(),
+                },
+            ],
+        });
+        Ok(Self {
+            layout,
+            bind_group,
+            light_count: info.light_count,
+        })
+    }
+}
+
+/// The crate's WESL modules, registered as `package::<name>` when passed to
+/// `solari_scene::shaders::compose` as `extra`.
+pub const MODULES: &[(&str, &str)] = &[(
+    "light_sampling",
+    include_str!("../shaders/light_sampling.wesl"),
+)];

@@ -1,0 +1,258 @@
+//! GPU twin test: `light_sampling.wesl` samples the same lights, directions and pdfs as
+//! `LightList::sample` (lavapipe in CI).
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Vec3, Vec4};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_lights::{GpuLights, Light, LightList, MODULES, Selection};
+use solari_scene::gpu::{ShaderChecks, test_gpu};
+use solari_scene::shaders::{Backend, compose};
+use solari_scene::{DirectionalLight, Scene};
+use std::path::Path;
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Case {
+    x: [f32; 3],
+    _pad: f32,
+    u: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct GpuResult {
+    direction: [f32; 3],
+    distance: f32,
+    radiance: [f32; 3],
+    pdf: f32,
+    light: u32,
+    flags: u32,
+    emissive_pdf: f32,
+    _pad: f32,
+}
+
+fn scenes() -> Vec<(String, Scene)> {
+    let mut out = vec![(
+        "cornell_box".to_string(),
+        solari_scene::default_scene::cornell_box(),
+    )];
+    let shared = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/scenes/many_lights/many_lights.gltf");
+    out.push((
+        "many_lights".into(),
+        solari_scene::load_gltf(&shared).expect("shared many_lights scene"),
+    ));
+    // Sun disks: soft, delta, plus the box's emitter made double-sided.
+    let mut sunny = solari_scene::default_scene::cornell_box();
+    for (d, diameter) in [
+        (Vec3::new(0.3, -1.0, 0.2), 0.0093),
+        (Vec3::new(-0.5, -1.0, 0.0), 0.0),
+    ] {
+        sunny.directional_lights.push(DirectionalLight {
+            name: "sun".into(),
+            direction: d.normalize(),
+            irradiance: Vec3::new(5.0, 4.0, 3.0),
+            angular_diameter: diameter,
+        });
+    }
+    for m in &mut sunny.materials {
+        m.double_sided = true;
+    }
+    out.push(("cornell_box+suns".into(), sunny));
+    out
+}
+
+#[test]
+fn gpu_light_sampling_matches_the_cpu_twin() {
+    let Some(gpu) = test_gpu() else { return };
+    let empty_layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[],
+        });
+    let entry = |binding, read_only| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    };
+    let io_layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("light_sample_test"),
+            entries: &[entry(0, true), entry(1, false)],
+        });
+    let test_module = [(
+        "light_sample_test",
+        include_str!("../shaders/light_sample_test.wesl"),
+    )];
+    let extra: Vec<(&str, &str)> = MODULES.iter().chain(&test_module).copied().collect();
+    let wgsl = compose("light_sample_test", Backend::Software, &extra).expect("compose");
+    let lights_layout = GpuLights::layout(&gpu);
+    let pipeline = gpu
+        .compute_pipeline(
+            "light_sample_test",
+            &wgsl,
+            &[
+                Some(&empty_layout),
+                Some(&empty_layout),
+                Some(&io_layout),
+                Some(&lights_layout),
+            ],
+            ShaderChecks::BoundsOnly,
+        )
+        .expect("pipeline");
+    let empty = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &empty_layout,
+        entries: &[],
+    });
+
+    let mut rng = Pcg32::seed_from_u64(8);
+    for (name, scene) in scenes() {
+        let list = LightList::build(&scene);
+        let (lo, hi) = scene.bounds();
+        for selection in [Selection::Uniform, Selection::Power] {
+            let gpu_lights = GpuLights::new(&gpu, &list, selection).expect("lights");
+            let cases: Vec<Case> = (0..4000)
+                .map(|_| Case {
+                    x: lo
+                        .lerp(hi, rng.random_range(0.0..1.0))
+                        .with_y(rng.random_range(lo.y..hi.y))
+                        .into(),
+                    _pad: 0.0,
+                    u: Vec4::new(rng.random(), rng.random(), rng.random(), rng.random()).into(),
+                })
+                .collect();
+            let input = gpu
+                .storage_buffer(
+                    "cases",
+                    bytemuck::cast_slice(&cases),
+                    wgpu::BufferUsages::empty(),
+                )
+                .expect("buffer");
+            let bytes = (cases.len() * size_of::<GpuResult>()) as u64;
+            let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("results"),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let io = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &io_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: input.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: output.as_entire_binding(),
+                    },
+                ],
+            });
+            gpu.dispatch(
+                "light_sample_test",
+                &pipeline,
+                &[&empty, &empty, &io, &gpu_lights.bind_group],
+                [(cases.len() as u32).div_ceil(64), 1, 1],
+            )
+            .expect("dispatch");
+            let raw = gpu.read_buffer(&output, bytes).expect("readback");
+            let results: &[GpuResult] = bytemuck::cast_slice(&raw);
+            let mut failures = Vec::new();
+            let rel = |a: f32, b: f32, tol: f32| {
+                (a == b) || (a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-6)
+            };
+            for (c, r) in cases.iter().zip(results) {
+                let x = Vec3::from(c.x);
+                let cpu = list.sample(selection, x, c.u);
+                let gpu_valid = r.flags & 1 == 1;
+                let ok = match cpu {
+                    None => !gpu_valid,
+                    Some(s) => {
+                        let mut ok = gpu_valid
+                            && r.light == s.light
+                            && (r.flags >> 1 == 1) == s.delta
+                            && (Vec3::from(r.direction) - s.direction).abs().max_element() < 1e-4
+                            && rel(r.distance, s.distance, 1e-4)
+                            && (0..3).all(|i| rel(r.radiance[i], s.radiance[i], 1e-5))
+                            && rel(r.pdf, s.pdf, 1e-3);
+                        if let Light::Emissive { first_triangle, .. } =
+                            list.lights[s.light as usize]
+                        {
+                            let t = list.triangles[first_triangle as usize];
+                            let n = t.e1.cross(t.e2).normalize();
+                            let y = x + s.direction * s.distance;
+                            let p = list.emissive_pdf(selection, s.light as usize, x, y, n);
+                            ok &= rel(r.emissive_pdf, p, 1e-3);
+                        }
+                        ok
+                    }
+                };
+                if !ok {
+                    failures.push(format!("x {x} u {:?}: cpu {cpu:?} gpu {r:?}", c.u));
+                }
+            }
+            eprintln!(
+                "{name} {selection:?}: {} lights, {} cases, {} mismatches",
+                list.len(),
+                cases.len(),
+                failures.len()
+            );
+            // Samples at points within float noise of an emitter's plane can flip between
+            // front and back; allow a handful per 4,000.
+            assert!(
+                failures.len() <= 4,
+                "{name} {selection:?}: {} mismatches, first {:#?}",
+                failures.len(),
+                &failures[..failures.len().min(3)]
+            );
+        }
+    }
+}
+
+/// CPU-only: the Rust mirrors have the sizes naga gives their WGSL twins.
+#[test]
+fn gpu_structs_match_naga_layouts() {
+    let test_module = [(
+        "light_sample_test",
+        include_str!("../shaders/light_sample_test.wesl"),
+    )];
+    let extra: Vec<(&str, &str)> = MODULES.iter().chain(&test_module).copied().collect();
+    let wgsl = compose("light_sample_test", Backend::Software, &extra).expect("compose");
+    let module = solari_scene::shaders::validate("light_sample_test", &wgsl).expect("valid");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    let size_of_wgsl = |short: &str| {
+        module
+            .types
+            .iter()
+            .find(|(_, t)| {
+                t.name
+                    .as_deref()
+                    .is_some_and(|n| n.rsplit('_').next() == Some(short))
+            })
+            .map(|(h, _)| layouter[h].size)
+            .unwrap_or_else(|| panic!("no WGSL struct {short}"))
+    };
+    use solari_lights::gpu::{GpuEmissiveTriangle, GpuLight, GpuLightInfo};
+    assert_eq!(size_of_wgsl("GpuLight") as usize, size_of::<GpuLight>());
+    assert_eq!(
+        size_of_wgsl("GpuEmissiveTriangle") as usize,
+        size_of::<GpuEmissiveTriangle>()
+    );
+    assert_eq!(
+        size_of_wgsl("GpuLightInfo") as usize,
+        size_of::<GpuLightInfo>()
+    );
+    assert_eq!(size_of_wgsl("Case") as usize, size_of::<Case>());
+    assert_eq!(size_of_wgsl("Result") as usize, size_of::<GpuResult>());
+}
