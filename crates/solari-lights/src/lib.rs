@@ -23,6 +23,7 @@
 //!         metallic: 0.0,
 //!         roughness: 1.0,
 //!         dielectric_f0: Vec3::splat(0.04),
+//!         dielectric_f90: 1.0,
 //!     };
 //!     let c = unshadowed_contribution(&s, &white, Vec3::Y, Vec3::Y);
 //!     assert!(c.is_finite());

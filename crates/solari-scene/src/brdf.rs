@@ -41,6 +41,9 @@ pub struct BrdfMaterial {
     pub roughness: f32,
     /// Specular colour at normal incidence for the non-metal part.
     pub dielectric_f0: Vec3,
+    /// Reflectance at grazing angles for the non-metal part (`KHR_materials_specular`'s
+    /// factor); with `dielectric_f0` zero, zero makes the non-metal part exactly Lambertian.
+    pub dielectric_f90: f32,
 }
 
 impl BrdfMaterial {
@@ -54,12 +57,23 @@ impl BrdfMaterial {
             metallic: unit(self.metallic, 0.0),
             roughness: unit(self.roughness, 1.0),
             dielectric_f0: unit3(self.dielectric_f0, 0.04),
+            dielectric_f90: unit(self.dielectric_f90, 1.0),
         }
     }
 
     /// Specular colour at normal incidence.
     pub fn f0(&self) -> Vec3 {
         self.dielectric_f0.lerp(self.base_color, self.metallic)
+    }
+
+    /// Reflectance at grazing angles (1 for metals).
+    pub fn f90(&self) -> f32 {
+        self.dielectric_f90 + (1.0 - self.dielectric_f90) * self.metallic
+    }
+
+    /// Fresnel reflectance of this material at `cos` from the normal (or half vector).
+    pub fn fresnel(&self, cos: f32) -> Vec3 {
+        fresnel(self.f0(), self.f90(), cos)
     }
 
     /// Diffuse albedo (metals have none).
@@ -78,10 +92,10 @@ impl BrdfMaterial {
     }
 }
 
-/// Schlick's Fresnel approximation.
-pub fn fresnel(f0: Vec3, cos: f32) -> Vec3 {
+/// Schlick's Fresnel approximation between `f0` at normal incidence and `f90` at grazing.
+pub fn fresnel(f0: Vec3, f90: f32, cos: f32) -> Vec3 {
     let m = (1.0 - cos.clamp(0.0, 1.0)).powi(5);
-    f0 + (Vec3::ONE - f0) * m
+    f0 + (Vec3::splat(f90) - f0) * m
 }
 
 /// Rec. 709 luminance.
@@ -147,7 +161,7 @@ pub struct BrdfSample {
 
 /// Probability of choosing the diffuse lobe, from the Fresnel-weighted energy at `wo`.
 pub fn diffuse_probability(m: &BrdfMaterial, cos_o: f32) -> f32 {
-    let f = luminance(fresnel(m.f0(), cos_o));
+    let f = luminance(m.fresnel(cos_o));
     ((1.0 - f) * (1.0 - m.metallic)).clamp(0.0, 1.0)
 }
 
@@ -156,8 +170,7 @@ pub fn eval_diffuse(m: &BrdfMaterial, wo: Vec3, wi: Vec3) -> Vec3 {
     if !(wo.z > 0.0 && wi.z > 0.0) {
         return Vec3::ZERO;
     }
-    let f0 = m.f0();
-    let layering = (Vec3::ONE - fresnel(f0, wi.z)) * (Vec3::ONE - fresnel(f0, wo.z));
+    let layering = (Vec3::ONE - m.fresnel(wi.z)) * (Vec3::ONE - m.fresnel(wo.z));
     m.diffuse_color() / PI * layering * wi.z
 }
 
@@ -168,23 +181,22 @@ pub fn eval_specular(m: &BrdfMaterial, wo: Vec3, wi: Vec3) -> Vec3 {
         return Vec3::ZERO;
     }
     let alpha = m.alpha();
-    let f0 = m.f0();
     let h = (wo + wi).normalize_or_zero();
     let single =
-        d_ggx(alpha, h) * v_smith_ggx_correlated(alpha, wo.z, wi.z) * fresnel(f0, wi.dot(h)) * wi.z;
-    single + multiple_scattering(alpha, f0, wo.z, wi.z) * wi.z
+        d_ggx(alpha, h) * v_smith_ggx_correlated(alpha, wo.z, wi.z) * m.fresnel(wi.dot(h)) * wi.z;
+    single + multiple_scattering(alpha, m.f0(), m.f90(), wo.z, wi.z) * wi.z
 }
 
 /// Kulla–Conty multiple-scattering lobe (without the cosine), tinted by the average Fresnel.
-fn multiple_scattering(alpha: f32, f0: Vec3, cos_o: f32, cos_i: f32) -> Vec3 {
+fn multiple_scattering(alpha: f32, f0: Vec3, f90: f32, cos_o: f32, cos_i: f32) -> Vec3 {
     let table = energy_table();
     let e_avg = table.e_avg(alpha);
     if 1.0 - e_avg < 1e-6 {
         return Vec3::ZERO;
     }
     let f_ms = (1.0 - table.e(cos_o, alpha)) * (1.0 - table.e(cos_i, alpha)) / (PI * (1.0 - e_avg));
-    // Average Schlick Fresnel over the hemisphere: F0 + (1 − F0) / 21.
-    let f_avg = f0 + (Vec3::ONE - f0) / 21.0;
+    // Average Schlick Fresnel over the hemisphere: F0 + (F90 − F0) / 21.
+    let f_avg = f0 + (Vec3::splat(f90) - f0) / 21.0;
     let tint = f_avg * f_avg * e_avg / (Vec3::ONE - f_avg * (1.0 - e_avg));
     tint * f_ms
 }
@@ -222,7 +234,7 @@ pub fn sample(m: &BrdfMaterial, wo: Vec3, u: [f32; 3]) -> Option<BrdfSample> {
     if m.is_mirror() {
         let wi = Vec3::new(-wo.x, -wo.y, wo.z);
         // The delta lobe's BRDF × cos / pdf is F; divided by the lobe's selection probability.
-        let weight = fresnel(m.f0(), wo.z) / (1.0 - pd);
+        let weight = m.fresnel(wo.z) / (1.0 - pd);
         return Some(BrdfSample {
             wi,
             weight,

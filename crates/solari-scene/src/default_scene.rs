@@ -16,6 +16,7 @@ fn lambert(name: &str, rgb: [f32; 3]) -> Material {
         metallic: 0.0,
         roughness: 1.0,
         dielectric_f0: Vec3::ZERO,
+        dielectric_f90: 0.0,
         ..Default::default()
     }
 }

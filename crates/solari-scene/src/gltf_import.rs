@@ -590,6 +590,7 @@ impl Importer {
             emissive,
             emissive_texture,
             dielectric_f0,
+            dielectric_f90: spec_factor.clamp(0.0, 1.0),
             alpha_mode: match m.alpha_mode() {
                 gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
                 gltf::material::AlphaMode::Mask => AlphaMode::Mask,

@@ -226,6 +226,7 @@ impl GpuScene {
                     metallic: m.metallic,
                     roughness: m.roughness,
                     dielectric_f0: m.dielectric_f0,
+                    dielectric_f90: m.dielectric_f90,
                 }
                 .sanitized();
                 GpuMaterial {
@@ -240,7 +241,8 @@ impl GpuScene {
                     emissive_texture: tex(m.emissive_texture),
                     normal_scale: m.normal_scale,
                     flags: m.double_sided as u32,
-                    _pad: [0; 2],
+                    dielectric_f90: brdf.dielectric_f90,
+                    _pad: 0,
                 }
             })
             .collect();

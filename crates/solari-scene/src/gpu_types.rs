@@ -50,8 +50,10 @@ pub struct GpuMaterial {
     pub normal_scale: f32,
     /// Bit 0: double sided.
     pub flags: u32,
+    /// Dielectric reflectance at grazing angles.
+    pub dielectric_f90: f32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 const _: () = assert!(size_of::<GpuMaterial>() == 80);
 

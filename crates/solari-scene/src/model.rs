@@ -118,8 +118,11 @@ pub struct Material {
     pub emissive_texture: Option<u32>,
     /// Specular reflectance at normal incidence of the dielectric layer, per channel.
     /// From `KHR_materials_ior` and `KHR_materials_specular`; 0.04 (IOR 1.5) by default.
-    /// Zero means a pure Lambertian (no specular lobe and no Fresnel weighting of diffuse).
     pub dielectric_f0: Vec3,
+    /// Grazing-angle reflectance of the dielectric layer (`KHR_materials_specular`'s
+    /// `specularFactor`; 1 by default). Zero together with a zero `dielectric_f0` makes the
+    /// non-metal part an exact Lambertian (no specular lobe, no Fresnel weighting of diffuse).
+    pub dielectric_f90: f32,
     /// Alpha mode (only opaque is rendered yet).
     pub alpha_mode: AlphaMode,
     /// Alpha cutoff for `AlphaMode::Mask`.
@@ -142,6 +145,7 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             emissive_texture: None,
             dielectric_f0: Vec3::splat(DEFAULT_DIELECTRIC_F0),
+            dielectric_f90: 1.0,
             alpha_mode: AlphaMode::Opaque,
             alpha_cutoff: 0.5,
             double_sided: false,

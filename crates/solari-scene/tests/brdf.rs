@@ -17,6 +17,7 @@ fn material(base: f32, metallic: f32, roughness: f32) -> BrdfMaterial {
         metallic,
         roughness,
         dielectric_f0: Vec3::splat(0.04),
+        dielectric_f90: 1.0,
     }
 }
 
@@ -34,6 +35,11 @@ fn random_material(rng: &mut Pcg32) -> BrdfMaterial {
         },
         roughness: rng.random_range(0.0..1.0),
         dielectric_f0: Vec3::splat(rng.random_range(0.0..0.1)),
+        dielectric_f90: if rng.random_bool(0.2) {
+            0.0
+        } else {
+            rng.random_range(0.0..=1.0)
+        },
     }
 }
 
@@ -291,7 +297,7 @@ fn mirror_reflects_with_fresnel_weight_and_infinite_pdf() {
     assert_eq!(s.lobe, Lobe::Mirror);
     assert!(s.pdf.is_infinite());
     assert!((s.wi - Vec3::new(-0.6, 0.0, 0.8)).length() < 1e-6);
-    let f = brdf::fresnel(m.f0(), 0.8);
+    let f = m.fresnel(0.8);
     assert!((s.weight - f).abs().max_element() < 1e-5);
     // Any explicitly evaluated direction gets nothing from the delta lobe.
     assert_eq!(brdf::eval(&m, wo, s.wi), Vec3::ZERO);
@@ -319,6 +325,7 @@ fn adversarial_inputs_never_give_non_finite_values() {
                 metallic: x,
                 roughness: r,
                 dielectric_f0: Vec3::splat(x),
+                dielectric_f90: x,
             }
             .sanitized();
             for &wo in &dirs {
@@ -342,3 +349,26 @@ fn adversarial_inputs_never_give_non_finite_values() {
 }
 
 const MIRROR_EDGE: f32 = brdf::MIRROR_ROUGHNESS;
+
+/// `KHR_materials_specular` factor 0 with metallic 0 is an exact Lambertian (the shared
+/// scenes' convention): no specular lobe, no Fresnel weighting, every sample diffuse.
+#[test]
+fn zero_specular_is_exactly_lambertian() {
+    let m = BrdfMaterial {
+        base_color: Vec3::new(0.8, 0.5, 0.2),
+        metallic: 0.0,
+        roughness: 0.5,
+        dielectric_f0: Vec3::ZERO,
+        dielectric_f90: 0.0,
+    };
+    let mut rng = Pcg32::seed_from_u64(4);
+    for _ in 0..1000 {
+        let (wo, wi) = (random_upper(&mut rng), random_upper(&mut rng));
+        let f = brdf::eval(&m, wo, wi);
+        let lambert = m.base_color / PI * wi.z;
+        assert!((f - lambert).abs().max_element() < 1e-6, "{f} vs {lambert}");
+        let s = brdf::sample(&m, wo, [rng.random(), rng.random(), rng.random()]).unwrap();
+        assert_eq!(s.lobe, Lobe::Diffuse);
+        assert!((s.weight - m.base_color).abs().max_element() < 1e-5);
+    }
+}

@@ -25,7 +25,7 @@ struct BrdfCase {
     wi: [f32; 3],
     mis_g: f32,
     u: [f32; 3],
-    _pad: f32,
+    dielectric_f90: f32,
 }
 
 /// WGSL twin: `BrdfResult` in `brdf_test.wesl`.
@@ -72,6 +72,7 @@ fn cases() -> Vec<(BrdfMaterial, BrdfCase)> {
                 _ => rng.random(),
             },
             dielectric_f0: Vec3::splat(rng.random_range(0.0..0.16)),
+            dielectric_f90: [1.0, 0.0, rng.random()][i % 3],
         }
         .sanitized();
         let (wo, wi) = if i % 50 == 0 {
@@ -98,7 +99,7 @@ fn cases() -> Vec<(BrdfMaterial, BrdfCase)> {
             wi: wi.into(),
             mis_g: mis.1,
             u: [rng.random(), rng.random(), rng.random()],
-            _pad: 0.0,
+            dielectric_f90: m.dielectric_f90,
         };
         out.push((m, case));
     }

@@ -112,7 +112,7 @@ fn shared_scene_details_are_imported() {
         cornell
             .materials
             .iter()
-            .all(|m| m.dielectric_f0 == glam::Vec3::ZERO)
+            .all(|m| m.dielectric_f0 == glam::Vec3::ZERO && m.dielectric_f90 == 0.0)
     );
     let cam = cornell.camera(Some("camera")).unwrap();
     assert!((cam.position() - glam::Vec3::new(2.78, 2.73, -8.0)).length() < 1e-5);

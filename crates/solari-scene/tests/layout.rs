@@ -85,7 +85,8 @@ fn rust_mirrors_match_naga_layouts() {
             normal_texture,
             emissive_texture,
             normal_scale,
-            flags
+            flags,
+            dielectric_f90
         ]
     );
     check!(
