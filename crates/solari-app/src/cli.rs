@@ -16,7 +16,7 @@ pub struct Cli {
 
 #[derive(Subcommand)]
 pub enum Command {
-    /// Render a debug view of primary rays headless and write a PNG.
+    /// Render headless: a debug view of primary rays, or the reference path tracer.
     Render(RenderArgs),
     /// Print the adapter, the chosen tracing backend, scene statistics and import warnings.
     Info(InfoArgs),
@@ -44,9 +44,28 @@ pub struct SceneArgs {
 pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
+    /// What to render: debug (a primary-ray view, see --view) or reference (path traced).
+    #[arg(long, default_value = "debug")]
+    pub mode: String,
     /// Debug view: albedo, normal, depth or instance.
     #[arg(long, default_value = "albedo")]
     pub view: String,
+    /// Reference mode: paths per pixel.
+    #[arg(long, default_value_t = 64)]
+    pub spp: u32,
+    /// Reference mode: scattering events per path (1: direct light only). Unlimited by
+    /// default: Russian roulette ends paths, with a reported safety cap of 256.
+    #[arg(long)]
+    pub max_bounces: Option<u32>,
+    /// Reference mode: light selection for next-event estimation, power or uniform.
+    #[arg(long, default_value = "power")]
+    pub selection: String,
+    /// Reference mode: exposure in stops applied before the PNG's tone curve (ACES fit, sRGB).
+    #[arg(long, default_value_t = 0.0)]
+    pub exposure: f32,
+    /// Reference mode: linear EXR output (default: the PNG path with .exr).
+    #[arg(long)]
+    pub exr: Option<PathBuf>,
     /// Image size as WIDTHxHEIGHT.
     #[arg(long, default_value = "512x512")]
     pub size: String,

@@ -1,6 +1,7 @@
 //! `solari`: the Solari workspace's command-line tool.
 //!
 //! - `solari render [SCENE] --view albedo|normal|depth|instance --size WxH --out FILE.png`
+//! - `solari render [SCENE] --mode reference --spp N [--max-bounces N] --out FILE.png`
 //! - `solari info [SCENE] [--json]`
 //! - `solari bench-rays [SCENE | --heightfield N] [--json]`
 //!

@@ -1,6 +1,10 @@
-//! `solari render`: primary-ray debug views written as PNG.
+//! `solari render`: primary-ray debug views, or the reference path tracer (EXR + PNG).
 
 use crate::cli::{RenderArgs, parse_size};
+use indicatif::{ProgressBar, ProgressStyle};
+use solari_app::image_io;
+use solari_app::reference::{ReferenceRenderer, ReferenceSettings, SAFETY_CAP};
+use solari_lights::{LightList, Selection};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::gpu_types::{GpuView, NO_HIT};
 use solari_scene::view_pass::{DebugView, ViewPass};
@@ -71,6 +75,110 @@ pub fn to_rgba8(pixels: &[[f32; 4]], view: DebugView) -> Vec<u8> {
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), String> {
+    match args.mode.as_str() {
+        "debug" => run_debug(args),
+        "reference" => run_reference(args),
+        other => Err(format!("--mode {other}: expected debug or reference")),
+    }
+}
+
+fn run_reference(args: &RenderArgs) -> Result<(), String> {
+    let start = Instant::now();
+    let (w, h) = parse_size(&args.size)?;
+    let selection = match args.selection.as_str() {
+        "power" => Selection::Power,
+        "uniform" => Selection::Uniform,
+        other => return Err(format!("--selection {other}: expected power or uniform")),
+    };
+    if args.spp == 0 {
+        return Err("--spp must be at least 1".into());
+    }
+    let (name, scene) = args.scene.load()?;
+    for warning in scene.warnings.lines() {
+        log::warn!("{name}: {warning}");
+    }
+    let camera = scene
+        .camera(args.scene.camera.as_deref())
+        .ok_or_else(|| format!("no camera {:?} in {name}", args.scene.camera))?;
+    let (gpu, backend) = args.scene.device()?;
+    let options = GpuSceneOptions {
+        bvh_quality: args.scene.quality()?,
+        ..Default::default()
+    };
+    let gpu_scene = GpuScene::new(&gpu, &scene, backend, &options).map_err(|e| e.to_string())?;
+    let lights = LightList::build(&scene);
+    if lights.report != Default::default() {
+        log::warn!("{name}: lights left out: {:?}", lights.report);
+    }
+    let renderer = ReferenceRenderer::new(&gpu, backend).map_err(|e| e.to_string())?;
+    let settings = ReferenceSettings {
+        spp: args.spp,
+        max_bounces: args.max_bounces.unwrap_or(u32::MAX),
+        selection,
+    };
+    let bar = if args.json {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(args.spp as u64)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} spp  {elapsed} elapsed, ETA {eta}")
+            .map_err(|e| e.to_string())?,
+    );
+    let image = renderer
+        .render(
+            &gpu,
+            &gpu_scene,
+            &lights,
+            &camera,
+            w,
+            h,
+            &settings,
+            |done| bar.set_position(done as u64),
+        )
+        .map_err(|e| e.to_string())?;
+    bar.finish_and_clear();
+    let exr = args
+        .exr
+        .clone()
+        .unwrap_or_else(|| args.out.with_extension("exr"));
+    image_io::write_exr(&exr, w, h, &image.pixels)?;
+    image_io::write_png(&args.out, w, h, &image.pixels, args.exposure)?;
+    if image.capped_paths > 0 {
+        log::warn!(
+            "{} paths reached the safety cap of {SAFETY_CAP} bounces",
+            image.capped_paths
+        );
+    }
+    if image.rejected_samples > 0 {
+        log::warn!(
+            "{} non-finite path samples were dropped",
+            image.rejected_samples
+        );
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    if args.json {
+        let v = serde_json::json!({"scene": name, "mode": "reference", "png": args.out, "exr": exr,
+            "width": w, "height": h, "spp": args.spp, "max_bounces": args.max_bounces,
+            "selection": args.selection, "tracer": backend.name(), "adapter": gpu.info.name,
+            "render_seconds": image.seconds, "seconds": elapsed,
+            "capped_paths": image.capped_paths, "rejected_samples": image.rejected_samples});
+        println!("{v}");
+    } else {
+        println!(
+            "wrote {} and {} ({w}x{h}, {} spp, {} tracer on {}): rendered in {:.2} s, {elapsed:.2} s in all",
+            exr.display(),
+            args.out.display(),
+            args.spp,
+            backend.name(),
+            gpu.info.name,
+            image.seconds
+        );
+    }
+    Ok(())
+}
+
+fn run_debug(args: &RenderArgs) -> Result<(), String> {
     let start = Instant::now();
     let view_kind = DebugView::parse(&args.view).ok_or_else(|| {
         format!(

@@ -163,6 +163,7 @@ impl GpuLights {
                     buffer(0, read),
                     buffer(1, read),
                     buffer(2, wgpu::BufferBindingType::Uniform),
+                    buffer(3, read),
                 ],
             })
     }
@@ -184,6 +185,22 @@ impl GpuLights {
         let empty = wgpu::BufferUsages::empty();
         let light_buf = gpu.storage_buffer("solari_lights/lights", &light_bytes, empty)?;
         let tri_buf = gpu.storage_buffer("solari_lights/triangles", &tri_bytes, empty)?;
+        // Instance → light, for MIS when a BRDF sample hits an emitter.
+        let mut instance_lights = vec![u32::MAX];
+        for (i, l) in list.lights.iter().enumerate() {
+            if let Light::Emissive { instance, .. } = *l {
+                let at = instance as usize;
+                if instance_lights.len() <= at {
+                    instance_lights.resize(at + 1, u32::MAX);
+                }
+                instance_lights[at] = i as u32;
+            }
+        }
+        let map_buf = gpu.storage_buffer(
+            "solari_lights/instance_lights",
+            bytemuck::cast_slice(&instance_lights),
+            empty,
+        )?;
         let info = GpuLightInfo {
             light_count: lights.len() as u32,
             selection: match selection {
@@ -216,6 +233,10 @@ impl GpuLights {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: info_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: map_buf.as_entire_binding(),
                 },
             ],
         });

@@ -1,0 +1,268 @@
+//! The reference path tracer: progressive f32 accumulation of one path per pixel per
+//! dispatch (`shaders/reference.wesl`), with next-event estimation and BRDF sampling combined
+//! by MIS and Russian roulette.
+
+use bytemuck::{Pod, Zeroable};
+use solari_lights::{GpuLights, LightList, Selection};
+use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu_scene::GpuScene;
+use solari_scene::gpu_types::GpuView;
+use solari_scene::shaders::{Backend, compose};
+use solari_scene::{Camera, GpuError};
+use std::time::Instant;
+
+/// Hard limit on path length. Russian roulette ends paths long before it in any physical
+/// scene; paths that reach it are counted in [`ReferenceImage::capped_paths`].
+pub const SAFETY_CAP: u32 = 256;
+
+/// Knobs of a reference render.
+#[derive(Clone, Copy, Debug)]
+pub struct ReferenceSettings {
+    /// Paths per pixel.
+    pub spp: u32,
+    /// Scattering events per path; 1 gives direct light only, `u32::MAX` means no limit
+    /// (only Russian roulette and [`SAFETY_CAP`]).
+    pub max_bounces: u32,
+    /// How next-event estimation picks lights.
+    pub selection: Selection,
+}
+
+impl Default for ReferenceSettings {
+    fn default() -> Self {
+        Self {
+            spp: 64,
+            max_bounces: u32::MAX,
+            selection: Selection::Power,
+        }
+    }
+}
+
+/// A finished reference render: linear radiance, row-major from the top left.
+#[derive(Clone, Debug)]
+pub struct ReferenceImage {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// Mean radiance per pixel.
+    pub pixels: Vec<[f32; 3]>,
+    /// Paths per pixel.
+    pub spp: u32,
+    /// Paths that hit [`SAFETY_CAP`] (reported; should be 0).
+    pub capped_paths: u32,
+    /// Path samples dropped because their value was not finite (reported; should be 0).
+    pub rejected_samples: u32,
+    /// Wall time of the render.
+    pub seconds: f64,
+}
+
+/// WGSL twin: `ReferenceParams` in `reference.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct ReferenceParams {
+    /// Scattering events per path.
+    pub max_bounces: u32,
+    /// Seeds this dispatch's random numbers.
+    pub sample_index: u32,
+    /// [`SAFETY_CAP`].
+    pub safety_cap: u32,
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// The app's own WESL modules.
+pub const MODULES: &[(&str, &str)] = &[("reference", include_str!("../shaders/reference.wesl"))];
+
+/// The compiled path tracer for one backend.
+pub struct ReferenceRenderer {
+    pipeline: wgpu::ComputePipeline,
+    view_layout: wgpu::BindGroupLayout,
+    io_layout: wgpu::BindGroupLayout,
+}
+
+fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn binding(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+    wgpu::BindGroupEntry {
+        binding,
+        resource: buffer.as_entire_binding(),
+    }
+}
+
+impl ReferenceRenderer {
+    /// Composes and compiles the path tracer for `backend`.
+    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self, GpuError> {
+        let view_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_app/reference_view"),
+                entries: &[buffer_entry(0, wgpu::BufferBindingType::Uniform)],
+            });
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let io_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_app/reference_io"),
+                entries: &[
+                    buffer_entry(0, rw),
+                    buffer_entry(1, rw),
+                    buffer_entry(2, wgpu::BufferBindingType::Uniform),
+                ],
+            });
+        let extra: Vec<(&str, &str)> = solari_lights::MODULES
+            .iter()
+            .chain(MODULES)
+            .copied()
+            .collect();
+        let wgsl = compose("reference", backend, &extra)?;
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let lights_layout = GpuLights::layout(gpu);
+        let pipeline = gpu.compute_pipeline(
+            "solari_app/reference",
+            &wgsl,
+            &[
+                Some(&scene_layout),
+                Some(&view_layout),
+                Some(&io_layout),
+                Some(&lights_layout),
+            ],
+            ShaderChecks::BoundsOnly,
+        )?;
+        Ok(Self {
+            pipeline,
+            view_layout,
+            io_layout,
+        })
+    }
+
+    /// Renders `settings.spp` paths per pixel of `camera`'s view, calling `progress` with the
+    /// number of samples done after each one.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        scene: &GpuScene,
+        lights: &LightList,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &ReferenceSettings,
+        mut progress: impl FnMut(u32),
+    ) -> Result<ReferenceImage, GpuError> {
+        let start = Instant::now();
+        let gpu_lights = GpuLights::new(gpu, lights, settings.selection)?;
+        let pixels = width as u64 * height as u64;
+        let accum_bytes = pixels * 16;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if accum_bytes > limit {
+            return Err(GpuError::OverLimit {
+                what: "reference accumulation buffer".into(),
+                needed: accum_bytes,
+                limit,
+            });
+        }
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        let accumulation = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_app/accumulation"),
+            size: accum_bytes.max(16),
+            usage: storage,
+            mapped_at_creation: false,
+        });
+        let counters = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_app/reference_counters"),
+            size: 8,
+            usage: storage,
+            mapped_at_creation: false,
+        });
+        let uniform = |label, size| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let view_buf = uniform("solari_app/reference_view", size_of::<GpuView>() as u64);
+        let params_buf = uniform(
+            "solari_app/reference_params",
+            size_of::<ReferenceParams>() as u64,
+        );
+        let view = GpuView::new(camera, width, height);
+        gpu.queue
+            .write_buffer(&view_buf, 0, bytemuck::bytes_of(&view));
+        let view_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_app/reference_view"),
+            layout: &self.view_layout,
+            entries: &[binding(0, &view_buf)],
+        });
+        let io_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_app/reference_io"),
+            layout: &self.io_layout,
+            entries: &[
+                binding(0, &accumulation),
+                binding(1, &counters),
+                binding(2, &params_buf),
+            ],
+        });
+        let groups = [
+            scene.bind_group(),
+            &view_group,
+            &io_group,
+            &gpu_lights.bind_group,
+        ];
+        for sample in 0..settings.spp {
+            let params = ReferenceParams {
+                max_bounces: settings.max_bounces,
+                sample_index: sample,
+                safety_cap: SAFETY_CAP,
+                _pad: 0,
+            };
+            gpu.queue
+                .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
+            gpu.dispatch(
+                "solari_app/reference",
+                &self.pipeline,
+                &groups,
+                [width.div_ceil(8), height.div_ceil(8), 1],
+            )?;
+            // Keep the queue short so progress means something and memory stays bounded.
+            if sample % 8 == 7 {
+                gpu.device
+                    .poll(wgpu::PollType::wait_indefinitely())
+                    .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
+            }
+            progress(sample + 1);
+        }
+        let sums = gpu.read_buffer(&accumulation, accum_bytes)?;
+        let sums: &[[f32; 4]] = bytemuck::cast_slice(&sums);
+        let count = gpu.read_buffer(&counters, 8)?;
+        let count: &[u32] = bytemuck::cast_slice(&count);
+        let pixels = sums
+            .iter()
+            .map(|s| {
+                let n = s[3].max(1.0);
+                [s[0] / n, s[1] / n, s[2] / n]
+            })
+            .collect();
+        Ok(ReferenceImage {
+            width,
+            height,
+            pixels,
+            spp: settings.spp,
+            capped_paths: count[0],
+            rejected_samples: count[1],
+            seconds: start.elapsed().as_secs_f64(),
+        })
+    }
+}

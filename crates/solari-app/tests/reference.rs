@@ -1,0 +1,210 @@
+//! The reference path tracer against analytic furnaces and the shared Cornell box reference
+//! (GPU: lavapipe in CI). Tolerances come from the sample count: every check allows four
+//! standard errors estimated from the render itself, plus the stated reference accuracy.
+
+use solari_app::image_io::read_linear;
+use solari_app::reference::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
+use solari_lights::{LightList, Selection};
+use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::shaders::Backend;
+use solari_scene::{Scene, load_gltf};
+use std::path::{Path, PathBuf};
+
+fn shared(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared")
+        .join(rel)
+}
+
+fn backends(gpu: &Gpu) -> Vec<Backend> {
+    Backend::ALL
+        .into_iter()
+        .filter(|b| *b == Backend::Software || gpu.has_ray_query())
+        .collect()
+}
+
+fn render(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+    max_bounces: u32,
+) -> ReferenceImage {
+    let gpu_scene =
+        GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload");
+    let renderer = ReferenceRenderer::new(gpu, backend).expect("pipeline");
+    let camera = scene.camera(None).expect("camera");
+    let settings = ReferenceSettings {
+        spp,
+        max_bounces,
+        selection: Selection::Power,
+    };
+    let image = renderer
+        .render(
+            gpu,
+            &gpu_scene,
+            &LightList::build(scene),
+            &camera,
+            size,
+            size,
+            &settings,
+            |_| {},
+        )
+        .expect("render");
+    assert_eq!(image.capped_paths, 0, "paths hit the safety cap");
+    assert_eq!(image.rejected_samples, 0, "non-finite samples");
+    assert!(image.pixels.iter().flatten().all(|c| c.is_finite()));
+    image
+}
+
+/// Mean and standard error of the mean of `values`.
+fn mean_se(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let v: Vec<f64> = values.collect();
+    let n = v.len() as f64;
+    let mean = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / n).sqrt())
+}
+
+#[test]
+fn uniform_furnace_is_one_everywhere() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = load_gltf(shared("scenes/furnace_uniform/furnace_uniform.gltf")).expect("scene");
+    for backend in backends(&gpu) {
+        for (bounces, expected) in [(u32::MAX, 1.0), (1, 0.36)] {
+            let img = render(&gpu, backend, &scene, 48, 64, bounces);
+            let (mean, se) = mean_se(img.pixels.iter().map(|p| p[1] as f64));
+            eprintln!("furnace_uniform {backend:?} bounces {bounces}: mean {mean:.5} ± {se:.5}");
+            assert!(
+                (mean - expected).abs() < 4.0 * se + 5e-4,
+                "{backend:?}, max bounces {bounces}: mean {mean} ± {se}, expected {expected}"
+            );
+        }
+    }
+}
+
+#[test]
+fn sphere_furnace_matches_its_closed_form() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = load_gltf(shared("scenes/furnace_sphere/furnace_sphere.gltf")).expect("scene");
+    let size = 48u32;
+    // The inner sphere subtends asin(1.5 / 4.5) = 19.47° around the view axis (yfov 60°).
+    let angle = |i: usize| {
+        let t = (30f64).to_radians().tan();
+        let x = ((i as u32 % size) as f64 + 0.5) / size as f64 * 2.0 - 1.0;
+        let y = ((i as u32 / size) as f64 + 0.5) / size as f64 * 2.0 - 1.0;
+        ((x * x + y * y).sqrt() * t).atan().to_degrees()
+    };
+    for backend in backends(&gpu) {
+        // Tessellation error ~0.1% (scene README): allowed on top of the noise.
+        for (bounces, wall, sphere) in [(u32::MAX, 1.96464, 1.57171), (1, 1.455, 0.8)] {
+            let img = render(&gpu, backend, &scene, size, 64, bounces);
+            let pick = |inside: bool| {
+                mean_se(
+                    img.pixels
+                        .iter()
+                        .enumerate()
+                        .filter(|(i, _)| {
+                            let a = angle(*i);
+                            if inside { a < 18.0 } else { a > 21.0 }
+                        })
+                        .map(|(_, p)| p[1] as f64),
+                )
+            };
+            let ((w, wse), (s, sse)) = (pick(false), pick(true));
+            eprintln!(
+                "furnace_sphere {backend:?} bounces {bounces}: wall {w:.4} ± {wse:.4}, sphere {s:.4} ± {sse:.4}"
+            );
+            assert!(
+                (w - wall).abs() < 4.0 * wse + 2e-3 * wall,
+                "wall {w} ± {wse}, expected {wall}"
+            );
+            assert!(
+                (s - sphere).abs() < 4.0 * sse + 2e-3 * sphere,
+                "sphere {s} ± {sse}, expected {sphere}"
+            );
+        }
+    }
+}
+
+/// Root-mean-square error against a reference image, and the mean signed difference.
+fn rmse_and_bias(img: &ReferenceImage, reference: &[[f32; 3]]) -> (f64, f64) {
+    let (mut se, mut diff) = (0.0f64, 0.0f64);
+    for (a, b) in img.pixels.iter().zip(reference) {
+        for c in 0..3 {
+            let d = (a[c] - b[c]) as f64;
+            se += d * d;
+            diff += d;
+        }
+    }
+    let n = (img.pixels.len() * 3) as f64;
+    ((se / n).sqrt(), diff / n)
+}
+
+#[test]
+fn cornell_box_converges_to_the_shared_reference() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = load_gltf(shared("scenes/cornell_box/cornell_box.gltf")).expect("scene");
+    let (w, h, full) = read_linear(&shared("references/cornell_box.exr")).expect("reference");
+    assert_eq!((w, h), (256, 256));
+    let (_, _, direct) = read_linear(&shared("references/cornell_box_direct.exr")).expect("direct");
+    let reference_mean = full.iter().map(|p| p[1] as f64).sum::<f64>() / full.len() as f64;
+    let backend = backends(&gpu)[0];
+    let low = render(&gpu, backend, &scene, 256, 16, u32::MAX);
+    let high = render(&gpu, backend, &scene, 256, 64, u32::MAX);
+    let (rmse_low, _) = rmse_and_bias(&low, &full);
+    let (rmse_high, bias) = rmse_and_bias(&high, &full);
+    eprintln!(
+        "cornell_box {backend:?}: RMSE {rmse_low:.4} at 16 spp, {rmse_high:.4} at 64 spp \
+         (ratio {:.2}, 2 expected); mean difference {bias:.5} (reference mean {reference_mean:.4})",
+        rmse_low / rmse_high
+    );
+    // Error falls like 1/sqrt(spp): 4x the samples halve it (the reference's own noise, 0.8%
+    // per pixel, is far below ours at these counts).
+    let ratio = rmse_low / rmse_high;
+    assert!((1.75..2.25).contains(&ratio), "RMSE ratio {ratio}");
+    // No bias: the mean difference is within noise (per-pixel RMSE / sqrt(pixels·3)) plus
+    // the reference's accuracy.
+    let noise = rmse_high / (256.0f64 * 256.0 * 3.0).sqrt();
+    assert!(
+        bias.abs() < 4.0 * noise + 0.005 * reference_mean,
+        "mean difference {bias}"
+    );
+    // Direct light only matches the direct-only reference the same way.
+    let di = render(&gpu, backend, &scene, 256, 64, 1);
+    let (rmse_di, bias_di) = rmse_and_bias(&di, &direct);
+    let noise_di = rmse_di / (256.0f64 * 256.0 * 3.0).sqrt();
+    eprintln!("cornell_box direct only: RMSE {rmse_di:.4}, mean difference {bias_di:.5}");
+    assert!(
+        bias_di.abs() < 4.0 * noise_di + 0.005 * reference_mean,
+        "DI mean difference {bias_di}"
+    );
+}
+
+#[test]
+fn both_backends_agree_statistically() {
+    let Some(gpu) = test_gpu() else { return };
+    let available = backends(&gpu);
+    if available.len() < 2 {
+        eprintln!("only one tracing backend on this adapter; nothing to compare");
+        return;
+    }
+    let scene = load_gltf(shared("scenes/cornell_box/cornell_box.gltf")).expect("scene");
+    let a = render(&gpu, Backend::RayQuery, &scene, 64, 64, u32::MAX);
+    let b = render(&gpu, Backend::Software, &scene, 64, 64, u32::MAX);
+    // Same seeds and same geometry: most paths are identical, so compare image means and the
+    // spread of per-pixel differences.
+    let (diff_mean, diff_se) = mean_se(
+        a.pixels
+            .iter()
+            .zip(&b.pixels)
+            .map(|(x, y)| (x[1] - y[1]) as f64),
+    );
+    eprintln!("ray-query minus software: {diff_mean:.5} ± {diff_se:.5}");
+    assert!(
+        diff_mean.abs() < 4.0 * diff_se + 1e-4,
+        "{diff_mean} ± {diff_se}"
+    );
+}
