@@ -22,6 +22,8 @@ pub enum Command {
     Info(InfoArgs),
     /// Measure BVH build speed and GPU ray throughput (primary and hemisphere rays).
     BenchRays(BenchArgs),
+    /// Compare a test image with a reference: RMSE, relative MSE and FLIP.
+    Compare(CompareArgs),
 }
 
 /// Options shared by every command that loads a scene.
@@ -73,6 +75,27 @@ pub struct RenderArgs {
     #[arg(long, default_value = "solari.png")]
     pub out: PathBuf,
     /// Print a JSON summary instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Args)]
+pub struct CompareArgs {
+    /// The test image (EXR, or any format `image` reads; treated as linear).
+    pub test: PathBuf,
+    /// The reference image, same size.
+    pub reference: PathBuf,
+    /// Write the per-pixel FLIP error (HDR-aware variant) as a magma heat map PNG.
+    #[arg(long)]
+    pub heatmap: Option<PathBuf>,
+    /// Also report metrics that ignore directly visible emitters, found by rendering this
+    /// scene's emission at the images' size ("builtin" for the built-in Cornell box).
+    #[arg(long)]
+    pub mask_emitters: Option<PathBuf>,
+    /// Camera of the --mask-emitters scene, by name or index.
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// JSON instead of text.
     #[arg(long)]
     pub json: bool,
 }

@@ -5,4 +5,5 @@
 //! output.
 
 pub mod image_io;
+pub mod metrics;
 pub mod reference;

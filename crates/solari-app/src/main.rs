@@ -3,12 +3,14 @@
 //! - `solari render [SCENE] --view albedo|normal|depth|instance --size WxH --out FILE.png`
 //! - `solari render [SCENE] --mode reference --spp N [--max-bounces N] --out FILE.png`
 //! - `solari info [SCENE] [--json]`
+//! - `solari compare TEST REFERENCE [--heatmap OUT.png] [--mask-emitters SCENE] [--json]`
 //! - `solari bench-rays [SCENE | --heightfield N] [--json]`
 //!
 //! With no SCENE the built-in Cornell box is used.
 
 mod bench;
 mod cli;
+mod compare;
 mod info;
 mod render;
 
@@ -21,6 +23,7 @@ fn main() {
         cli::Command::Render(a) => render::run(&a),
         cli::Command::Info(a) => info::run(&a),
         cli::Command::BenchRays(a) => bench::run(&a),
+        cli::Command::Compare(a) => compare::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

@@ -208,3 +208,45 @@ fn both_backends_agree_statistically() {
         "{diff_mean} ± {diff_se}"
     );
 }
+
+#[test]
+fn absurd_lights_and_degenerate_normals_stay_finite() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut scene = solari_scene::default_scene::cornell_box();
+    for m in &mut scene.materials {
+        if m.is_emissive() {
+            m.emissive = glam::Vec3::splat(1e30);
+        }
+    }
+    // Degenerate shading normals: zero and NaN vectors on the first mesh.
+    for (i, n) in scene.meshes[0].normals.iter_mut().enumerate() {
+        *n = if i % 2 == 0 {
+            glam::Vec3::ZERO
+        } else {
+            glam::Vec3::NAN
+        };
+    }
+    // A zero-area emitter (every corner at one point).
+    let mut flat = scene.meshes[0].clone();
+    flat.positions.iter_mut().for_each(|p| *p = glam::Vec3::ONE);
+    scene.meshes.push(flat);
+    let light_material = scene
+        .materials
+        .iter()
+        .position(|m| m.is_emissive())
+        .unwrap();
+    scene.instances.push(solari_scene::Instance {
+        name: "zero-area light".into(),
+        mesh: scene.meshes.len() as u32 - 1,
+        material: light_material as u32,
+        transform: glam::Mat4::IDENTITY,
+    });
+    let lights = LightList::build(&scene);
+    assert_eq!(lights.report.zero_area.len(), 1);
+    for backend in backends(&gpu) {
+        // `render` asserts every pixel finite and no sample rejected.
+        let img = render(&gpu, backend, &scene, 32, 4, u32::MAX);
+        let max = img.pixels.iter().flatten().fold(0.0f32, |a, &b| a.max(b));
+        assert!(max > 1e25, "the absurd light should still shine: max {max}");
+    }
+}

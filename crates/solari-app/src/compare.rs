@@ -1,0 +1,109 @@
+//! `solari compare`: error metrics of a test image against a reference.
+
+use crate::cli::{CompareArgs, SceneArgs};
+use solari_app::image_io::read_linear;
+use solari_app::metrics::{Metrics, compare, heatmap};
+use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
+use solari_lights::{LightList, Selection};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+
+/// Pixels that see an emitter directly: emission-only paths (no bounce) at 4 samples per pixel.
+fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>, String> {
+    let Some(path) = &args.mask_emitters else {
+        return Ok(None);
+    };
+    let scene_args = SceneArgs {
+        scene: (path.as_os_str() != "builtin").then(|| path.clone()),
+        tracer: "auto".into(),
+        camera: args.camera.clone(),
+        bvh_quality: "medium".into(),
+    };
+    let (name, scene) = scene_args.load()?;
+    let camera = scene
+        .camera(args.camera.as_deref())
+        .ok_or_else(|| format!("no camera {:?} in {name}", args.camera))?;
+    let (gpu, backend) = scene_args.device()?;
+    let gpu_scene = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default())
+        .map_err(|e| e.to_string())?;
+    let renderer = ReferenceRenderer::new(&gpu, backend).map_err(|e| e.to_string())?;
+    let settings = ReferenceSettings {
+        spp: 4,
+        max_bounces: 0,
+        selection: Selection::Power,
+    };
+    let emission = renderer
+        .render(
+            &gpu,
+            &gpu_scene,
+            &LightList::build(&scene),
+            &camera,
+            w,
+            h,
+            &settings,
+            |_| {},
+        )
+        .map_err(|e| e.to_string())?;
+    // Keep pixels with no directly visible emission.
+    Ok(Some(
+        emission
+            .pixels
+            .iter()
+            .map(|p| p.iter().all(|&c| c <= 0.0))
+            .collect(),
+    ))
+}
+
+fn print(label: &str, m: &Metrics) {
+    println!(
+        "{label}: RMSE {:.5}  relMSE {:.5}  FLIP {:.4}  FLIP(HDR) {:.4}  over {} pixels{}",
+        m.rmse,
+        m.rel_mse,
+        m.flip,
+        m.flip_hdr,
+        m.pixels,
+        if m.non_finite > 0 {
+            format!(", {} NON-FINITE test pixels", m.non_finite)
+        } else {
+            String::new()
+        }
+    );
+}
+
+pub fn run(args: &CompareArgs) -> Result<(), String> {
+    let (w, h, test) = read_linear(&args.test)?;
+    let (rw, rh, reference) = read_linear(&args.reference)?;
+    if (w, h) != (rw, rh) {
+        return Err(format!(
+            "{} is {w}x{h} but {} is {rw}x{rh}",
+            args.test.display(),
+            args.reference.display()
+        ));
+    }
+    let (all, map) = compare(&test, &reference, w, h, None)?;
+    let mask = emitter_mask(args, w, h)?;
+    let masked = match &mask {
+        Some(m) => Some(compare(&test, &reference, w, h, Some(m))?.0),
+        None => None,
+    };
+    if let Some(path) = &args.heatmap {
+        image::save_buffer(
+            path,
+            &heatmap(&map, w, h),
+            w,
+            h,
+            image::ExtendedColorType::Rgb8,
+        )
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    if args.json {
+        let v = serde_json::json!({"test": args.test, "reference": args.reference,
+            "width": w, "height": h, "all": all, "without_emitters": masked});
+        println!("{v}");
+    } else {
+        print("all pixels", &all);
+        if let Some(m) = &masked {
+            print("without emitters", m);
+        }
+    }
+    Ok(())
+}

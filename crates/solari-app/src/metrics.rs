@@ -1,0 +1,105 @@
+//! Image error metrics: RMSE, relative MSE and FLIP, over all pixels or a mask.
+//!
+//! FLIP comes from NVIDIA's implementation through the `nv-flip` crate (LDR-FLIP on 8-bit
+//! sRGB). For HDR images we report LDR-FLIP at exposure 0 after the PNG tone curve
+//! ([`crate::image_io::tone_map`]) and an HDR-aware variant in the spirit of HDR-FLIP: the
+//! per-pixel maximum of LDR-FLIP over exposures −3..+3 stops in whole stops. It is not
+//! NVIDIA's HDR-FLIP (whose exposure range comes from the reference's luminance), so compare
+//! its values only with ours.
+
+use crate::image_io::tone_map;
+
+/// Exposures (stops) over which the HDR-aware FLIP takes its per-pixel maximum.
+pub const HDR_EXPOSURES: [f32; 7] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0];
+
+/// Errors of a test image against a reference.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Metrics {
+    /// Root-mean-square error over pixels and channels.
+    pub rmse: f64,
+    /// Mean of (test − ref)² / (ref² + 0.01) over pixels and channels.
+    pub rel_mse: f64,
+    /// Mean LDR-FLIP at exposure 0.
+    pub flip: f64,
+    /// Mean of the per-pixel maximum LDR-FLIP over [`HDR_EXPOSURES`].
+    pub flip_hdr: f64,
+    /// Pixels counted (the mask's size, or all).
+    pub pixels: usize,
+    /// Test pixels that were not finite (counted as errors of the reference's magnitude + 1).
+    pub non_finite: usize,
+}
+
+/// FLIP's viewing condition: 0.7 m from a 24-inch 4K monitor, its default.
+fn ppd() -> f32 {
+    nv_flip::DEFAULT_PIXELS_PER_DEGREE
+}
+
+fn flip_map(test: &[[f32; 3]], reference: &[[f32; 3]], w: u32, h: u32, ev: f32) -> Vec<f32> {
+    let r = nv_flip::FlipImageRgb8::with_data(w, h, &tone_map(reference, ev));
+    let t = nv_flip::FlipImageRgb8::with_data(w, h, &tone_map(test, ev));
+    nv_flip::flip(r, t, ppd()).to_vec()
+}
+
+/// Compares `test` with `reference` (both `w`×`h`, row-major linear RGB). `mask` keeps the
+/// pixels where it is true. Returns the metrics and the per-pixel HDR-aware FLIP map.
+pub fn compare(
+    test: &[[f32; 3]],
+    reference: &[[f32; 3]],
+    w: u32,
+    h: u32,
+    mask: Option<&[bool]>,
+) -> Result<(Metrics, Vec<f32>), String> {
+    let n = w as usize * h as usize;
+    if test.len() != n || reference.len() != n {
+        return Err(format!(
+            "image sizes differ: {} and {} pixels for {w}x{h}",
+            test.len(),
+            reference.len()
+        ));
+    }
+    if mask.is_some_and(|m| m.len() != n) {
+        return Err("mask size differs from the images".into());
+    }
+    let keep = |i: usize| mask.is_none_or(|m| m[i]);
+    let ldr = flip_map(test, reference, w, h, 0.0);
+    let mut hdr = vec![0.0f32; n];
+    for ev in HDR_EXPOSURES {
+        for (m, v) in hdr.iter_mut().zip(flip_map(test, reference, w, h, ev)) {
+            *m = m.max(v);
+        }
+    }
+    let mut out = Metrics::default();
+    let (mut se, mut rel, mut fl, mut fh) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for i in (0..n).filter(|&i| keep(i)) {
+        out.pixels += 1;
+        let finite = test[i].iter().all(|c| c.is_finite());
+        if !finite {
+            out.non_finite += 1;
+        }
+        for c in 0..3 {
+            let b = reference[i][c] as f64;
+            let a = if finite {
+                test[i][c] as f64
+            } else {
+                b.abs() + 1.0
+            };
+            let d = a - b;
+            se += d * d;
+            rel += d * d / (b * b + 0.01);
+        }
+        fl += ldr[i] as f64;
+        fh += hdr[i] as f64;
+    }
+    let count = out.pixels.max(1) as f64;
+    out.rmse = (se / (3.0 * count)).sqrt();
+    out.rel_mse = rel / (3.0 * count);
+    out.flip = fl / count;
+    out.flip_hdr = fh / count;
+    Ok((out, hdr))
+}
+
+/// A FLIP error map as a colour heat map (magma), 8-bit RGB.
+pub fn heatmap(map: &[f32], w: u32, h: u32) -> Vec<u8> {
+    let img = nv_flip::FlipImageFloat::with_data(w, h, map);
+    img.apply_color_lut(&nv_flip::magma_lut()).to_vec()
+}
