@@ -146,24 +146,18 @@ impl ReferenceRenderer {
         })
     }
 
-    /// Renders `settings.spp` paths per pixel of `camera`'s view, calling `progress` with the
-    /// number of samples done after each one.
-    #[allow(clippy::too_many_arguments)]
-    pub fn render(
+    /// Starts a progressive render of `camera`'s view: no samples yet.
+    pub fn accumulation(
         &self,
         gpu: &Gpu,
-        scene: &GpuScene,
         lights: &LightList,
         camera: &Camera,
         width: u32,
         height: u32,
         settings: &ReferenceSettings,
-        mut progress: impl FnMut(u32),
-    ) -> Result<ReferenceImage, GpuError> {
-        let start = Instant::now();
+    ) -> Result<ReferenceAccumulation, GpuError> {
         let gpu_lights = GpuLights::new(gpu, lights, settings.selection)?;
-        let pixels = width as u64 * height as u64;
-        let accum_bytes = pixels * 16;
+        let accum_bytes = width as u64 * height as u64 * 16;
         let limit = gpu.device.limits().max_storage_buffer_binding_size;
         if accum_bytes > limit {
             return Err(GpuError::OverLimit {
@@ -172,35 +166,30 @@ impl ReferenceRenderer {
                 limit,
             });
         }
-        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
-        let accumulation = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_app/accumulation"),
-            size: accum_bytes.max(16),
-            usage: storage,
-            mapped_at_creation: false,
-        });
-        let counters = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_app/reference_counters"),
-            size: 8,
-            usage: storage,
-            mapped_at_creation: false,
-        });
-        let uniform = |label, size| {
+        let storage = wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST;
+        let buffer = |label, size, usage| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                usage,
                 mapped_at_creation: false,
             })
         };
-        let view_buf = uniform("solari_app/reference_view", size_of::<GpuView>() as u64);
-        let params_buf = uniform(
+        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
+        let accumulation = buffer("solari_app/accumulation", accum_bytes.max(16), storage);
+        let counters = buffer("solari_app/reference_counters", 8, storage);
+        let view_buf = buffer(
+            "solari_app/reference_view",
+            size_of::<GpuView>() as u64,
+            uniform,
+        );
+        let params = buffer(
             "solari_app/reference_params",
             size_of::<ReferenceParams>() as u64,
+            uniform,
         );
-        let view = GpuView::new(camera, width, height);
-        gpu.queue
-            .write_buffer(&view_buf, 0, bytemuck::bytes_of(&view));
         let view_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_app/reference_view"),
             layout: &self.view_layout,
@@ -212,41 +201,88 @@ impl ReferenceRenderer {
             entries: &[
                 binding(0, &accumulation),
                 binding(1, &counters),
-                binding(2, &params_buf),
+                binding(2, &params),
             ],
         });
-        let groups = [
-            scene.bind_group(),
-            &view_group,
-            &io_group,
-            &gpu_lights.bind_group,
-        ];
-        for sample in 0..settings.spp {
+        let view = GpuView::new(camera, width, height);
+        gpu.queue
+            .write_buffer(&view_buf, 0, bytemuck::bytes_of(&view));
+        Ok(ReferenceAccumulation {
+            width,
+            height,
+            settings: *settings,
+            view,
+            scene_generation: None,
+            samples: 0,
+            accumulation,
+            counters,
+            view_buf,
+            params,
+            view_group,
+            io_group,
+            lights: gpu_lights,
+            seconds: 0.0,
+        })
+    }
+
+    /// Adds `n` paths per pixel, calling `progress` with the total after each. Restarts first
+    /// if the scene's instances changed since the last call ([`GpuScene::generation`]).
+    pub fn add_samples(
+        &self,
+        gpu: &Gpu,
+        scene: &GpuScene,
+        acc: &mut ReferenceAccumulation,
+        n: u32,
+        mut progress: impl FnMut(u32),
+    ) -> Result<(), GpuError> {
+        let start = Instant::now();
+        if acc.scene_generation != Some(scene.generation()) {
+            acc.reset(gpu);
+            acc.scene_generation = Some(scene.generation());
+        }
+        for _ in 0..n {
             let params = ReferenceParams {
-                max_bounces: settings.max_bounces,
-                sample_index: sample,
+                max_bounces: acc.settings.max_bounces,
+                sample_index: acc.samples,
                 safety_cap: SAFETY_CAP,
                 _pad: 0,
             };
             gpu.queue
-                .write_buffer(&params_buf, 0, bytemuck::bytes_of(&params));
+                .write_buffer(&acc.params, 0, bytemuck::bytes_of(&params));
             gpu.dispatch(
                 "solari_app/reference",
                 &self.pipeline,
-                &groups,
-                [width.div_ceil(8), height.div_ceil(8), 1],
+                &[
+                    scene.bind_group(),
+                    &acc.view_group,
+                    &acc.io_group,
+                    &acc.lights.bind_group,
+                ],
+                [acc.width.div_ceil(8), acc.height.div_ceil(8), 1],
             )?;
+            acc.samples += 1;
             // Keep the queue short so progress means something and memory stays bounded.
-            if sample % 8 == 7 {
+            if acc.samples % 8 == 0 {
                 gpu.device
                     .poll(wgpu::PollType::wait_indefinitely())
                     .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
             }
-            progress(sample + 1);
+            progress(acc.samples);
         }
-        let sums = gpu.read_buffer(&accumulation, accum_bytes)?;
+        acc.seconds += start.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Reads back the mean of the samples so far.
+    pub fn resolve(
+        &self,
+        gpu: &Gpu,
+        acc: &ReferenceAccumulation,
+    ) -> Result<ReferenceImage, GpuError> {
+        let bytes = acc.width as u64 * acc.height as u64 * 16;
+        let sums = gpu.read_buffer(&acc.accumulation, bytes)?;
         let sums: &[[f32; 4]] = bytemuck::cast_slice(&sums);
-        let count = gpu.read_buffer(&counters, 8)?;
+        let count = gpu.read_buffer(&acc.counters, 8)?;
         let count: &[u32] = bytemuck::cast_slice(&count);
         let pixels = sums
             .iter()
@@ -256,13 +292,86 @@ impl ReferenceRenderer {
             })
             .collect();
         Ok(ReferenceImage {
-            width,
-            height,
+            width: acc.width,
+            height: acc.height,
             pixels,
-            spp: settings.spp,
+            spp: acc.samples,
             capped_paths: count[0],
             rejected_samples: count[1],
-            seconds: start.elapsed().as_secs_f64(),
+            seconds: acc.seconds,
         })
+    }
+
+    /// Renders `settings.spp` paths per pixel of `camera`'s view from scratch, calling
+    /// `progress` with the number of samples done after each one.
+    #[allow(clippy::too_many_arguments)]
+    pub fn render(
+        &self,
+        gpu: &Gpu,
+        scene: &GpuScene,
+        lights: &LightList,
+        camera: &Camera,
+        width: u32,
+        height: u32,
+        settings: &ReferenceSettings,
+        progress: impl FnMut(u32),
+    ) -> Result<ReferenceImage, GpuError> {
+        let start = Instant::now();
+        let mut acc = self.accumulation(gpu, lights, camera, width, height, settings)?;
+        self.add_samples(gpu, scene, &mut acc, settings.spp, progress)?;
+        let mut image = self.resolve(gpu, &acc)?;
+        image.seconds = start.elapsed().as_secs_f64();
+        Ok(image)
+    }
+}
+
+/// A progressive reference render: the running sums and what they were rendered with.
+/// Changing the camera ([`ReferenceAccumulation::set_camera`]) or the scene's instances
+/// restarts it, so stale samples never mix with new ones.
+pub struct ReferenceAccumulation {
+    width: u32,
+    height: u32,
+    settings: ReferenceSettings,
+    view: GpuView,
+    scene_generation: Option<u64>,
+    samples: u32,
+    accumulation: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    view_buf: wgpu::Buffer,
+    params: wgpu::Buffer,
+    view_group: wgpu::BindGroup,
+    io_group: wgpu::BindGroup,
+    lights: GpuLights,
+    seconds: f64,
+}
+
+impl ReferenceAccumulation {
+    /// Paths per pixel accumulated so far.
+    pub fn samples(&self) -> u32 {
+        self.samples
+    }
+
+    /// Drops every sample (the counters too).
+    pub fn reset(&mut self, gpu: &Gpu) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&self.accumulation, 0, None);
+        encoder.clear_buffer(&self.counters, 0, None);
+        gpu.queue.submit([encoder.finish()]);
+        self.samples = 0;
+        self.seconds = 0.0;
+    }
+
+    /// Points the render at `camera`; restarts it when the view changed. Returns whether it
+    /// restarted.
+    pub fn set_camera(&mut self, gpu: &Gpu, camera: &Camera) -> bool {
+        let view = GpuView::new(camera, self.width, self.height);
+        if bytemuck::bytes_of(&view) == bytemuck::bytes_of(&self.view) {
+            return false;
+        }
+        self.view = view;
+        gpu.queue
+            .write_buffer(&self.view_buf, 0, bytemuck::bytes_of(&view));
+        self.reset(gpu);
+        true
     }
 }

@@ -250,3 +250,66 @@ fn absurd_lights_and_degenerate_normals_stay_finite() {
         assert!(max > 1e25, "the absurd light should still shine: max {max}");
     }
 }
+
+#[test]
+fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = solari_scene::default_scene::cornell_box();
+    let backend = backends(&gpu)[0];
+    let mut gpu_scene =
+        GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
+    let renderer = ReferenceRenderer::new(&gpu, backend).expect("pipeline");
+    let lights = LightList::build(&scene);
+    let camera = scene.camera(None).unwrap();
+    let settings = ReferenceSettings {
+        spp: 8,
+        ..Default::default()
+    };
+    let one_shot = renderer
+        .render(
+            &gpu,
+            &gpu_scene,
+            &lights,
+            &camera,
+            32,
+            32,
+            &settings,
+            |_| {},
+        )
+        .unwrap();
+    // 4 + 4 samples continue the same sample sequence: the same image as 8 at once.
+    let mut acc = renderer
+        .accumulation(&gpu, &lights, &camera, 32, 32, &settings)
+        .unwrap();
+    renderer
+        .add_samples(&gpu, &gpu_scene, &mut acc, 4, |_| {})
+        .unwrap();
+    renderer
+        .add_samples(&gpu, &gpu_scene, &mut acc, 4, |_| {})
+        .unwrap();
+    let progressive = renderer.resolve(&gpu, &acc).unwrap();
+    assert_eq!(progressive.spp, 8);
+    assert_eq!(progressive.pixels, one_shot.pixels);
+    // Same camera: nothing restarts. A moved camera restarts.
+    assert!(!acc.set_camera(&gpu, &camera));
+    assert_eq!(acc.samples(), 8);
+    let mut moved = camera.clone();
+    moved.transform =
+        glam::Mat4::from_translation(glam::Vec3::new(0.01, 0.0, 0.0)) * moved.transform;
+    assert!(acc.set_camera(&gpu, &moved));
+    assert_eq!(acc.samples(), 0);
+    renderer
+        .add_samples(&gpu, &gpu_scene, &mut acc, 2, |_| {})
+        .unwrap();
+    assert_eq!(acc.samples(), 2);
+    // Moving an instance restarts at the next add.
+    let mut changed = scene.clone();
+    changed.instances[0].transform = glam::Mat4::from_translation(glam::Vec3::new(0.0, 0.05, 0.0))
+        * changed.instances[0].transform;
+    gpu_scene.set_instances(&gpu, &changed).unwrap();
+    renderer
+        .add_samples(&gpu, &gpu_scene, &mut acc, 1, |_| {})
+        .unwrap();
+    assert_eq!(acc.samples(), 1);
+    assert_eq!(renderer.resolve(&gpu, &acc).unwrap().spp, 1);
+}

@@ -80,6 +80,7 @@ pub struct GpuScene {
     mesh_offsets: Vec<(u32, u32)>,
     options: GpuSceneOptions,
     info_data: GpuSceneInfo,
+    generation: u64,
 }
 
 fn rows(m: Mat4) -> [[f32; 4]; 3] {
@@ -340,6 +341,7 @@ impl GpuScene {
             mesh_offsets,
             options: options.clone(),
             info_data,
+            generation: 0,
         };
         this.set_instances(gpu, scene)?;
         Ok(this)
@@ -348,6 +350,7 @@ impl GpuScene {
     /// Uploads instance transforms and rebuilds only the top level of the acceleration
     /// structure. Use after moving, adding or removing instances (meshes must be unchanged).
     pub fn set_instances(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
+        self.generation += 1;
         let blas_root = |mesh: u32| match &self.accel {
             Accel::Software { bvh, .. } => bvh.blas_roots[mesh as usize],
             Accel::RayQuery { .. } => 0,
@@ -494,6 +497,12 @@ impl GpuScene {
     /// Bind group 0's layout.
     pub fn layout(&self) -> &wgpu::BindGroupLayout {
         &self.layout
+    }
+
+    /// Counts changes to the scene's instances ([`GpuScene::set_instances`]), so progressive
+    /// renderers know when to restart.
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// Bind group 0.
