@@ -262,7 +262,7 @@ impl ReferenceRenderer {
             )?;
             acc.samples += 1;
             // Keep the queue short so progress means something and memory stays bounded.
-            if acc.samples % 8 == 0 {
+            if acc.samples.is_multiple_of(8) {
                 gpu.device
                     .poll(wgpu::PollType::wait_indefinitely())
                     .map_err(|e| GpuError::Readback(format!("{e:?}")))?;
