@@ -7,7 +7,7 @@ use crate::cli::{BenchArgs, parse_size};
 use glam::Vec3;
 use solari_scene::bvh::{BvhQuality, SoftwareBvh};
 use solari_scene::gpu::{Gpu, ShaderChecks};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::ViewPass;
@@ -105,7 +105,8 @@ fn measure(
         gpu.queue
             .write_buffer(&target.uniform, 0, bytemuck::bytes_of(&v));
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        pass.encode(&mut encoder, scene, &target, Some((&queries, 0)));
+        pass.encode(&mut encoder, scene, &target, Some((&queries, 0)))
+            .map_err(|e| e.to_string())?;
         encoder.resolve_query_set(&queries, 0..2, &resolve, 0);
         gpu.queue.submit([encoder.finish()]);
         let ts = gpu.read_buffer(&resolve, 16).map_err(|e| e.to_string())?;
@@ -160,9 +161,9 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             gpu.info.name
         );
         println!(
-            "| backend | preset | checks | BVH build s | build Mtri/s | primary ms | primary Grays/s | primary+hemi ms | rays/frame | Grays/s |"
+            "| backend | preset | checks | traversal | BVH build s | build Mtri/s | primary ms | primary Grays/s | primary+hemi ms | rays/frame | Grays/s |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
     for backend in backends {
         let presets: Vec<&str> = if backend == Backend::Software {
@@ -195,17 +196,22 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                 },
             )
             .map_err(|e| e.to_string())?;
-            let variants = if args.compare_checks && backend == Backend::Software {
-                vec![
-                    ShaderChecks::BoundsOnly,
-                    ShaderChecks::All,
-                    ShaderChecks::None,
-                ]
-            } else {
-                vec![ShaderChecks::BoundsOnly]
-            };
-            for checks in variants {
-                let pass = ViewPass::ray_bench(&gpu, backend, checks).map_err(|e| e.to_string())?;
+            let best = TraceVariant::for_scene(&gs);
+            let mut variants = vec![(ShaderChecks::BoundsOnly, best)];
+            if args.compare_checks && backend == Backend::Software {
+                variants.push((ShaderChecks::All, best));
+                variants.push((ShaderChecks::None, best));
+                if best != TraceVariant::General {
+                    variants.push((ShaderChecks::BoundsOnly, TraceVariant::General));
+                }
+            }
+            for (checks, variant) in variants {
+                let pass = ViewPass::ray_bench(&gpu, backend, checks, variant)
+                    .map_err(|e| e.to_string())?;
+                let traversal = match variant {
+                    TraceVariant::General => "two-level",
+                    TraceVariant::SingleInstance => "single-instance",
+                };
                 let mut view = GpuView::new(&camera, w, h);
                 view.view_mode = 0;
                 let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;
@@ -218,14 +224,14 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                     println!(
                         "{}",
                         serde_json::json!({"scene": name, "triangles": tris, "width": w, "height": h,
-                        "adapter": gpu.info.name, "backend": backend.name(), "preset": preset, "runtime_checks": checks,
+                        "adapter": gpu.info.name, "backend": backend.name(), "preset": preset, "runtime_checks": checks, "traversal": traversal,
                         "bvh_build_s": build_s, "build_mtris_per_s": build_rate,
                         "primary_ms": primary.median_ms, "primary_rays": primary.rays_per_frame, "primary_grays_per_s": primary_rate,
                         "ao_ms": both.median_ms, "ao_rays": both.rays_per_frame, "ao_grays_per_s": rate, "frames": args.frames})
                     );
                 } else {
                     println!(
-                        "| {} | {preset} | {checks} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
+                        "| {} | {preset} | {checks} | {traversal} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
                         backend.name(),
                         primary.median_ms,
                         both.median_ms,

@@ -5,7 +5,7 @@ use solari_app::image_io::read_linear;
 use solari_app::metrics::{Metrics, compare, heatmap};
 use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, Selection};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 
 /// Pixels that see an emitter directly: emission-only paths (no bounce) at 4 samples per pixel.
 fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>, String> {
@@ -25,7 +25,8 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
     let (gpu, backend) = scene_args.device()?;
     let gpu_scene = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default())
         .map_err(|e| e.to_string())?;
-    let renderer = ReferenceRenderer::new(&gpu, backend).map_err(|e| e.to_string())?;
+    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .map_err(|e| e.to_string())?;
     let settings = ReferenceSettings {
         spp: 4,
         max_bounces: 0,

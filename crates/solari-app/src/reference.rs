@@ -5,7 +5,7 @@
 use bytemuck::{Pod, Zeroable};
 use solari_lights::{GpuLights, LightList, Selection};
 use solari_scene::gpu::{Gpu, ShaderChecks};
-use solari_scene::gpu_scene::GpuScene;
+use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::{Camera, GpuError};
@@ -78,6 +78,7 @@ pub struct ReferenceRenderer {
     pipeline: wgpu::ComputePipeline,
     view_layout: wgpu::BindGroupLayout,
     io_layout: wgpu::BindGroupLayout,
+    variant: TraceVariant,
 }
 
 fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
@@ -102,7 +103,7 @@ fn binding(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 
 impl ReferenceRenderer {
     /// Composes and compiles the path tracer for `backend`.
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self, GpuError> {
+    pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
         let view_layout = gpu
             .device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -138,11 +139,13 @@ impl ReferenceRenderer {
                 Some(&lights_layout),
             ],
             ShaderChecks::BoundsOnly,
+            variant.for_backend(backend).constants(),
         )?;
         Ok(Self {
             pipeline,
             view_layout,
             io_layout,
+            variant: variant.for_backend(backend),
         })
     }
 
@@ -235,6 +238,7 @@ impl ReferenceRenderer {
         n: u32,
         mut progress: impl FnMut(u32),
     ) -> Result<(), GpuError> {
+        self.variant.check(scene)?;
         let start = Instant::now();
         if acc.scene_generation != Some(scene.generation()) {
             acc.reset(gpu);

@@ -5,7 +5,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use solari_app::image_io;
 use solari_app::reference::{ReferenceRenderer, ReferenceSettings, SAFETY_CAP};
 use solari_lights::{LightList, Selection};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::gpu_types::{GpuView, NO_HIT};
 use solari_scene::view_pass::{DebugView, ViewPass};
 use std::time::Instant;
@@ -110,7 +110,8 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
     if lights.report != Default::default() {
         log::warn!("{name}: lights left out: {:?}", lights.report);
     }
-    let renderer = ReferenceRenderer::new(&gpu, backend).map_err(|e| e.to_string())?;
+    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .map_err(|e| e.to_string())?;
     let settings = ReferenceSettings {
         spp: args.spp,
         max_bounces: args.max_bounces.unwrap_or(u32::MAX),
@@ -200,7 +201,8 @@ fn run_debug(args: &RenderArgs) -> Result<(), String> {
         ..Default::default()
     };
     let gpu_scene = GpuScene::new(&gpu, &scene, backend, &options).map_err(|e| e.to_string())?;
-    let pass = ViewPass::primary(&gpu, backend).map_err(|e| e.to_string())?;
+    let pass = ViewPass::primary(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .map_err(|e| e.to_string())?;
     let mut view = GpuView::new(&camera, w, h);
     view.view_mode = view_kind as u32;
     let target = pass.target(&gpu, &view).map_err(|e| e.to_string())?;

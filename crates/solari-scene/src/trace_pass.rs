@@ -3,7 +3,7 @@
 
 use crate::error::GpuError;
 use crate::gpu::{Gpu, ShaderChecks};
-use crate::gpu_scene::GpuScene;
+use crate::gpu_scene::{GpuScene, TraceVariant};
 use crate::gpu_types::{GpuRay, GpuRayHit};
 use crate::shaders::{Backend, compose};
 
@@ -12,11 +12,12 @@ pub struct TraceRaysPass {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     empty: wgpu::BindGroupLayout,
+    variant: TraceVariant,
 }
 
 impl TraceRaysPass {
     /// Builds the pipeline for `backend`.
-    pub fn new(gpu: &Gpu, backend: Backend) -> Result<Self, GpuError> {
+    pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
         let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
             binding,
             visibility: wgpu::ShaderStages::COMPUTE,
@@ -47,11 +48,13 @@ impl TraceRaysPass {
             &wgsl,
             &[Some(&scene_layout), Some(&empty), Some(&layout)],
             ShaderChecks::BoundsOnly,
+            variant.for_backend(backend).constants(),
         )?;
         Ok(Self {
             pipeline,
             layout,
             empty,
+            variant: variant.for_backend(backend),
         })
     }
 
@@ -62,6 +65,7 @@ impl TraceRaysPass {
         scene: &GpuScene,
         rays: &[GpuRay],
     ) -> Result<Vec<GpuRayHit>, GpuError> {
+        self.variant.check(scene)?;
         if rays.is_empty() {
             return Ok(Vec::new());
         }

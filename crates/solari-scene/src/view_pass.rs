@@ -3,7 +3,7 @@
 
 use crate::error::GpuError;
 use crate::gpu::{Gpu, ShaderChecks};
-use crate::gpu_scene::GpuScene;
+use crate::gpu_scene::{GpuScene, TraceVariant};
 use crate::gpu_types::GpuView;
 use crate::shaders::{Backend, compose};
 
@@ -40,11 +40,12 @@ pub struct ViewPass {
     out_layout: wgpu::BindGroupLayout,
     element_size: u64,
     label: &'static str,
+    variant: TraceVariant,
 }
 
 impl ViewPass {
     /// The primary-ray debug-view pass (`primary.wesl`, 16 bytes per pixel).
-    pub fn primary(gpu: &Gpu, backend: Backend) -> Result<Self, GpuError> {
+    pub fn primary(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
         Self::new(
             gpu,
             backend,
@@ -52,12 +53,18 @@ impl ViewPass {
             "solari_scene/primary",
             16,
             ShaderChecks::BoundsOnly,
+            variant,
         )
     }
 
     /// The ray-throughput benchmark pass (`ray_bench.wesl`, 4 bytes per pixel), compiled with
     /// the given runtime checks so their cost can be measured.
-    pub fn ray_bench(gpu: &Gpu, backend: Backend, checks: ShaderChecks) -> Result<Self, GpuError> {
+    pub fn ray_bench(
+        gpu: &Gpu,
+        backend: Backend,
+        checks: ShaderChecks,
+        variant: TraceVariant,
+    ) -> Result<Self, GpuError> {
         Self::new(
             gpu,
             backend,
@@ -65,6 +72,7 @@ impl ViewPass {
             "solari_scene/ray_bench",
             4,
             checks,
+            variant,
         )
     }
 
@@ -75,6 +83,7 @@ impl ViewPass {
         label: &'static str,
         element_size: u64,
         checks: ShaderChecks,
+        variant: TraceVariant,
     ) -> Result<Self, GpuError> {
         let entry_of = |binding, ty| wgpu::BindGroupLayoutEntry {
             binding,
@@ -110,6 +119,7 @@ impl ViewPass {
             &wgsl,
             &[Some(&scene_layout), Some(&view_layout), Some(&out_layout)],
             checks,
+            variant.for_backend(backend).constants(),
         )?;
         Ok(Self {
             pipeline,
@@ -117,6 +127,7 @@ impl ViewPass {
             out_layout,
             element_size,
             label,
+            variant: variant.for_backend(backend),
         })
     }
 
@@ -172,14 +183,16 @@ impl ViewPass {
         })
     }
 
-    /// Records the pass; `timestamps` brackets it with two timestamp queries.
+    /// Records the pass; `timestamps` brackets it with two timestamp queries. Fails when the
+    /// pass was specialised for a different scene shape ([`TraceVariant::check`]).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         scene: &GpuScene,
         target: &ViewTarget,
         timestamps: Option<(&wgpu::QuerySet, u32)>,
-    ) {
+    ) -> Result<(), GpuError> {
+        self.variant.check(scene)?;
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(self.label),
             timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
@@ -197,6 +210,7 @@ impl ViewPass {
             target.view.height.div_ceil(8),
             1,
         );
+        Ok(())
     }
 
     /// Runs the pass once and reads the output back.
@@ -208,9 +222,10 @@ impl ViewPass {
     ) -> Result<Vec<u8>, GpuError> {
         gpu.scoped(|| {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            self.encode(&mut encoder, scene, target, None);
+            self.encode(&mut encoder, scene, target, None)?;
             gpu.queue.submit([encoder.finish()]);
-        })?;
+            Ok::<(), GpuError>(())
+        })??;
         gpu.read_buffer(&target.output, target.bytes)
     }
 }

@@ -161,6 +161,7 @@ fn gpu_brdf_matches_the_cpu_twin() {
             &wgsl,
             &[Some(scene.layout()), Some(&empty_layout), Some(&io_layout)],
             ShaderChecks::BoundsOnly,
+            &[],
         )
         .expect("pipeline");
 

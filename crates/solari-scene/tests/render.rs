@@ -3,7 +3,7 @@
 //! match where the instance does.
 
 use solari_scene::gpu::test_gpu;
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::{DebugView, ViewPass};
@@ -40,7 +40,9 @@ fn backends_render_the_same_images() {
         let mut images = Vec::new();
         for backend in [Backend::Software, Backend::RayQuery] {
             let gs = GpuScene::new(&gpu, scene, backend, &options).unwrap();
-            let pass = ViewPass::primary(&gpu, backend).unwrap();
+            // The specialised single-instance traversal where it applies: it must render the
+            // same image as ray queries too.
+            let pass = ViewPass::primary(&gpu, backend, TraceVariant::for_scene(&gs)).unwrap();
             let mut per_view = Vec::new();
             for v in [DebugView::Instance, DebugView::Albedo] {
                 let mut view = GpuView::new(&camera, w, h);
