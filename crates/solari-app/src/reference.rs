@@ -81,46 +81,13 @@ pub struct ReferenceRenderer {
     variant: TraceVariant,
 }
 
-fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
-}
-
-fn binding(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-    wgpu::BindGroupEntry {
-        binding,
-        resource: buffer.as_entire_binding(),
-    }
-}
-
 impl ReferenceRenderer {
     /// Composes and compiles the path tracer for `backend`.
     pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
-        let view_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_app/reference_view"),
-                entries: &[buffer_entry(0, wgpu::BufferBindingType::Uniform)],
-            });
+        let uniform = wgpu::BufferBindingType::Uniform;
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let io_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_app/reference_io"),
-                entries: &[
-                    buffer_entry(0, rw),
-                    buffer_entry(1, rw),
-                    buffer_entry(2, wgpu::BufferBindingType::Uniform),
-                ],
-            });
+        let view_layout = gpu.buffer_layout("solari_app/reference_view", &[uniform]);
+        let io_layout = gpu.buffer_layout("solari_app/reference_io", &[rw, rw, uniform]);
         let extra: Vec<(&str, &str)> = solari_lights::MODULES
             .iter()
             .chain(MODULES)
@@ -193,20 +160,13 @@ impl ReferenceRenderer {
             size_of::<ReferenceParams>() as u64,
             uniform,
         );
-        let view_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_app/reference_view"),
-            layout: &self.view_layout,
-            entries: &[binding(0, &view_buf)],
-        });
-        let io_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_app/reference_io"),
-            layout: &self.io_layout,
-            entries: &[
-                binding(0, &accumulation),
-                binding(1, &counters),
-                binding(2, &params),
-            ],
-        });
+        let view_group =
+            gpu.bind_buffers("solari_app/reference_view", &self.view_layout, &[&view_buf]);
+        let io_group = gpu.bind_buffers(
+            "solari_app/reference_io",
+            &self.io_layout,
+            &[&accumulation, &counters, &params],
+        );
         let view = GpuView::new(camera, width, height);
         gpu.queue
             .write_buffer(&view_buf, 0, bytemuck::bytes_of(&view));

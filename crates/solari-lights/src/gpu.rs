@@ -3,7 +3,7 @@
 use crate::light_list::{Light, LightList, Selection};
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
-use solari_scene::gpu::Gpu;
+use solari_scene::gpu::{Gpu, buffer_layout_entry};
 use std::f32::consts::PI;
 
 /// WGSL twin: `GpuLight` in `light_sampling.wesl`.
@@ -145,16 +145,8 @@ pub struct GpuLights {
 impl GpuLights {
     /// The layout of bind group 3.
     pub fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
+        let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
+        let buffer = |binding, ty| buffer_layout_entry(binding, ty, stages);
         let read = wgpu::BufferBindingType::Storage { read_only: true };
         gpu.device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -218,28 +210,11 @@ impl GpuLights {
         gpu.queue
             .write_buffer(&info_buf, 0, bytemuck::bytes_of(&info));
         let layout = Self::layout(gpu);
-        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_lights/lights"),
-            layout: &layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: light_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: tri_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: info_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: map_buf.as_entire_binding(),
-                },
-            ],
-        });
+        let bind_group = gpu.bind_buffers(
+            "solari_lights/lights",
+            &layout,
+            &[&light_buf, &tri_buf, &info_buf, &map_buf],
+        );
         Ok(Self {
             layout,
             bind_group,

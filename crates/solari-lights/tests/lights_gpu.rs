@@ -66,28 +66,14 @@ fn scenes() -> Vec<(String, Scene)> {
 #[test]
 fn gpu_light_sampling_matches_the_cpu_twin() {
     let Some(gpu) = test_gpu() else { return };
-    let empty_layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: None,
-            entries: &[],
-        });
-    let entry = |binding, read_only| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let io_layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("light_sample_test"),
-            entries: &[entry(0, true), entry(1, false)],
-        });
+    let (empty_layout, empty) = gpu.empty_group();
+    let io_layout = gpu.buffer_layout(
+        "light_sample_test",
+        &[
+            wgpu::BufferBindingType::Storage { read_only: true },
+            wgpu::BufferBindingType::Storage { read_only: false },
+        ],
+    );
     let test_module = [(
         "light_sample_test",
         include_str!("../shaders/light_sample_test.wesl"),
@@ -109,12 +95,6 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
             &[],
         )
         .expect("pipeline");
-    let empty = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &empty_layout,
-        entries: &[],
-    });
-
     let mut rng = Pcg32::seed_from_u64(8);
     for (name, scene) in scenes() {
         let list = LightList::build(&scene);
@@ -131,43 +111,20 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                     u: Vec4::new(rng.random(), rng.random(), rng.random(), rng.random()).into(),
                 })
                 .collect();
-            let input = gpu
-                .storage_buffer(
-                    "cases",
-                    bytemuck::cast_slice(&cases),
-                    wgpu::BufferUsages::empty(),
+            let results: Vec<GpuResult> = gpu
+                .run_cases(
+                    "light_sample_test",
+                    &pipeline,
+                    &io_layout,
+                    &[
+                        Some(&empty),
+                        Some(&empty),
+                        None,
+                        Some(&gpu_lights.bind_group),
+                    ],
+                    &cases,
                 )
-                .expect("buffer");
-            let bytes = (cases.len() * size_of::<GpuResult>()) as u64;
-            let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("results"),
-                size: bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            let io = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: None,
-                layout: &io_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: input.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: output.as_entire_binding(),
-                    },
-                ],
-            });
-            gpu.dispatch(
-                "light_sample_test",
-                &pipeline,
-                &[&empty, &empty, &io, &gpu_lights.bind_group],
-                [(cases.len() as u32).div_ceil(64), 1, 1],
-            )
-            .expect("dispatch");
-            let raw = gpu.read_buffer(&output, bytes).expect("readback");
-            let results: &[GpuResult] = bytemuck::cast_slice(&raw);
+                .expect("dispatch");
             let mut failures = Vec::new();
             let rel = |a: f32, b: f32, tol: f32| {
                 (a == b) || (a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-6)

@@ -37,6 +37,24 @@ impl ShaderChecks {
     }
 }
 
+/// A whole-buffer bind group layout entry (no dynamic offset, no minimum size).
+pub fn buffer_layout_entry(
+    binding: u32,
+    ty: wgpu::BufferBindingType,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// How to choose the tracing backend.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TracerChoice {
@@ -225,6 +243,107 @@ impl Gpu {
             .to_vec();
         staging.unmap();
         Ok(data)
+    }
+
+    /// A layout of whole-buffer bindings 0, 1, … of the given types, visible to compute.
+    pub fn buffer_layout(
+        &self,
+        label: &str,
+        types: &[wgpu::BufferBindingType],
+    ) -> wgpu::BindGroupLayout {
+        let entries: Vec<_> = types
+            .iter()
+            .enumerate()
+            .map(|(i, ty)| buffer_layout_entry(i as u32, *ty, wgpu::ShaderStages::COMPUTE))
+            .collect();
+        self.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            })
+    }
+
+    /// A bind group with `buffers` bound whole at bindings 0, 1, ….
+    pub fn bind_buffers(
+        &self,
+        label: &str,
+        layout: &wgpu::BindGroupLayout,
+        buffers: &[&wgpu::Buffer],
+    ) -> wgpu::BindGroup {
+        let entries: Vec<_> = buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect();
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(label),
+            layout,
+            entries: &entries,
+        })
+    }
+
+    /// An empty layout and its bind group, for group slots a pipeline does not use.
+    pub fn empty_group(&self) -> (wgpu::BindGroupLayout, wgpu::BindGroup) {
+        let layout = self
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari/empty"),
+                entries: &[],
+            });
+        let group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari/empty"),
+            layout: &layout,
+            entries: &[],
+        });
+        (layout, group)
+    }
+
+    /// Runs a kernel with one invocation per case and reads its results back: `cases` go to
+    /// binding 0 and `cases.len()` values of `O` come from binding 1 of `io_layout`, bound at
+    /// the `None` slot of `groups`. Workgroups are 64 wide and fold into y past 65,535, so the
+    /// kernel indexes `id.x + id.y * num_workgroups.x * 64`. The GPU-twin tests and the
+    /// trace pass use it.
+    pub fn run_cases<I: bytemuck::Pod, O: bytemuck::Pod>(
+        &self,
+        label: &str,
+        pipeline: &wgpu::ComputePipeline,
+        io_layout: &wgpu::BindGroupLayout,
+        groups: &[Option<&wgpu::BindGroup>],
+        cases: &[I],
+    ) -> Result<Vec<O>, GpuError> {
+        if cases.is_empty() {
+            return Ok(Vec::new());
+        }
+        let input = self.storage_buffer(
+            label,
+            bytemuck::cast_slice(cases),
+            wgpu::BufferUsages::empty(),
+        )?;
+        let out_bytes = (cases.len() * size_of::<O>()) as u64;
+        let limit = self.device.limits().max_storage_buffer_binding_size;
+        if out_bytes > limit {
+            return Err(GpuError::OverLimit {
+                what: format!("{label} results"),
+                needed: out_bytes,
+                limit,
+            });
+        }
+        let output = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: out_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let io = self.bind_buffers(label, io_layout, &[&input, &output]);
+        let bound: Vec<&wgpu::BindGroup> = groups.iter().map(|g| g.unwrap_or(&io)).collect();
+        let workgroups = (cases.len() as u32).div_ceil(64);
+        let x = workgroups.min(65535);
+        self.dispatch(label, pipeline, &bound, [x, workgroups.div_ceil(x), 1])?;
+        let bytes = self.read_buffer(&output, out_bytes)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
     }
 
     /// Records one compute dispatch with `bind_groups` at groups 0, 1, … and submits it,

@@ -3,7 +3,7 @@
 
 use crate::bvh::{BvhQuality, SoftwareBvh};
 use crate::error::GpuError;
-use crate::gpu::Gpu;
+use crate::gpu::{Gpu, buffer_layout_entry};
 use crate::gpu_types::*;
 use crate::model::{ColorSpace, MipLevel, Scene};
 use crate::shaders::Backend;
@@ -97,15 +97,13 @@ fn normal_rows(m: Mat4) -> [[f32; 4]; 3] {
 impl GpuScene {
     /// The bind group layout for `backend` (group 0).
     pub fn layout_for(gpu: &Gpu, backend: Backend) -> wgpu::BindGroupLayout {
-        let storage = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
+        let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
+        let storage = |binding| {
+            buffer_layout_entry(
+                binding,
+                wgpu::BufferBindingType::Storage { read_only: true },
+                stages,
+            )
         };
         let texture = |binding| wgpu::BindGroupLayoutEntry {
             binding,
@@ -130,16 +128,7 @@ impl GpuScene {
                 ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                 count: None,
             },
-            wgpu::BindGroupLayoutEntry {
-                binding: 7,
-                visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            },
+            buffer_layout_entry(7, wgpu::BufferBindingType::Uniform, stages),
         ];
         match backend {
             Backend::RayQuery => entries.push(wgpu::BindGroupLayoutEntry {

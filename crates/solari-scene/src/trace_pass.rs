@@ -11,42 +11,29 @@ use crate::shaders::{Backend, compose};
 pub struct TraceRaysPass {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
-    empty: wgpu::BindGroupLayout,
+    // Kept with the pass: group 1 is unused but must be bound.
+    empty: wgpu::BindGroup,
     variant: TraceVariant,
 }
 
 impl TraceRaysPass {
     /// Builds the pipeline for `backend`.
     pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
-        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_scene/trace_rays"),
-                // binding 0: rays, binding 1: hits
-                entries: &[storage(0, true), storage(1, false)],
-            });
-        let empty = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: None,
-                entries: &[],
-            });
+        // binding 0: rays, binding 1: hits
+        let layout = gpu.buffer_layout(
+            "solari_scene/trace_rays",
+            &[
+                wgpu::BufferBindingType::Storage { read_only: true },
+                wgpu::BufferBindingType::Storage { read_only: false },
+            ],
+        );
+        let (empty_layout, empty) = gpu.empty_group();
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let wgsl = compose("trace_rays", backend, &[])?;
         let pipeline = gpu.compute_pipeline(
             "solari_scene/trace_rays",
             &wgsl,
-            &[Some(&scene_layout), Some(&empty), Some(&layout)],
+            &[Some(&scene_layout), Some(&empty_layout), Some(&layout)],
             ShaderChecks::BoundsOnly,
             variant.for_backend(backend).constants(),
         )?;
@@ -66,50 +53,12 @@ impl TraceRaysPass {
         rays: &[GpuRay],
     ) -> Result<Vec<GpuRayHit>, GpuError> {
         self.variant.check(scene)?;
-        if rays.is_empty() {
-            return Ok(Vec::new());
-        }
-        let ray_buf = gpu.storage_buffer(
-            "solari_scene/rays",
-            bytemuck::cast_slice(rays),
-            wgpu::BufferUsages::empty(),
-        )?;
-        let hit_bytes = (rays.len() * size_of::<GpuRayHit>()) as u64;
-        let hit_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_scene/hits"),
-            size: hit_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_scene/trace_rays"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: ray_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: hit_buf.as_entire_binding(),
-                },
-            ],
-        });
-        let empty = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &self.empty,
-            entries: &[],
-        });
-        let groups = (rays.len() as u32).div_ceil(64);
-        // Stay under the 65535 workgroups-per-dimension limit by folding into y.
-        let x = groups.min(65535);
-        gpu.dispatch(
+        gpu.run_cases(
             "solari_scene/trace_rays",
             &self.pipeline,
-            &[scene.bind_group(), &empty, &bind],
-            [x, groups.div_ceil(x), 1],
-        )?;
-        let bytes = gpu.read_buffer(&hit_buf, hit_bytes)?;
-        Ok(bytemuck::cast_slice(&bytes).to_vec())
+            &self.layout,
+            &[Some(scene.bind_group()), Some(&self.empty), None],
+            rays,
+        )
     }
 }

@@ -85,33 +85,14 @@ impl ViewPass {
         checks: ShaderChecks,
         variant: TraceVariant,
     ) -> Result<Self, GpuError> {
-        let entry_of = |binding, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
-        let view_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_scene/view"),
-                // binding 0: view
-                entries: &[entry_of(0, wgpu::BufferBindingType::Uniform)],
-            });
-        let out_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(label),
-                // binding 0: out_pixels / out_counts
-                entries: &[entry_of(
-                    0,
-                    wgpu::BufferBindingType::Storage { read_only: false },
-                )],
-            });
+        // binding 0: view
+        let view_layout =
+            gpu.buffer_layout("solari_scene/view", &[wgpu::BufferBindingType::Uniform]);
+        // binding 0: out_pixels / out_counts
+        let out_layout = gpu.buffer_layout(
+            label,
+            &[wgpu::BufferBindingType::Storage { read_only: false }],
+        );
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let wgsl = compose(entry, backend, &[])?;
         let pipeline = gpu.compute_pipeline(

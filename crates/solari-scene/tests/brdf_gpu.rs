@@ -132,28 +132,14 @@ fn gpu_brdf_matches_the_cpu_twin() {
         &GpuSceneOptions::default(),
     )
     .expect("scene");
-    let entry = |binding, read_only| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only },
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    };
-    let io_layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("brdf_test"),
-            entries: &[entry(0, true), entry(1, false)],
-        });
-    let empty_layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: None,
-            entries: &[],
-        });
+    let io_layout = gpu.buffer_layout(
+        "brdf_test",
+        &[
+            wgpu::BufferBindingType::Storage { read_only: true },
+            wgpu::BufferBindingType::Storage { read_only: false },
+        ],
+    );
+    let (empty_layout, empty) = gpu.empty_group();
     let wgsl = compose("brdf_test", Backend::Software, &[]).expect("compose");
     let pipeline = gpu
         .compute_pipeline(
@@ -167,48 +153,15 @@ fn gpu_brdf_matches_the_cpu_twin() {
 
     let cases = cases();
     let raw: Vec<BrdfCase> = cases.iter().map(|c| c.1).collect();
-    let input = gpu
-        .storage_buffer(
-            "brdf_cases",
-            bytemuck::cast_slice(&raw),
-            wgpu::BufferUsages::empty(),
+    let results: Vec<BrdfResult> = gpu
+        .run_cases(
+            "brdf_test",
+            &pipeline,
+            &io_layout,
+            &[Some(scene.bind_group()), Some(&empty), None],
+            &raw,
         )
-        .expect("buffer");
-    let out_bytes = (raw.len() * size_of::<BrdfResult>()) as u64;
-    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("brdf_results"),
-        size: out_bytes,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let io = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("brdf_test"),
-        layout: &io_layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-        ],
-    });
-    let empty = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &empty_layout,
-        entries: &[],
-    });
-    gpu.dispatch(
-        "brdf_test",
-        &pipeline,
-        &[scene.bind_group(), &empty, &io],
-        [(raw.len() as u32).div_ceil(64), 1, 1],
-    )
-    .expect("dispatch");
-    let bytes = gpu.read_buffer(&output, out_bytes).expect("readback");
-    let results: &[BrdfResult] = bytemuck::cast_slice(&bytes);
+        .expect("dispatch");
 
     let rel = 2e-3;
     let (mut compared_samples, mut failures) = (0, Vec::new());
