@@ -3,7 +3,7 @@
 
 use crate::light_list::{Light, LightList, Selection};
 use glam::Vec3;
-use solari_scene::brdf::{self, BrdfMaterial};
+use solari_scene::brdf::{self, BrdfMaterial, orthonormal_basis};
 use std::f32::consts::PI;
 
 /// A light sample resolved for one shading point.
@@ -25,19 +25,9 @@ pub struct LightSample {
     pub delta: bool,
 }
 
-/// Cosine-weighted solid angle of a uniformly bright cone: π sin² of its radius.
+/// Solid angle of a cone of angular radius r, given cos r: 2π(1 − cos r).
 fn disk_solid_angle(cos_radius: f32) -> f32 {
     2.0 * PI * (1.0 - cos_radius)
-}
-
-fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
-    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
-    let a = -1.0 / (s + n.z);
-    let b = n.x * n.y * a;
-    (
-        Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
-        Vec3::new(b, s + n.y * n.y * a, -n.y),
-    )
 }
 
 impl LightList {

@@ -264,6 +264,18 @@ fn finish(m: &BrdfMaterial, wo: Vec3, wi: Vec3, lobe: Lobe) -> Option<BrdfSample
     })
 }
 
+/// Tangent and bitangent completing the unit vector `n` to a right-handed orthonormal basis
+/// (Duff et al. 2017). WGSL twin: `frame::orthonormal_basis` (columns tangent, bitangent, n).
+pub fn orthonormal_basis(n: Vec3) -> (Vec3, Vec3) {
+    let s = if n.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    (
+        Vec3::new(1.0 + s * n.x * n.x * a, s * b, -s * n.x),
+        Vec3::new(b, s + n.y * n.y * a, -n.y),
+    )
+}
+
 /// Cosine-weighted direction about +z (pdf cos θ / π), by Malley's method.
 pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
     let r = u.x.sqrt();

@@ -40,6 +40,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("hit", include_str!("../shaders/hit.wesl")),
     ("rng", include_str!("../shaders/rng.wesl")),
     ("view", include_str!("../shaders/view.wesl")),
+    ("frame", include_str!("../shaders/frame.wesl")),
     ("brdf", include_str!("../shaders/brdf.wesl")),
 ];
 

@@ -372,3 +372,43 @@ fn zero_specular_is_exactly_lambertian() {
         assert!((s.weight - m.base_color).abs().max_element() < 1e-5);
     }
 }
+
+/// The shared tangent frame (`frame.wesl` on the GPU, used by the path tracer, light sampling
+/// and the ray benchmark) is orthonormal and right-handed for any unit normal, including the
+/// branch switch at n.z = 0 and the poles.
+#[test]
+fn orthonormal_basis_is_orthonormal_and_right_handed() {
+    let mut rng = Pcg32::seed_from_u64(12);
+    let mut normals: Vec<Vec3> = (0..10_000)
+        .map(|_| {
+            let z: f32 = rng.random_range(-1.0..1.0);
+            let phi: f32 = rng.random_range(0.0..2.0 * PI);
+            let s = (1.0 - z * z).max(0.0).sqrt();
+            Vec3::new(s * phi.cos(), s * phi.sin(), z)
+        })
+        .collect();
+    normals.extend([
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        Vec3::new(0.6, 0.8, -0.0),
+        Vec3::new(0.0, 1e-7, -1.0).normalize(),
+    ]);
+    for n in normals {
+        let (t, b) = brdf::orthonormal_basis(n);
+        for (name, v) in [("t", t), ("b", b)] {
+            assert!(
+                (v.length() - 1.0).abs() < 1e-4,
+                "{name} of {n} has length {}",
+                v.length()
+            );
+            assert!(v.dot(n).abs() < 1e-4, "{name} of {n} not perpendicular");
+        }
+        assert!(t.dot(b).abs() < 1e-4);
+        assert!(
+            (t.cross(b) - n).length() < 1e-3,
+            "{n}: t × b = {}",
+            t.cross(b)
+        );
+    }
+}
