@@ -2,8 +2,9 @@
 
 use clap::{Args, Parser, Subcommand};
 use solari_scene::gpu::{Gpu, TracerChoice};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
-use solari_scene::{Scene, default_scene, load_gltf};
+use solari_scene::{Camera, Scene, default_scene, load_gltf};
 use std::path::PathBuf;
 
 /// Real-time ray-traced lighting components: headless tools.
@@ -24,6 +25,22 @@ pub enum Command {
     BenchRays(BenchArgs),
     /// Compare a test image with a reference: RMSE, relative MSE and FLIP.
     Compare(CompareArgs),
+}
+
+/// A loaded scene on the device, ready to render.
+pub struct Prepared {
+    /// The scene's name for messages.
+    pub name: String,
+    /// The CPU scene.
+    pub scene: Scene,
+    /// The chosen camera.
+    pub camera: Camera,
+    /// The device.
+    pub gpu: Gpu,
+    /// The tracing backend in use.
+    pub backend: Backend,
+    /// The uploaded scene.
+    pub gpu_scene: GpuScene,
 }
 
 /// Options shared by every command that loads a scene.
@@ -180,6 +197,33 @@ impl SceneArgs {
         let gpu = Gpu::new().map_err(|e| e.to_string())?;
         let backend = gpu.backend(self.tracer()?).map_err(|e| e.to_string())?;
         Ok((gpu, backend))
+    }
+
+    /// Loads the scene (logging its import warnings), picks its camera, opens the device and
+    /// uploads the scene: what every rendering command starts with.
+    pub fn prepare(&self) -> Result<Prepared, String> {
+        let (name, scene) = self.load()?;
+        for warning in scene.warnings.lines() {
+            log::warn!("{name}: {warning}");
+        }
+        let camera = scene
+            .camera(self.camera.as_deref())
+            .ok_or_else(|| format!("no camera {:?} in {name}", self.camera))?;
+        let (gpu, backend) = self.device()?;
+        let options = GpuSceneOptions {
+            bvh_quality: self.quality()?,
+            ..Default::default()
+        };
+        let gpu_scene =
+            GpuScene::new(&gpu, &scene, backend, &options).map_err(|e| e.to_string())?;
+        Ok(Prepared {
+            name,
+            scene,
+            camera,
+            gpu,
+            backend,
+            gpu_scene,
+        })
     }
 
     /// The BVH preset.

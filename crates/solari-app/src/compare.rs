@@ -1,11 +1,11 @@
 //! `solari compare`: error metrics of a test image against a reference.
 
-use crate::cli::{CompareArgs, SceneArgs};
+use crate::cli::{CompareArgs, Prepared, SceneArgs};
 use solari_app::image_io::read_linear;
 use solari_app::metrics::{Metrics, compare, heatmap};
 use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, Selection};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::gpu_scene::TraceVariant;
 
 /// Pixels that see an emitter directly: emission-only paths (no bounce) at 4 samples per pixel.
 fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>, String> {
@@ -18,13 +18,14 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         camera: args.camera.clone(),
         bvh_quality: "medium".into(),
     };
-    let (name, scene) = scene_args.load()?;
-    let camera = scene
-        .camera(args.camera.as_deref())
-        .ok_or_else(|| format!("no camera {:?} in {name}", args.camera))?;
-    let (gpu, backend) = scene_args.device()?;
-    let gpu_scene = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default())
-        .map_err(|e| e.to_string())?;
+    let Prepared {
+        scene,
+        camera,
+        gpu,
+        backend,
+        gpu_scene,
+        ..
+    } = scene_args.prepare()?;
     let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .map_err(|e| e.to_string())?;
     let settings = ReferenceSettings {

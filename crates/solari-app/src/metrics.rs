@@ -62,8 +62,9 @@ pub fn compare(
     }
     let keep = |i: usize| mask.is_none_or(|m| m[i]);
     let ldr = flip_map(test, reference, w, h, 0.0);
-    let mut hdr = vec![0.0f32; n];
-    for ev in HDR_EXPOSURES {
+    // Exposure 0 is the LDR map itself: start from it rather than computing it again.
+    let mut hdr = ldr.clone();
+    for ev in HDR_EXPOSURES.into_iter().filter(|&ev| ev != 0.0) {
         for (m, v) in hdr.iter_mut().zip(flip_map(test, reference, w, h, ev)) {
             *m = m.max(v);
         }

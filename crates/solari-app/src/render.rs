@@ -1,11 +1,11 @@
 //! `solari render`: primary-ray debug views, or the reference path tracer (EXR + PNG).
 
-use crate::cli::{RenderArgs, parse_size};
+use crate::cli::{Prepared, RenderArgs, parse_size};
 use indicatif::{ProgressBar, ProgressStyle};
 use solari_app::image_io;
 use solari_app::reference::{ReferenceRenderer, ReferenceSettings, SAFETY_CAP};
 use solari_lights::{LightList, Selection};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::gpu_scene::TraceVariant;
 use solari_scene::gpu_types::{GpuView, NO_HIT};
 use solari_scene::view_pass::{DebugView, ViewPass};
 use std::time::Instant;
@@ -93,19 +93,14 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
     if args.spp == 0 {
         return Err("--spp must be at least 1".into());
     }
-    let (name, scene) = args.scene.load()?;
-    for warning in scene.warnings.lines() {
-        log::warn!("{name}: {warning}");
-    }
-    let camera = scene
-        .camera(args.scene.camera.as_deref())
-        .ok_or_else(|| format!("no camera {:?} in {name}", args.scene.camera))?;
-    let (gpu, backend) = args.scene.device()?;
-    let options = GpuSceneOptions {
-        bvh_quality: args.scene.quality()?,
-        ..Default::default()
-    };
-    let gpu_scene = GpuScene::new(&gpu, &scene, backend, &options).map_err(|e| e.to_string())?;
+    let Prepared {
+        name,
+        scene,
+        camera,
+        gpu,
+        backend,
+        gpu_scene,
+    } = args.scene.prepare()?;
     let lights = LightList::build(&scene);
     if lights.report != Default::default() {
         log::warn!("{name}: lights left out: {:?}", lights.report);
@@ -188,19 +183,14 @@ fn run_debug(args: &RenderArgs) -> Result<(), String> {
         )
     })?;
     let (w, h) = parse_size(&args.size)?;
-    let (name, scene) = args.scene.load()?;
-    for warning in scene.warnings.lines() {
-        log::warn!("{name}: {warning}");
-    }
-    let camera = scene
-        .camera(args.scene.camera.as_deref())
-        .ok_or_else(|| format!("no camera {:?} in {name}", args.scene.camera))?;
-    let (gpu, backend) = args.scene.device()?;
-    let options = GpuSceneOptions {
-        bvh_quality: args.scene.quality()?,
-        ..Default::default()
-    };
-    let gpu_scene = GpuScene::new(&gpu, &scene, backend, &options).map_err(|e| e.to_string())?;
+    let Prepared {
+        name,
+        scene: _,
+        camera,
+        gpu,
+        backend,
+        gpu_scene,
+    } = args.scene.prepare()?;
     let pass = ViewPass::primary(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .map_err(|e| e.to_string())?;
     let mut view = GpuView::new(&camera, w, h);
