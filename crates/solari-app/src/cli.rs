@@ -131,7 +131,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Use obvhs's procedural heightfield of N×N vertices instead of a scene (2048: 8.4 M
-    /// triangles), with that example's camera.
+    /// triangles) with the seed and camera of tray_racing's benchmark (PERFORMANCE.md).
     #[arg(long)]
     pub heightfield: Option<usize>,
     /// Image size as WIDTHxHEIGHT.
