@@ -1,10 +1,9 @@
 //! The light list on the GPU: bind group 3 for `shaders/light_sampling.wesl`.
 
-use crate::light_list::{Light, LightList, Selection};
+use crate::light_list::{Light, LightList, Selection, sun_disk};
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
 use solari_scene::gpu::{Gpu, buffer_layout_entry};
-use std::f32::consts::PI;
 
 /// WGSL twin: `GpuLight` in `light_sampling.wesl`.
 #[repr(C)]
@@ -104,14 +103,10 @@ pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>)
                     g.kind = 1;
                     g.to_light = to_light.into();
                     g.cos_radius = cos_radius;
-                    if cos_radius >= 1.0 {
-                        g.radiance = irradiance.into();
-                    } else {
-                        // Same arithmetic as `LightList::sample`.
-                        let sin2 = 1.0 - cos_radius * cos_radius;
-                        g.radiance = (irradiance / (PI * sin2)).into();
-                        g.area = 2.0 * PI * (1.0 - cos_radius);
-                    }
+                    let (radiance, solid_angle) =
+                        sun_disk(irradiance, cos_radius).unwrap_or((irradiance, 0.0));
+                    g.radiance = radiance.into();
+                    g.area = solid_angle;
                 }
             }
             g

@@ -43,7 +43,7 @@ pub mod sample;
 pub use alias::{AliasEntry, AliasTable};
 pub use gpu::{GpuLights, MODULES};
 pub use light_list::{
-    EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection,
+    EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, sun_disk,
 };
 pub use sample::{LightSample, unshadowed_contribution};
 

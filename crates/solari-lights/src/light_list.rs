@@ -58,6 +58,20 @@ pub enum Light {
     },
 }
 
+/// A directional light's disk as sampled: the radiance that makes a facing surface receive
+/// `irradiance` (E = L π sin² r) and the disk's solid angle 2π(1 − cos r). `None` for a delta
+/// light (zero diameter). The CPU sampler and the GPU upload both use it.
+pub fn sun_disk(irradiance: Vec3, cos_radius: f32) -> Option<(Vec3, f32)> {
+    if cos_radius >= 1.0 {
+        return None;
+    }
+    let sin2 = 1.0 - cos_radius * cos_radius;
+    Some((
+        irradiance / (std::f32::consts::PI * sin2),
+        2.0 * std::f32::consts::PI * (1.0 - cos_radius),
+    ))
+}
+
 /// An emissive triangle in world space.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EmissiveTriangle {

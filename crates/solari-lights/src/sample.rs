@@ -1,7 +1,7 @@
 //! Light samples: choosing a light and a point or direction on it, resolved for a shading
 //! point, with the solid-angle pdf every estimator and MIS weight needs.
 
-use crate::light_list::{Light, LightList, Selection};
+use crate::light_list::{Light, LightList, Selection, sun_disk};
 use glam::Vec3;
 use solari_scene::brdf::{self, BrdfMaterial, orthonormal_basis};
 use std::f32::consts::PI;
@@ -23,11 +23,6 @@ pub struct LightSample {
     /// Whether the sample is a delta (zero-size directional) light, which BRDF sampling can
     /// never hit: its MIS weight is one.
     pub delta: bool,
-}
-
-/// Solid angle of a cone of angular radius r, given cos r: 2π(1 − cos r).
-fn disk_solid_angle(cos_radius: f32) -> f32 {
-    2.0 * PI * (1.0 - cos_radius)
 }
 
 impl LightList {
@@ -91,7 +86,7 @@ impl LightList {
                 irradiance,
                 cos_radius,
             } => {
-                if *cos_radius >= 1.0 {
+                let Some((radiance, solid_angle)) = sun_disk(*irradiance, *cos_radius) else {
                     return Some(LightSample {
                         light: index as u32,
                         direction: *to_light,
@@ -100,9 +95,8 @@ impl LightList {
                         pdf: p_select,
                         delta: true,
                     });
-                }
-                // Uniform direction in the cone; radiance such that the disk delivers
-                // `irradiance` at normal incidence: E = L π sin²(radius).
+                };
+                // Uniform direction in the cone.
                 let cos_t = 1.0 - u[2] * (1.0 - cos_radius);
                 let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
                 let phi = 2.0 * PI * u[3];
@@ -110,13 +104,12 @@ impl LightList {
                 let direction =
                     (t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + *to_light * cos_t)
                         .normalize();
-                let sin2_radius = 1.0 - cos_radius * cos_radius;
                 Some(LightSample {
                     light: index as u32,
                     direction,
                     distance: f32::INFINITY,
-                    radiance: *irradiance / (PI * sin2_radius),
-                    pdf: p_select / disk_solid_angle(*cos_radius),
+                    radiance,
+                    pdf: p_select / solid_angle,
                     delta: false,
                 })
             }
