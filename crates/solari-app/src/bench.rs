@@ -201,6 +201,9 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             if args.compare_checks && backend == Backend::Software {
                 variants.push((ShaderChecks::All, best));
                 variants.push((ShaderChecks::None, best));
+                if best == TraceVariant::SingleUntransformed {
+                    variants.push((ShaderChecks::BoundsOnly, TraceVariant::SingleInstance));
+                }
                 if best != TraceVariant::General {
                     variants.push((ShaderChecks::BoundsOnly, TraceVariant::General));
                 }
@@ -208,10 +211,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             for (checks, variant) in variants {
                 let pass = ViewPass::ray_bench(&gpu, backend, checks, variant)
                     .map_err(|e| e.to_string())?;
-                let traversal = match variant {
-                    TraceVariant::General => "two-level",
-                    TraceVariant::SingleInstance => "single-instance",
-                };
+                let traversal = variant.name();
                 let mut view = GpuView::new(&camera, w, h);
                 view.view_mode = 0;
                 let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;

