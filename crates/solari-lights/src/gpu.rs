@@ -135,24 +135,34 @@ pub struct GpuLights {
     pub bind_group: wgpu::BindGroup,
     /// Number of lights (0: passes that need lights can skip).
     pub light_count: u32,
+    buffers: [wgpu::Buffer; 4],
 }
 
 impl GpuLights {
     /// The layout of bind group 3.
     pub fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
         let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
-        let buffer = |binding, ty| buffer_layout_entry(binding, ty, stages);
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
         gpu.device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("solari_lights/lights"),
-                entries: &[
-                    buffer(0, read),
-                    buffer(1, read),
-                    buffer(2, wgpu::BufferBindingType::Uniform),
-                    buffer(3, read),
-                ],
+                entries: &Self::layout_entries(stages),
             })
+    }
+
+    /// Bindings 0–3 of group 3, for layouts that extend it (light tiles).
+    pub fn layout_entries(stages: wgpu::ShaderStages) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        vec![
+            buffer_layout_entry(0, read, stages),
+            buffer_layout_entry(1, read, stages),
+            buffer_layout_entry(2, wgpu::BufferBindingType::Uniform, stages),
+            buffer_layout_entry(3, read, stages),
+        ]
+    }
+
+    /// The buffers behind bindings 0–3, in binding order.
+    pub fn buffers(&self) -> &[wgpu::Buffer; 4] {
+        &self.buffers
     }
 
     /// Uploads `list` for sampling with `selection`.
@@ -214,13 +224,21 @@ impl GpuLights {
             layout,
             bind_group,
             light_count: info.light_count,
+            buffers: [light_buf, tri_buf, info_buf, map_buf],
         })
     }
 }
 
 /// The crate's WESL modules, registered as `package::<name>` when passed to
 /// `solari_scene::shaders::compose` as `extra`.
-pub const MODULES: &[(&str, &str)] = &[(
-    "light_sampling",
-    include_str!("../shaders/light_sampling.wesl"),
-)];
+pub const MODULES: &[(&str, &str)] = &[
+    (
+        "light_sampling",
+        include_str!("../shaders/light_sampling.wesl"),
+    ),
+    (
+        "light_packing",
+        include_str!("../shaders/light_packing.wesl"),
+    ),
+    ("light_tiles", include_str!("../shaders/light_tiles.wesl")),
+];

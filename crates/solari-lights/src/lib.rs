@@ -31,6 +31,7 @@
 //! ```
 //!
 //! The CPU code here is the reference the GPU light-sampling module is tested against.
+//! [`LightTiles`] presamples resolved light samples on the GPU for ReSTIR DI (see `tiles`).
 
 // `!(x > 0.0)` is deliberate throughout: it rejects NaN along with non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -39,13 +40,15 @@ pub mod alias;
 pub mod gpu;
 pub mod light_list;
 pub mod sample;
+pub mod tiles;
 
 pub use alias::{AliasEntry, AliasTable};
 pub use gpu::{GpuLights, MODULES};
 pub use light_list::{
     EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, sun_disk,
 };
-pub use sample::{LightSample, unshadowed_contribution};
+pub use sample::{LightSample, LightSampleId, ResolvedLightSample, unshadowed_contribution};
+pub use tiles::{LightTileSettings, LightTiles, PackedLightSample};
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]

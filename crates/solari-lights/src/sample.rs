@@ -2,6 +2,7 @@
 //! point, with the solid-angle pdf every estimator and MIS weight needs.
 
 use crate::light_list::{Light, LightList, Selection, sun_disk};
+use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use solari_scene::brdf::{self, BrdfMaterial, orthonormal_basis};
 use std::f32::consts::PI;
@@ -25,18 +26,111 @@ pub struct LightSample {
     pub delta: bool,
 }
 
+/// Which light sample was drawn, in 12 bytes: what a reservoir stores to resolve the same
+/// sample again in a later frame (after [`LightList::translation_from`] maps `light`), with
+/// identical results on CPU and GPU. WGSL twin: `LightSampleId` in `light_sampling.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct LightSampleId {
+    /// Index of the light in the [`LightList`].
+    pub light: u32,
+    /// Emissive: triangle index within the light (relative to its first triangle, so it
+    /// survives other lights being added or removed). Directional: 0.
+    pub triangle: u32,
+    /// The two numbers that place the point (or direction), as 16-bit cells: low half first.
+    pub point: u32,
+}
+
+/// A light sample resolved independently of any shading point: the form light tiles store.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ResolvedLightSample {
+    /// Emissive: the world-space point. Directional: the unit direction towards the light.
+    pub position: Vec3,
+    /// Emissive: the unit surface normal (unused for directional lights).
+    pub normal: Vec3,
+    /// Emitted radiance; for a delta light, its irradiance at normal incidence.
+    pub radiance: Vec3,
+    /// 1 / pdf, selection included: area measure for emissive points, solid angle for sun
+    /// disks, 1 / selection probability for delta lights.
+    pub inverse_pdf: f32,
+    /// Whether this is a directional light.
+    pub directional: bool,
+    /// Emissive: whether the emitter shines from both faces.
+    pub double_sided: bool,
+    /// Directional: whether it is a delta (zero-size) light.
+    pub delta: bool,
+}
+
+/// The 16-bit cell of a uniform number, and the number at the cell's centre: ids store cells,
+/// so a point resolved from an id is the same wherever it is resolved.
+fn quantize_u16(u: f32) -> u32 {
+    ((u.clamp(0.0, 1.0) * 65536.0) as u32).min(65535)
+}
+
+fn cell_centre(q: u32) -> f32 {
+    (q as f32 + 0.5) * (1.0 / 65536.0)
+}
+
 impl LightList {
     /// Samples a light for shading point `x` from four uniform numbers: `u[0]` picks the light,
     /// `u[1]` the triangle (by area), `u[2..4]` the point or direction. `None` when there are
     /// no lights, or the sampled point sees `x` from behind (a one-sided emitter) or coincides
     /// with it: such samples contribute nothing, which keeps the estimator unbiased.
     pub fn sample(&self, selection: Selection, x: Vec3, u: [f32; 4]) -> Option<LightSample> {
+        let (light, triangle) = self.pick(selection, u)?;
+        self.resolve_at(selection, light, triangle, [u[2], u[3]])?
+            .toward(light as u32, x)
+    }
+
+    /// Draws a light sample's identity from four uniform numbers (as [`LightList::sample`]
+    /// uses them, with the point's two numbers kept to 16-bit cells). `None` without lights.
+    pub fn generate(&self, selection: Selection, u: [f32; 4]) -> Option<LightSampleId> {
+        let (light, triangle) = self.pick(selection, u)?;
+        Some(LightSampleId {
+            light: light as u32,
+            triangle,
+            point: quantize_u16(u[2]) | (quantize_u16(u[3]) << 16),
+        })
+    }
+
+    /// Resolves a sample identity against this list. `None` when the light or triangle does
+    /// not exist (a stale id) or the sample is degenerate.
+    pub fn resolve(&self, selection: Selection, id: LightSampleId) -> Option<ResolvedLightSample> {
+        let point = [cell_centre(id.point & 0xffff), cell_centre(id.point >> 16)];
+        self.resolve_at(selection, id.light as usize, id.triangle, point)
+    }
+
+    /// The light index and triangle (within the light) that `u[0]` and `u[1]` select.
+    fn pick(&self, selection: Selection, u: [f32; 4]) -> Option<(usize, u32)> {
         if self.lights.is_empty() {
             return None;
         }
         let index = self.select(selection, u[0]);
-        let p_select = self.selection_pdf(selection, index);
-        match &self.lights[index] {
+        let triangle = match &self.lights[index] {
+            Light::Emissive {
+                first_triangle,
+                triangle_count,
+                ..
+            } => {
+                let tris = &self.triangles
+                    [*first_triangle as usize..(*first_triangle + *triangle_count) as usize];
+                tris.partition_point(|t| t.cdf < u[1]).min(tris.len() - 1) as u32
+            }
+            Light::Directional { .. } => 0,
+        };
+        Some((index, triangle))
+    }
+
+    fn resolve_at(
+        &self,
+        selection: Selection,
+        light: usize,
+        triangle: u32,
+        point: [f32; 2],
+    ) -> Option<ResolvedLightSample> {
+        self.lights.get(light)?;
+        let p_select = self.selection_pdf(selection, light);
+        let resolved = match &self.lights[light] {
             Light::Emissive {
                 first_triangle,
                 triangle_count,
@@ -45,75 +139,52 @@ impl LightList {
                 double_sided,
                 ..
             } => {
-                let tris = &self.triangles
-                    [*first_triangle as usize..(*first_triangle + *triangle_count) as usize];
-                let t = tris.partition_point(|t| t.cdf < u[1]).min(tris.len() - 1);
-                let tri = &tris[t];
+                if triangle >= *triangle_count {
+                    return None;
+                }
+                let tri = &self.triangles[(*first_triangle + triangle) as usize];
                 // Uniform point on the triangle.
-                let su = u[2].sqrt();
-                let (b1, b2) = (su * (1.0 - u[3]), su * u[3]);
-                let y = tri.v0 + tri.e1 * b1 + tri.e2 * b2;
-                let n = tri.e1.cross(tri.e2).normalize_or_zero();
-                let to = y - x;
-                let d2 = to.length_squared();
-                if !(d2 > 0.0 && d2.is_finite()) {
-                    return None;
-                }
-                let distance = d2.sqrt();
-                let direction = to / distance;
-                let cos_light = -n.dot(direction);
-                let cos_light = if *double_sided {
-                    cos_light.abs()
-                } else {
-                    cos_light
-                };
-                if !(cos_light > 0.0) {
-                    return None;
-                }
-                // Area pdf p_select / area, to solid angle.
-                let pdf = p_select / area * d2 / cos_light;
-                (pdf.is_finite() && pdf > 0.0).then_some(LightSample {
-                    light: index as u32,
-                    direction,
-                    distance,
+                let su = point[0].sqrt();
+                let (b1, b2) = (su * (1.0 - point[1]), su * point[1]);
+                ResolvedLightSample {
+                    position: tri.v0 + tri.e1 * b1 + tri.e2 * b2,
+                    normal: tri.e1.cross(tri.e2).normalize_or_zero(),
                     radiance: *radiance,
-                    pdf,
+                    inverse_pdf: area / p_select,
+                    directional: false,
+                    double_sided: *double_sided,
                     delta: false,
-                })
+                }
             }
             Light::Directional {
                 to_light,
                 irradiance,
                 cos_radius,
             } => {
+                let directional = |position, radiance, inverse_pdf, delta| ResolvedLightSample {
+                    position,
+                    normal: Vec3::ZERO,
+                    radiance,
+                    inverse_pdf,
+                    directional: true,
+                    double_sided: false,
+                    delta,
+                };
                 let Some((radiance, solid_angle)) = sun_disk(*irradiance, *cos_radius) else {
-                    return Some(LightSample {
-                        light: index as u32,
-                        direction: *to_light,
-                        distance: f32::INFINITY,
-                        radiance: *irradiance,
-                        pdf: p_select,
-                        delta: true,
-                    });
+                    return Some(directional(*to_light, *irradiance, 1.0 / p_select, true));
                 };
                 // Uniform direction in the cone.
-                let cos_t = 1.0 - u[2] * (1.0 - cos_radius);
+                let cos_t = 1.0 - point[0] * (1.0 - cos_radius);
                 let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
-                let phi = 2.0 * PI * u[3];
+                let phi = 2.0 * PI * point[1];
                 let (t, b) = orthonormal_basis(*to_light);
                 let direction =
                     (t * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + *to_light * cos_t)
                         .normalize();
-                Some(LightSample {
-                    light: index as u32,
-                    direction,
-                    distance: f32::INFINITY,
-                    radiance,
-                    pdf: p_select / solid_angle,
-                    delta: false,
-                })
+                directional(direction, radiance, solid_angle / p_select, false)
             }
-        }
+        };
+        (resolved.inverse_pdf > 0.0 && resolved.inverse_pdf.is_finite()).then_some(resolved)
     }
 
     /// Solid-angle pdf with which [`LightList::sample`] would have produced the point `y` with
@@ -141,6 +212,49 @@ impl LightList {
             return 0.0;
         }
         self.selection_pdf(selection, light) / area * d2 / cos
+    }
+}
+
+impl ResolvedLightSample {
+    /// This sample as seen from shading point `x`: direction, distance and solid-angle pdf.
+    /// `None` when `x` sees a one-sided emitter from behind or coincides with the point.
+    pub fn toward(&self, light: u32, x: Vec3) -> Option<LightSample> {
+        if self.directional {
+            return Some(LightSample {
+                light,
+                direction: self.position,
+                distance: f32::INFINITY,
+                radiance: self.radiance,
+                pdf: 1.0 / self.inverse_pdf,
+                delta: self.delta,
+            });
+        }
+        let to = self.position - x;
+        let d2 = to.length_squared();
+        if !(d2 > 0.0 && d2.is_finite()) {
+            return None;
+        }
+        let distance = d2.sqrt();
+        let direction = to / distance;
+        let cos_light = -self.normal.dot(direction);
+        let cos_light = if self.double_sided {
+            cos_light.abs()
+        } else {
+            cos_light
+        };
+        if !(cos_light > 0.0) {
+            return None;
+        }
+        // Area pdf to solid angle.
+        let pdf = d2 / (cos_light * self.inverse_pdf);
+        (pdf.is_finite() && pdf > 0.0).then_some(LightSample {
+            light,
+            direction,
+            distance,
+            radiance: self.radiance,
+            pdf,
+            delta: false,
+        })
     }
 }
 

@@ -177,6 +177,23 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
     }
 }
 
+/// naga's size of every named struct in entry module `entry` (names without WESL's prefix).
+fn wgsl_sizes(entry: &str, extra: &[(&str, &str)]) -> std::collections::HashMap<String, u32> {
+    let extra: Vec<(&str, &str)> = MODULES.iter().chain(extra).copied().collect();
+    let wgsl = compose(entry, Backend::Software, &extra).expect("compose");
+    let module = solari_scene::shaders::validate(entry, &wgsl).expect("valid");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).expect("layout");
+    module
+        .types
+        .iter()
+        .filter_map(|(h, t)| {
+            let short = t.name.as_deref()?.rsplit('_').next()?.to_string();
+            Some((short, layouter[h].size))
+        })
+        .collect()
+}
+
 /// CPU-only: the Rust mirrors have the sizes naga gives their WGSL twins.
 #[test]
 fn gpu_structs_match_naga_layouts() {
@@ -184,24 +201,17 @@ fn gpu_structs_match_naga_layouts() {
         "light_sample_test",
         include_str!("../shaders/light_sample_test.wesl"),
     )];
-    let extra: Vec<(&str, &str)> = MODULES.iter().chain(&test_module).copied().collect();
-    let wgsl = compose("light_sample_test", Backend::Software, &extra).expect("compose");
-    let module = solari_scene::shaders::validate("light_sample_test", &wgsl).expect("valid");
-    let mut layouter = naga::proc::Layouter::default();
-    layouter.update(module.to_ctx()).expect("layout");
+    let sizes = wgsl_sizes("light_sample_test", &test_module);
+    let tile_sizes = wgsl_sizes("presample_light_tiles", solari_lights::tiles::ENTRY_POINTS);
     let size_of_wgsl = |short: &str| {
-        module
-            .types
-            .iter()
-            .find(|(_, t)| {
-                t.name
-                    .as_deref()
-                    .is_some_and(|n| n.rsplit('_').next() == Some(short))
-            })
-            .map(|(h, _)| layouter[h].size)
+        *sizes
+            .get(short)
+            .or_else(|| tile_sizes.get(short))
             .unwrap_or_else(|| panic!("no WGSL struct {short}"))
     };
     use solari_lights::gpu::{GpuEmissiveTriangle, GpuLight, GpuLightInfo};
+    use solari_lights::tiles::GpuTileParams;
+    use solari_lights::{LightSampleId, PackedLightSample};
     assert_eq!(size_of_wgsl("GpuLight") as usize, size_of::<GpuLight>());
     assert_eq!(
         size_of_wgsl("GpuEmissiveTriangle") as usize,
@@ -213,4 +223,16 @@ fn gpu_structs_match_naga_layouts() {
     );
     assert_eq!(size_of_wgsl("Case") as usize, size_of::<Case>());
     assert_eq!(size_of_wgsl("Result") as usize, size_of::<GpuResult>());
+    assert_eq!(
+        size_of_wgsl("PackedLightSample") as usize,
+        size_of::<PackedLightSample>()
+    );
+    assert_eq!(
+        size_of_wgsl("LightSampleId") as usize,
+        size_of::<LightSampleId>()
+    );
+    assert_eq!(
+        size_of_wgsl("TileParams") as usize,
+        size_of::<GpuTileParams>()
+    );
 }

@@ -42,6 +42,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("view", include_str!("../shaders/view.wesl")),
     ("frame", include_str!("../shaders/frame.wesl")),
     ("brdf", include_str!("../shaders/brdf.wesl")),
+    ("packing", include_str!("../shaders/packing.wesl")),
 ];
 
 /// The entry-point files of `solari-scene`, by module name.
@@ -88,6 +89,33 @@ pub fn compose(entry: &str, backend: Backend, extra: &[(&str, &str)]) -> Result<
         wgsl = format!("enable wgpu_ray_query;\n{wgsl}");
     }
     Ok(wgsl)
+}
+
+/// Lines (1-based) of loops in a WESL source without a `// bound:` comment just above them.
+/// Pipelines skip wgpu's forced loop bounding (`ShaderChecks::BoundsOnly`), which is sound
+/// only while every loop provably ends, so every crate's shader tests require this be empty.
+pub fn loops_without_bound(source: &str) -> Vec<usize> {
+    let lines: Vec<&str> = source.lines().collect();
+    let mut missing = Vec::new();
+    for (i, line) in lines.iter().enumerate() {
+        let code = line.split("//").next().unwrap_or("").trim_start();
+        let is_loop = code.starts_with("loop")
+            || code.starts_with("while ")
+            || code.starts_with("for ")
+            || code.starts_with("for(");
+        if is_loop {
+            let above = lines[..i]
+                .iter()
+                .rev()
+                .find(|l| !l.trim().is_empty())
+                .copied()
+                .unwrap_or("");
+            if !above.trim_start().starts_with("// bound:") {
+                missing.push(i + 1);
+            }
+        }
+    }
+    missing
 }
 
 /// Parses and validates composed WGSL with naga, as wgpu would, returning the module.

@@ -1,7 +1,9 @@
 //! CPU-only: every entry point composes with WESL and validates with naga in every backend
 //! variant, and every loop in them states why it ends.
 
-use solari_scene::shaders::{Backend, ENTRY_POINTS, MODULES, compose, validate};
+use solari_scene::shaders::{
+    Backend, ENTRY_POINTS, MODULES, compose, loops_without_bound, validate,
+};
 
 #[test]
 fn every_entry_point_validates_in_every_variant() {
@@ -22,26 +24,10 @@ fn every_entry_point_validates_in_every_variant() {
 #[test]
 fn every_shader_loop_states_its_bound() {
     for (name, source) in MODULES.iter().chain(ENTRY_POINTS) {
-        let lines: Vec<&str> = source.lines().collect();
-        for (i, line) in lines.iter().enumerate() {
-            let code = line.split("//").next().unwrap().trim_start();
-            let is_loop = code.starts_with("loop")
-                || code.starts_with("while ")
-                || code.starts_with("for ")
-                || code.starts_with("for(");
-            if is_loop {
-                let above = lines[..i]
-                    .iter()
-                    .rev()
-                    .find(|l| !l.trim().is_empty())
-                    .copied()
-                    .unwrap_or("");
-                assert!(
-                    above.trim_start().starts_with("// bound:"),
-                    "{name}.wesl line {}: loop without a `// bound:` comment above it",
-                    i + 1
-                );
-            }
-        }
+        let missing = loops_without_bound(source);
+        assert!(
+            missing.is_empty(),
+            "{name}.wesl lines {missing:?}: loops without a `// bound:` comment above them"
+        );
     }
 }
