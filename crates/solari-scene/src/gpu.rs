@@ -372,6 +372,37 @@ impl Gpu {
         })
     }
 
+    /// A shader module from composed WGSL with the given runtime checks (errors surface in the
+    /// caller's error scope: see [`Gpu::scoped`]).
+    pub fn shader_module(
+        &self,
+        label: &str,
+        wgsl: &str,
+        checks: ShaderChecks,
+    ) -> wgpu::ShaderModule {
+        let desc = wgpu::ShaderModuleDescriptor {
+            label: Some(label),
+            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+        };
+        match checks {
+            ShaderChecks::All => self.device.create_shader_module(desc),
+            ShaderChecks::BoundsOnly | ShaderChecks::None => {
+                let runtime = if checks == ShaderChecks::BoundsOnly {
+                    wgpu::ShaderRuntimeChecks {
+                        force_loop_bounding: false,
+                        ..wgpu::ShaderRuntimeChecks::checked()
+                    }
+                } else {
+                    wgpu::ShaderRuntimeChecks::unchecked()
+                };
+                // SAFETY: every loop in solari's shaders has a constant trip count or its
+                // own iteration cap (`tests/shaders.rs` requires a `// bound:` note on
+                // each), so no loop can run forever; `None` is for benchmarks only.
+                unsafe { self.device.create_shader_module_trusted(desc, runtime) }
+            }
+        }
+    }
+
     /// Creates a compute pipeline from composed WGSL with the given runtime checks and
     /// pipeline-overridable constants (see [`crate::gpu_scene::TraceVariant`]).
     pub fn compute_pipeline(
@@ -383,27 +414,7 @@ impl Gpu {
         constants: &[(&str, f64)],
     ) -> Result<wgpu::ComputePipeline, GpuError> {
         self.scoped(|| {
-            let desc = wgpu::ShaderModuleDescriptor {
-                label: Some(label),
-                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-            };
-            let module = match checks {
-                ShaderChecks::All => self.device.create_shader_module(desc),
-                ShaderChecks::BoundsOnly | ShaderChecks::None => {
-                    let runtime = if checks == ShaderChecks::BoundsOnly {
-                        wgpu::ShaderRuntimeChecks {
-                            force_loop_bounding: false,
-                            ..wgpu::ShaderRuntimeChecks::checked()
-                        }
-                    } else {
-                        wgpu::ShaderRuntimeChecks::unchecked()
-                    };
-                    // SAFETY: every loop in solari's shaders has a constant trip count or its
-                    // own iteration cap (`tests/shaders.rs` requires a `// bound:` note on
-                    // each), so no loop can run forever; `None` is for benchmarks only.
-                    unsafe { self.device.create_shader_module_trusted(desc, runtime) }
-                }
-            };
+            let module = self.shader_module(label, wgsl, checks);
             let layout = self
                 .device
                 .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

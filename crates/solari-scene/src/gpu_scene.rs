@@ -99,7 +99,9 @@ fn normal_rows(m: Mat4) -> [[f32; 4]; 3] {
 impl GpuScene {
     /// The bind group layout for `backend` (group 0).
     pub fn layout_for(gpu: &Gpu, backend: Backend) -> wgpu::BindGroupLayout {
-        let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
+        // Buffers are also visible to vertex shaders: the G-buffer raster pulls vertices.
+        let stages =
+            wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::VERTEX;
         let storage = |binding| {
             buffer_layout_entry(
                 binding,

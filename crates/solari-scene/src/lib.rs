@@ -17,6 +17,7 @@ pub mod brdf;
 pub mod bvh;
 pub mod default_scene;
 pub mod error;
+pub mod gbuffer;
 pub mod geometry;
 pub mod gltf_import;
 pub mod gpu;

@@ -43,6 +43,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("frame", include_str!("../shaders/frame.wesl")),
     ("brdf", include_str!("../shaders/brdf.wesl")),
     ("packing", include_str!("../shaders/packing.wesl")),
+    ("gbuffer", include_str!("../shaders/gbuffer.wesl")),
 ];
 
 /// The entry-point files of `solari-scene`, by module name.
@@ -51,6 +52,10 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     ("trace_rays", include_str!("../shaders/trace_rays.wesl")),
     ("ray_bench", include_str!("../shaders/ray_bench.wesl")),
     ("brdf_test", include_str!("../shaders/brdf_test.wesl")),
+    (
+        "gbuffer_raster",
+        include_str!("../shaders/gbuffer_raster.wesl"),
+    ),
 ];
 
 /// Composes the entry module `entry` (one of `extra` or [`ENTRY_POINTS`]) for `backend` into

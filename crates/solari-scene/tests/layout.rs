@@ -58,6 +58,12 @@ fn rust_mirrors_match_naga_layouts() {
     let l = wgsl_layouts();
     check!(
         l,
+        solari_scene::gbuffer::GpuRasterView,
+        "RasterView",
+        [view_proj, previous_view_proj]
+    );
+    check!(
+        l,
         GpuInstance,
         "GpuInstance",
         [

@@ -1,0 +1,428 @@
+//! The G-buffer: a raster pass over the scene's meshes that stores, per pixel, what a primary
+//! ray would see at the pixel centre (material after textures, normals after normal mapping,
+//! depth) plus screen-space motion vectors from last frame's camera and instance transforms.
+//!
+//! Two sets of targets alternate by frame parity: after [`GBuffer::prepare`], the targets
+//! written last frame are [`GBuffer::previous`] for reprojection, and nothing is copied.
+//!
+//! | target | format | contents |
+//! |---|---|---|
+//! | `gbuffer` | Rgba32Uint | x: √base colour rgb + roughness (unorm8); y: √dielectric f0 rgb + metallic (unorm8); z: shading normal, w: geometric normal (octahedral, 16 bits per axis), both facing the viewer |
+//! | `emission` | Rgba16Float | emitted radiance (clamped to 65,504, f16's largest), dielectric f90 |
+//! | `motion` | Rg16Float | texture coordinates now minus last frame's (x right, y down) |
+//! | `depth` | Depth32Float | reversed Z of an infinite perspective: `znear / view_z`, 0 = background |
+//!
+//! The square-root encoding spends the 8 bits where colour and f0 are small (f0 = 0.04 comes
+//! back as 0.0400 instead of 0.0392). WGSL side: `shaders/gbuffer.wesl` (`unpack_gbuffer`,
+//! `view_z_from_depth`); vertices are pulled from bind group 0, so the adapter must allow
+//! storage buffers in vertex shaders (every Vulkan, Metal and D3D12 adapter does).
+
+use crate::error::GpuError;
+use crate::gpu::{Gpu, ShaderChecks};
+use crate::gpu_scene::GpuScene;
+use crate::model::{Camera, Scene};
+use crate::shaders::{Backend, compose};
+use bytemuck::{Pod, Zeroable};
+use glam::Mat4;
+
+/// Format of the packed material-and-normals target.
+pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+/// Format of the emission target.
+pub const EMISSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Format of the motion-vector target.
+pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
+/// Format of the depth target.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// WGSL twin: `RasterView` in `gbuffer_raster.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuRasterView {
+    /// This frame's world-to-clip matrix.
+    pub view_proj: [[f32; 4]; 4],
+    /// Last frame's world-to-clip matrix (this frame's on the first frame).
+    pub previous_view_proj: [[f32; 4]; 4],
+}
+
+/// The world-to-clip matrix the G-buffer rasterises with for `camera` at `width × height`:
+/// a reversed-Z infinite perspective, matching the primary rays of `view.wesl` pixel for pixel.
+pub fn view_projection(camera: &Camera, width: u32, height: u32) -> Mat4 {
+    let aspect = width as f32 / height.max(1) as f32;
+    let m = camera.transform;
+    // The ray generator uses the transform's normalised axes; build the same rigid view.
+    let right = m.x_axis.truncate().normalize_or_zero();
+    let up = m.y_axis.truncate().normalize_or_zero();
+    let back = m.z_axis.truncate().normalize_or_zero();
+    let eye = m.w_axis.truncate();
+    let view = Mat4::from_cols(
+        right.extend(0.0),
+        up.extend(0.0),
+        back.extend(0.0),
+        eye.extend(1.0),
+    )
+    .inverse();
+    let znear = camera.znear.max(1e-6);
+    // Reversed-Z infinite perspective (right-handed, looking down -z): clip.z = znear and
+    // clip.w = -z, so depth = znear / distance along the view axis.
+    let f = 1.0 / (camera.yfov * 0.5).tan();
+    let projection = Mat4::from_cols(
+        glam::Vec4::new(f / aspect, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, f, 0.0, 0.0),
+        glam::Vec4::new(0.0, 0.0, 0.0, -1.0),
+        glam::Vec4::new(0.0, 0.0, znear, 0.0),
+    );
+    projection * view
+}
+
+/// One set of G-buffer targets.
+pub struct GBufferTargets {
+    /// Material and normals (see the module docs).
+    pub gbuffer: wgpu::Texture,
+    /// Emitted radiance and f90.
+    pub emission: wgpu::Texture,
+    /// Motion vectors.
+    pub motion: wgpu::Texture,
+    /// Reversed-Z depth.
+    pub depth: wgpu::Texture,
+}
+
+impl GBufferTargets {
+    fn new(gpu: &Gpu, width: u32, height: u32, parity: usize) -> Self {
+        let make = |name: &str, format| {
+            gpu.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(&format!("solari_scene/gbuffer_{name}_{parity}")),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING
+                    | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        Self {
+            gbuffer: make("gbuffer", GBUFFER_FORMAT),
+            emission: make("emission", EMISSION_FORMAT),
+            motion: make("motion", MOTION_FORMAT),
+            depth: make("depth", DEPTH_FORMAT),
+        }
+    }
+}
+
+/// The G-buffer raster pass and its two alternating sets of targets.
+pub struct GBuffer {
+    pipeline: wgpu::RenderPipeline,
+    view_buffer: wgpu::Buffer,
+    view_group: wgpu::BindGroup,
+    transforms_layout: wgpu::BindGroupLayout,
+    transforms: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    targets: [GBufferTargets; 2],
+    parity: usize,
+    size: (u32, u32),
+    // Last frame's camera matrix and instance transforms (with meshes, to spot replaced
+    // instances), for motion vectors.
+    last_view_proj: Option<Mat4>,
+    last_instances: Vec<(u32, Mat4)>,
+    // (vertex count, instance) per draw.
+    draws: Vec<(u32, u32)>,
+    history_valid: bool,
+}
+
+impl GBuffer {
+    /// Builds the pass for scenes uploaded with `backend` and allocates `width × height`
+    /// targets.
+    pub fn new(gpu: &Gpu, backend: Backend, width: u32, height: u32) -> Result<Self, GpuError> {
+        check_size(gpu, width, height)?;
+        let wgsl = compose("gbuffer_raster", backend, &[])?;
+        let view_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_scene/gbuffer_view"),
+                entries: &[crate::gpu::buffer_layout_entry(
+                    0,
+                    wgpu::BufferBindingType::Uniform,
+                    wgpu::ShaderStages::VERTEX,
+                )],
+            });
+        let transforms_layout =
+            gpu.device
+                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                    label: Some("solari_scene/gbuffer_transforms"),
+                    entries: &[crate::gpu::buffer_layout_entry(
+                        0,
+                        wgpu::BufferBindingType::Storage { read_only: true },
+                        wgpu::ShaderStages::VERTEX,
+                    )],
+                });
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let pipeline = gpu.scoped(|| {
+            let module = gpu.shader_module("solari_scene/gbuffer", &wgsl, ShaderChecks::BoundsOnly);
+            let layout = gpu
+                .device
+                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("solari_scene/gbuffer"),
+                    bind_group_layouts: &[
+                        Some(&scene_layout),
+                        Some(&view_layout),
+                        Some(&transforms_layout),
+                    ],
+                    immediate_size: 0,
+                });
+            let target = |format| {
+                Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })
+            };
+            gpu.device
+                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("solari_scene/gbuffer"),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_main"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    // No culling: materials may be double-sided, and the G-buffer must match
+                    // what rays see either way.
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: Some(wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Greater),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("fs_main"),
+                        compilation_options: Default::default(),
+                        targets: &[
+                            target(GBUFFER_FORMAT),
+                            target(EMISSION_FORMAT),
+                            target(MOTION_FORMAT),
+                        ],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+        })?;
+        let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_scene/gbuffer_view"),
+            size: size_of::<GpuRasterView>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let view_group =
+            gpu.bind_buffers("solari_scene/gbuffer_view", &view_layout, &[&view_buffer]);
+        Ok(Self {
+            pipeline,
+            view_buffer,
+            view_group,
+            transforms_layout,
+            transforms: None,
+            targets: [
+                GBufferTargets::new(gpu, width, height, 0),
+                GBufferTargets::new(gpu, width, height, 1),
+            ],
+            parity: 0,
+            size: (width, height),
+            last_view_proj: None,
+            last_instances: Vec::new(),
+            draws: Vec::new(),
+            history_valid: false,
+        })
+    }
+
+    /// Reallocates the targets for a new size; history (previous targets, motion) restarts.
+    pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+        check_size(gpu, width, height)?;
+        if (width, height) != self.size {
+            self.targets = [
+                GBufferTargets::new(gpu, width, height, 0),
+                GBufferTargets::new(gpu, width, height, 1),
+            ];
+            self.size = (width, height);
+            self.last_view_proj = None;
+            self.last_instances.clear();
+            self.history_valid = false;
+        }
+        Ok(())
+    }
+
+    /// Starts a frame: swaps the target sets (last frame's become [`GBuffer::previous`]) and
+    /// uploads this frame's camera and instance transforms next to last frame's. An instance
+    /// whose index is new or whose mesh changed has no history and gets zero motion from its
+    /// own transform.
+    pub fn prepare(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<(), GpuError> {
+        let (w, h) = self.size;
+        let view_proj = view_projection(camera, w, h);
+        self.history_valid = self.last_view_proj.is_some();
+        let previous_view_proj = self.last_view_proj.unwrap_or(view_proj);
+        self.parity ^= 1;
+        let rows = |m: Mat4| {
+            let t = m.transpose();
+            [
+                t.x_axis.to_array(),
+                t.y_axis.to_array(),
+                t.z_axis.to_array(),
+            ]
+        };
+        let previous: Vec<[[f32; 4]; 3]> = scene
+            .instances
+            .iter()
+            .enumerate()
+            .map(|(i, inst)| match self.last_instances.get(i) {
+                Some(&(mesh, m)) if mesh == inst.mesh => rows(m),
+                _ => rows(inst.transform),
+            })
+            .collect();
+        let bytes: &[u8] = bytemuck::cast_slice(&previous);
+        let grow = self
+            .transforms
+            .as_ref()
+            .is_none_or(|(b, _)| b.size() < bytes.len().max(16) as u64);
+        if grow {
+            let buffer = gpu.storage_buffer(
+                "solari_scene/gbuffer_previous_transforms",
+                bytes,
+                wgpu::BufferUsages::empty(),
+            )?;
+            let group = gpu.bind_buffers(
+                "solari_scene/gbuffer_previous_transforms",
+                &self.transforms_layout,
+                &[&buffer],
+            );
+            self.transforms = Some((buffer, group));
+        } else if let Some((buffer, _)) = &self.transforms
+            && !bytes.is_empty()
+        {
+            gpu.queue.write_buffer(buffer, 0, bytes);
+        }
+        let view = GpuRasterView {
+            view_proj: view_proj.to_cols_array_2d(),
+            previous_view_proj: previous_view_proj.to_cols_array_2d(),
+        };
+        gpu.queue
+            .write_buffer(&self.view_buffer, 0, bytemuck::bytes_of(&view));
+        self.draws = scene
+            .instances
+            .iter()
+            .enumerate()
+            .map(|(i, inst)| {
+                (
+                    scene.meshes[inst.mesh as usize].indices.len() as u32,
+                    i as u32,
+                )
+            })
+            .collect();
+        self.last_view_proj = Some(view_proj);
+        self.last_instances = scene
+            .instances
+            .iter()
+            .map(|i| (i.mesh, i.transform))
+            .collect();
+        Ok(())
+    }
+
+    /// Records the raster pass into this frame's targets. `scene` must be the scene passed to
+    /// [`GBuffer::prepare`], uploaded with the backend the pass was built for.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
+        let t = self.current();
+        let view = |tex: &wgpu::Texture| tex.create_view(&Default::default());
+        let (gbuffer, emission, motion, depth) = (
+            view(&t.gbuffer),
+            view(&t.emission),
+            view(&t.motion),
+            view(&t.depth),
+        );
+        let attachment = |v| {
+            Some(wgpu::RenderPassColorAttachment {
+                view: v,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("solari_scene/gbuffer"),
+            color_attachments: &[
+                attachment(&gbuffer),
+                attachment(&emission),
+                attachment(&motion),
+            ],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth,
+                // Reversed Z: 0 is infinitely far.
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(0.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        let Some((_, transforms)) = &self.transforms else {
+            return;
+        };
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, scene.bind_group(), &[]);
+        pass.set_bind_group(1, &self.view_group, &[]);
+        pass.set_bind_group(2, transforms, &[]);
+        for &(vertices, instance) in &self.draws {
+            pass.draw(0..vertices, instance..instance + 1);
+        }
+    }
+
+    /// The targets of the frame being rendered.
+    pub fn current(&self) -> &GBufferTargets {
+        &self.targets[self.parity]
+    }
+
+    /// Last frame's targets (meaningful when [`GBuffer::history_valid`]).
+    pub fn previous(&self) -> &GBufferTargets {
+        &self.targets[self.parity ^ 1]
+    }
+
+    /// Whether [`GBuffer::previous`] and the motion vectors refer to a real previous frame
+    /// (false on the first frame and after a resize).
+    pub fn history_valid(&self) -> bool {
+        self.history_valid
+    }
+
+    /// Target size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+}
+
+fn check_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+    let limit = gpu.device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 {
+        return Err(GpuError::Validation(format!(
+            "G-buffer size {width}×{height} is empty"
+        )));
+    }
+    if width.max(height) > limit {
+        return Err(GpuError::OverLimit {
+            what: "G-buffer size".into(),
+            needed: width.max(height) as u64,
+            limit: limit as u64,
+        });
+    }
+    Ok(())
+}
