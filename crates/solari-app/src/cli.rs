@@ -76,6 +76,10 @@ pub struct RenderArgs {
     /// default: Russian roulette ends paths, with a reported safety cap of 256.
     #[arg(long)]
     pub max_bounces: Option<u32>,
+    /// Reference mode: start every path at its pixel's centre (no antialiasing), to compare
+    /// with renders that point-sample a G-buffer.
+    #[arg(long)]
+    pub pixel_centre: bool,
     /// Reference mode: light selection for next-event estimation, power or uniform.
     #[arg(long, default_value = "power")]
     pub selection: String,

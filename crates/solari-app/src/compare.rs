@@ -32,6 +32,7 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         spp: 4,
         max_bounces: 0,
         selection: Selection::Power,
+        pixel_centre: false,
     };
     let emission = renderer
         .render(

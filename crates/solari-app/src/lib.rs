@@ -7,3 +7,8 @@
 pub mod image_io;
 pub mod metrics;
 pub mod reference;
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

@@ -25,6 +25,10 @@ pub struct ReferenceSettings {
     pub max_bounces: u32,
     /// How next-event estimation picks lights.
     pub selection: Selection,
+    /// Trace every path through its pixel's centre instead of a random point in the pixel.
+    /// The image then point-samples like a G-buffer (no antialiasing), which is what the
+    /// real-time renderer is compared against. Default: false.
+    pub pixel_centre: bool,
 }
 
 impl Default for ReferenceSettings {
@@ -33,6 +37,7 @@ impl Default for ReferenceSettings {
             spp: 64,
             max_bounces: u32::MAX,
             selection: Selection::Power,
+            pixel_centre: false,
         }
     }
 }
@@ -66,8 +71,8 @@ pub struct ReferenceParams {
     pub sample_index: u32,
     /// [`SAFETY_CAP`].
     pub safety_cap: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// 1: paths start at pixel centres ([`ReferenceSettings::pixel_centre`]).
+    pub pixel_centre: u32,
 }
 
 /// The app's own WESL modules.
@@ -209,7 +214,7 @@ impl ReferenceRenderer {
                 max_bounces: acc.settings.max_bounces,
                 sample_index: acc.samples,
                 safety_cap: SAFETY_CAP,
-                _pad: 0,
+                pixel_centre: acc.settings.pixel_centre.into(),
             };
             gpu.queue
                 .write_buffer(&acc.params, 0, bytemuck::bytes_of(&params));

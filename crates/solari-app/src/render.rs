@@ -111,6 +111,7 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
         spp: args.spp,
         max_bounces: args.max_bounces.unwrap_or(u32::MAX),
         selection,
+        pixel_centre: args.pixel_centre,
     };
     let bar = if args.json {
         ProgressBar::hidden()

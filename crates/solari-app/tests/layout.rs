@@ -47,5 +47,9 @@ fn reference_params_match_naga_layout() {
             offset("safety_cap") as usize,
             std::mem::offset_of!(ReferenceParams, safety_cap)
         );
+        assert_eq!(
+            offset("pixel_centre") as usize,
+            std::mem::offset_of!(ReferenceParams, pixel_centre)
+        );
     }
 }

@@ -41,6 +41,7 @@ fn render(
         spp,
         max_bounces,
         selection: Selection::Power,
+        pixel_centre: false,
     };
     let image = renderer
         .render(
@@ -314,4 +315,42 @@ fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
         .unwrap();
     assert_eq!(acc.samples(), 1);
     assert_eq!(renderer.resolve(&gpu, &acc).unwrap().spp, 1);
+}
+
+#[test]
+fn pixel_centre_paths_point_sample_the_view() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = solari_scene::default_scene::cornell_box();
+    let backend = backends(&gpu)[0];
+    let gpu_scene =
+        GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
+    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("pipeline");
+    let lights = LightList::build(&scene);
+    let camera = scene.camera(None).unwrap();
+    // Emission seen directly (no bounces): with paths at pixel centres nothing is random, so
+    // 1 and 16 paths per pixel give the same image; with jitter, silhouettes differ.
+    let image = |spp, pixel_centre| {
+        let settings = ReferenceSettings {
+            spp,
+            max_bounces: 0,
+            pixel_centre,
+            ..Default::default()
+        };
+        renderer
+            .render(
+                &gpu,
+                &gpu_scene,
+                &lights,
+                &camera,
+                48,
+                48,
+                &settings,
+                |_| {},
+            )
+            .unwrap()
+            .pixels
+    };
+    assert_eq!(image(1, true), image(16, true));
+    assert_ne!(image(1, false), image(16, false));
 }
