@@ -152,19 +152,11 @@ impl ReferenceRenderer {
                 mapped_at_creation: false,
             })
         };
-        let uniform = wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST;
         let accumulation = buffer("solari_app/accumulation", accum_bytes.max(16), storage);
         let counters = buffer("solari_app/reference_counters", 8, storage);
-        let view_buf = buffer(
-            "solari_app/reference_view",
-            size_of::<GpuView>() as u64,
-            uniform,
-        );
-        let params = buffer(
-            "solari_app/reference_params",
-            size_of::<ReferenceParams>() as u64,
-            uniform,
-        );
+        let view = GpuView::new(camera, width, height);
+        let view_buf = gpu.uniform_buffer("solari_app/reference_view", &view);
+        let params = gpu.uniform_buffer("solari_app/reference_params", &ReferenceParams::zeroed());
         let view_group =
             gpu.bind_buffers("solari_app/reference_view", &self.view_layout, &[&view_buf]);
         let io_group = gpu.bind_buffers(
@@ -172,9 +164,6 @@ impl ReferenceRenderer {
             &self.io_layout,
             &[&accumulation, &counters, &params],
         );
-        let view = GpuView::new(camera, width, height);
-        gpu.queue
-            .write_buffer(&view_buf, 0, bytemuck::bytes_of(&view));
         Ok(ReferenceAccumulation {
             width,
             height,

@@ -206,14 +206,7 @@ impl GpuLights {
             },
             _pad: [0; 2],
         };
-        let info_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_lights/info"),
-            size: size_of::<GpuLightInfo>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        gpu.queue
-            .write_buffer(&info_buf, 0, bytemuck::bytes_of(&info));
+        let info_buf = gpu.uniform_buffer("solari_lights/info", &info);
         let layout = Self::layout(gpu);
         let bind_group = gpu.bind_buffers(
             "solari_lights/lights",

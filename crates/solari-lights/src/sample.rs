@@ -128,9 +128,9 @@ impl LightList {
         triangle: u32,
         point: [f32; 2],
     ) -> Option<ResolvedLightSample> {
-        self.lights.get(light)?;
+        let entry = self.lights.get(light)?;
         let p_select = self.selection_pdf(selection, light);
-        let resolved = match &self.lights[light] {
+        let resolved = match entry {
             Light::Emissive {
                 first_triangle,
                 triangle_count,

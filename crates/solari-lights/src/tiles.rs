@@ -180,12 +180,7 @@ impl LightTiles {
             "solari_lights/tile_ids",
             count * size_of::<crate::LightSampleId>() as u64,
         );
-        let params = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_lights/tile_params"),
-            size: size_of::<GpuTileParams>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let params = gpu.uniform_buffer("solari_lights/tile_params", &GpuTileParams::zeroed());
         let write = wgpu::BufferBindingType::Storage { read_only: false };
         let out_layout = gpu.buffer_layout(
             "solari_lights/presample",

@@ -2,7 +2,10 @@
 //! Rust twin, packing loses no measurable energy, tile estimates are unbiased, and the pass is
 //! skipped or refused cleanly where it cannot run.
 
+mod common;
+
 use bytemuck::{Pod, Zeroable};
+use common::{CaseKernel, scenes};
 use glam::Vec3;
 use rand::{Rng as _, SeedableRng};
 use rand_pcg::Pcg32;
@@ -11,44 +14,12 @@ use solari_lights::{
     GpuLights, LightList, LightSampleId, LightTileSettings, LightTiles, MODULES, PackedLightSample,
     Selection,
 };
-use solari_scene::gpu::{Gpu, ShaderChecks, test_gpu};
+use solari_scene::GpuError;
+use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::rng::Rng;
 use solari_scene::shaders::{Backend, compose};
-use solari_scene::{DirectionalLight, GpuError, Scene};
-use std::path::Path;
 
 const FRAME: u32 = 7;
-
-fn scenes() -> Vec<(String, Scene)> {
-    let mut sunny = solari_scene::default_scene::cornell_box();
-    for (d, diameter) in [
-        (Vec3::new(0.3, -1.0, 0.2), 0.0093),
-        (Vec3::new(-0.5, -1.0, 0.0), 0.0),
-    ] {
-        sunny.directional_lights.push(DirectionalLight {
-            name: "sun".into(),
-            direction: d.normalize(),
-            irradiance: Vec3::new(5.0, 4.0, 3.0),
-            angular_diameter: diameter,
-        });
-    }
-    for m in &mut sunny.materials {
-        m.double_sided = true;
-    }
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/many_lights/many_lights.gltf");
-    vec![
-        (
-            "cornell_box".into(),
-            solari_scene::default_scene::cornell_box(),
-        ),
-        ("cornell_box+suns".into(), sunny),
-        (
-            "many_lights".into(),
-            solari_scene::load_gltf(&shared).expect("shared many_lights scene"),
-        ),
-    ]
-}
 
 /// Runs the presampling pass once and reads back the records and their identities.
 fn presample(
@@ -195,35 +166,12 @@ struct TileResult {
 fn tile_readers_see_the_samples_the_cpu_sees_and_estimates_are_unbiased() {
     let Some(gpu) = test_gpu() else { return };
     let tiles = LightTiles::new(&gpu, LightTileSettings::default()).expect("tiles");
-    let (empty_layout, empty) = gpu.empty_group();
-    let io_layout = gpu.buffer_layout(
-        "light_tile_test",
-        &[
-            wgpu::BufferBindingType::Storage { read_only: true },
-            wgpu::BufferBindingType::Storage { read_only: false },
-        ],
-    );
-    let test_module = [(
+    let kernel = CaseKernel::new(
+        &gpu,
         "light_tile_test",
         include_str!("../shaders/light_tile_test.wesl"),
-    )];
-    let extra: Vec<(&str, &str)> = MODULES.iter().chain(&test_module).copied().collect();
-    let wgsl = compose("light_tile_test", Backend::Software, &extra).expect("compose");
-    let reader_layout = LightTiles::reader_layout(&gpu);
-    let pipeline = gpu
-        .compute_pipeline(
-            "light_tile_test",
-            &wgsl,
-            &[
-                Some(&empty_layout),
-                Some(&empty_layout),
-                Some(&io_layout),
-                Some(&reader_layout),
-            ],
-            ShaderChecks::BoundsOnly,
-            &[],
-        )
-        .expect("pipeline");
+        &LightTiles::reader_layout(&gpu),
+    );
     let mut rng = Pcg32::seed_from_u64(11);
     for (name, scene) in scenes() {
         let list = LightList::build(&scene);
@@ -237,15 +185,7 @@ fn tile_readers_see_the_samples_the_cpu_sees_and_estimates_are_unbiased() {
                 index: rng.random_range(0..records.len() as u32),
             })
             .collect();
-        let results: Vec<TileResult> = gpu
-            .run_cases(
-                "light_tile_test",
-                &pipeline,
-                &io_layout,
-                &[Some(&empty), Some(&empty), None, Some(&group)],
-                &cases,
-            )
-            .expect("dispatch");
+        let results: Vec<TileResult> = kernel.run(&gpu, &group, &cases);
         let mut bad = 0;
         for (c, r) in cases.iter().zip(&results) {
             let i = c.index as usize;

@@ -1,15 +1,16 @@
 //! GPU twin test: `light_sampling.wesl` samples the same lights, directions and pdfs as
 //! `LightList::sample` (lavapipe in CI).
 
+mod common;
+
 use bytemuck::{Pod, Zeroable};
+use common::{CaseKernel, scenes};
 use glam::{Vec3, Vec4};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use solari_lights::{GpuLights, Light, LightList, MODULES, Selection};
-use solari_scene::gpu::{ShaderChecks, test_gpu};
+use solari_scene::gpu::test_gpu;
 use solari_scene::shaders::{Backend, compose};
-use solari_scene::{DirectionalLight, Scene};
-use std::path::Path;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -32,69 +33,15 @@ struct GpuResult {
     _pad: f32,
 }
 
-fn scenes() -> Vec<(String, Scene)> {
-    let mut out = vec![(
-        "cornell_box".to_string(),
-        solari_scene::default_scene::cornell_box(),
-    )];
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/many_lights/many_lights.gltf");
-    out.push((
-        "many_lights".into(),
-        solari_scene::load_gltf(&shared).expect("shared many_lights scene"),
-    ));
-    // Sun disks: soft, delta, plus the box's emitter made double-sided.
-    let mut sunny = solari_scene::default_scene::cornell_box();
-    for (d, diameter) in [
-        (Vec3::new(0.3, -1.0, 0.2), 0.0093),
-        (Vec3::new(-0.5, -1.0, 0.0), 0.0),
-    ] {
-        sunny.directional_lights.push(DirectionalLight {
-            name: "sun".into(),
-            direction: d.normalize(),
-            irradiance: Vec3::new(5.0, 4.0, 3.0),
-            angular_diameter: diameter,
-        });
-    }
-    for m in &mut sunny.materials {
-        m.double_sided = true;
-    }
-    out.push(("cornell_box+suns".into(), sunny));
-    out
-}
-
 #[test]
 fn gpu_light_sampling_matches_the_cpu_twin() {
     let Some(gpu) = test_gpu() else { return };
-    let (empty_layout, empty) = gpu.empty_group();
-    let io_layout = gpu.buffer_layout(
-        "light_sample_test",
-        &[
-            wgpu::BufferBindingType::Storage { read_only: true },
-            wgpu::BufferBindingType::Storage { read_only: false },
-        ],
-    );
-    let test_module = [(
+    let kernel = CaseKernel::new(
+        &gpu,
         "light_sample_test",
         include_str!("../shaders/light_sample_test.wesl"),
-    )];
-    let extra: Vec<(&str, &str)> = MODULES.iter().chain(&test_module).copied().collect();
-    let wgsl = compose("light_sample_test", Backend::Software, &extra).expect("compose");
-    let lights_layout = GpuLights::layout(&gpu);
-    let pipeline = gpu
-        .compute_pipeline(
-            "light_sample_test",
-            &wgsl,
-            &[
-                Some(&empty_layout),
-                Some(&empty_layout),
-                Some(&io_layout),
-                Some(&lights_layout),
-            ],
-            ShaderChecks::BoundsOnly,
-            &[],
-        )
-        .expect("pipeline");
+        &GpuLights::layout(&gpu),
+    );
     let mut rng = Pcg32::seed_from_u64(8);
     for (name, scene) in scenes() {
         let list = LightList::build(&scene);
@@ -111,20 +58,7 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                     u: Vec4::new(rng.random(), rng.random(), rng.random(), rng.random()).into(),
                 })
                 .collect();
-            let results: Vec<GpuResult> = gpu
-                .run_cases(
-                    "light_sample_test",
-                    &pipeline,
-                    &io_layout,
-                    &[
-                        Some(&empty),
-                        Some(&empty),
-                        None,
-                        Some(&gpu_lights.bind_group),
-                    ],
-                    &cases,
-                )
-                .expect("dispatch");
+            let results: Vec<GpuResult> = kernel.run(&gpu, &gpu_lights.bind_group, &cases);
             let mut failures = Vec::new();
             let rel = |a: f32, b: f32, tol: f32| {
                 (a == b) || (a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-6)

@@ -84,6 +84,8 @@ pub struct GBufferTargets {
     pub motion: wgpu::Texture,
     /// Reversed-Z depth.
     pub depth: wgpu::Texture,
+    // Attachment views, made once rather than every frame.
+    views: [wgpu::TextureView; 4],
 }
 
 impl GBufferTargets {
@@ -106,11 +108,18 @@ impl GBufferTargets {
                 view_formats: &[],
             })
         };
+        let gbuffer = make("gbuffer", GBUFFER_FORMAT);
+        let emission = make("emission", EMISSION_FORMAT);
+        let motion = make("motion", MOTION_FORMAT);
+        let depth = make("depth", DEPTH_FORMAT);
+        let views =
+            [&gbuffer, &emission, &motion, &depth].map(|t| t.create_view(&Default::default()));
         Self {
-            gbuffer: make("gbuffer", GBUFFER_FORMAT),
-            emission: make("emission", EMISSION_FORMAT),
-            motion: make("motion", MOTION_FORMAT),
-            depth: make("depth", DEPTH_FORMAT),
+            gbuffer,
+            emission,
+            motion,
+            depth,
+            views,
         }
     }
 }
@@ -216,12 +225,7 @@ impl GBuffer {
                     cache: None,
                 })
         })?;
-        let view_buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_scene/gbuffer_view"),
-            size: size_of::<GpuRasterView>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let view_buffer = gpu.uniform_buffer("solari_scene/gbuffer_view", &GpuRasterView::zeroed());
         let view_group =
             gpu.bind_buffers("solari_scene/gbuffer_view", &view_layout, &[&view_buffer]);
         Ok(Self {
@@ -314,37 +318,26 @@ impl GBuffer {
         };
         gpu.queue
             .write_buffer(&self.view_buffer, 0, bytemuck::bytes_of(&view));
-        self.draws = scene
-            .instances
-            .iter()
-            .enumerate()
-            .map(|(i, inst)| {
+        // Reuse last frame's allocations.
+        self.draws.clear();
+        self.draws
+            .extend(scene.instances.iter().enumerate().map(|(i, inst)| {
                 (
                     scene.meshes[inst.mesh as usize].indices.len() as u32,
                     i as u32,
                 )
-            })
-            .collect();
+            }));
         self.last_view_proj = Some(view_proj);
-        self.last_instances = scene
-            .instances
-            .iter()
-            .map(|i| (i.mesh, i.transform))
-            .collect();
+        self.last_instances.clear();
+        self.last_instances
+            .extend(scene.instances.iter().map(|i| (i.mesh, i.transform)));
         Ok(())
     }
 
     /// Records the raster pass into this frame's targets. `scene` must be the scene passed to
     /// [`GBuffer::prepare`], uploaded with the backend the pass was built for.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
-        let t = self.current();
-        let view = |tex: &wgpu::Texture| tex.create_view(&Default::default());
-        let (gbuffer, emission, motion, depth) = (
-            view(&t.gbuffer),
-            view(&t.emission),
-            view(&t.motion),
-            view(&t.depth),
-        );
+        let [gbuffer, emission, motion, depth] = &self.current().views;
         let attachment = |v| {
             Some(wgpu::RenderPassColorAttachment {
                 view: v,
@@ -359,12 +352,12 @@ impl GBuffer {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("solari_scene/gbuffer"),
             color_attachments: &[
-                attachment(&gbuffer),
-                attachment(&emission),
-                attachment(&motion),
+                attachment(gbuffer),
+                attachment(emission),
+                attachment(motion),
             ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth,
+                view: depth,
                 // Reversed Z: 0 is infinitely far.
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(0.0),

@@ -261,12 +261,7 @@ impl GpuScene {
             texture_layer_size: layer_size,
             _pad: [0; 2],
         };
-        let info = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_scene/scene_info"),
-            size: size_of::<GpuSceneInfo>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let info = gpu.uniform_buffer("solari_scene/scene_info", &info_data);
         let accel = match backend {
             Backend::Software => {
                 let bvh = SoftwareBvh::build(scene, options.bvh_quality);

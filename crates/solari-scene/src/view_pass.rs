@@ -124,14 +124,7 @@ impl ViewPass {
                 limit,
             });
         }
-        let uniform = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_scene/view"),
-            size: size_of::<GpuView>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        gpu.queue
-            .write_buffer(&uniform, 0, bytemuck::bytes_of(view));
+        let uniform = gpu.uniform_buffer("solari_scene/view", view);
         let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(self.label),
             size: size.max(16),

@@ -93,14 +93,7 @@ impl Probe {
     fn run(&self, gpu: &Gpu, gs: &GpuScene, gb: &GBuffer, camera: &Camera) -> Vec<PixelOut> {
         let (w, h) = gb.size();
         let view = GpuView::new(camera, w, h);
-        let view_buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("view"),
-            size: size_of::<GpuView>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        gpu.queue
-            .write_buffer(&view_buf, 0, bytemuck::bytes_of(&view));
+        let view_buf = gpu.uniform_buffer("view", &view);
         let view_group = gpu.bind_buffers("view", &self.view_layout, &[&view_buf]);
         let bytes = (w * h) as u64 * size_of::<PixelOut>() as u64;
         let out = gpu.device.create_buffer(&wgpu::BufferDescriptor {
