@@ -63,9 +63,25 @@ pub struct SceneArgs {
 pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// What to render: debug (a primary-ray view, see --view) or reference (path traced).
+    /// What to render: debug (a primary-ray view, see --view), reference (path traced) or
+    /// realtime (G-buffer, light tiles and ReSTIR DI, run for --frames frames).
     #[arg(long, default_value = "debug")]
     pub mode: String,
+    /// Real-time mode: frames to run; the last one is written.
+    #[arg(long, default_value_t = 64)]
+    pub frames: u32,
+    /// Real-time mode: camera path, fixed or orbit (a ±20° swing around the scene's centre).
+    #[arg(long, default_value = "fixed")]
+    pub camera_path: String,
+    /// Real-time mode: initial ReSTIR DI candidates per pixel.
+    #[arg(long, default_value_t = 8)]
+    pub candidates: u32,
+    /// Real-time mode: light tiles as TILESxSAMPLES.
+    #[arg(long, default_value = "128x1024")]
+    pub tiles: String,
+    /// Real-time mode: write each frame's pass report (passes run, GPU ms) as JSON lines.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
     /// Debug view: albedo, normal, depth or instance.
     #[arg(long, default_value = "albedo")]
     pub view: String,

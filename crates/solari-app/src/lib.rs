@@ -6,6 +6,7 @@
 
 pub mod image_io;
 pub mod metrics;
+pub mod realtime;
 pub mod reference;
 
 /// The README's example, compiled and run as a doc test.

@@ -2,6 +2,7 @@
 //!
 //! - `solari render [SCENE] --view albedo|normal|depth|instance --size WxH --out FILE.png`
 //! - `solari render [SCENE] --mode reference --spp N [--max-bounces N] --out FILE.png`
+//! - `solari render [SCENE] --mode realtime --frames N [--camera-path orbit] --out FILE.png`
 //! - `solari info [SCENE] [--json]`
 //! - `solari compare TEST REFERENCE [--heatmap OUT.png] [--mask-emitters SCENE] [--json]`
 //! - `solari bench-rays [SCENE | --heightfield N] [--json]`
@@ -12,6 +13,7 @@ mod bench;
 mod cli;
 mod compare;
 mod info;
+mod realtime_cmd;
 mod render;
 
 use clap::Parser;

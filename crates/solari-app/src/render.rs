@@ -78,7 +78,10 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     match args.mode.as_str() {
         "debug" => run_debug(args),
         "reference" => run_reference(args),
-        other => Err(format!("--mode {other}: expected debug or reference")),
+        "realtime" => crate::realtime_cmd::run(args),
+        other => Err(format!(
+            "--mode {other}: expected debug, reference or realtime"
+        )),
     }
 }
 

@@ -20,6 +20,7 @@
 use crate::error::GpuError;
 use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::GpuScene;
+use crate::gpu_types::GpuView;
 use crate::model::{Camera, Scene};
 use crate::shaders::{Backend, compose};
 use bytemuck::{Pod, Zeroable};
@@ -72,6 +73,21 @@ pub fn view_projection(camera: &Camera, width: u32, height: u32) -> Mat4 {
         glam::Vec4::new(0.0, 0.0, znear, 0.0),
     );
     projection * view
+}
+
+/// WGSL twin: `FrameViews` in `gbuffer_read.wesl`: this frame's and last frame's views, for
+/// passes that read the G-buffer (bind group 1).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuFrameViews {
+    /// This frame's view.
+    pub current: GpuView,
+    /// Last frame's view (this frame's when there is no history).
+    pub previous: GpuView,
+    /// 1 when [`GBuffer::previous`] holds a real previous frame.
+    pub history_valid: u32,
+    /// Padding.
+    pub _pad: [u32; 3],
 }
 
 /// One set of G-buffer targets.
@@ -141,6 +157,11 @@ pub struct GBuffer {
     // (vertex count, instance) per draw.
     draws: Vec<(u32, u32)>,
     history_valid: bool,
+    // Bind group 1 for readers: views plus both target sets, one group per parity.
+    frame_views: wgpu::Buffer,
+    last_view: Option<GpuView>,
+    reader_layout: wgpu::BindGroupLayout,
+    reader_groups: [wgpu::BindGroup; 2],
 }
 
 impl GBuffer {
@@ -228,22 +249,31 @@ impl GBuffer {
         let view_buffer = gpu.uniform_buffer("solari_scene/gbuffer_view", &GpuRasterView::zeroed());
         let view_group =
             gpu.bind_buffers("solari_scene/gbuffer_view", &view_layout, &[&view_buffer]);
+        let targets = [
+            GBufferTargets::new(gpu, width, height, 0),
+            GBufferTargets::new(gpu, width, height, 1),
+        ];
+        let frame_views =
+            gpu.uniform_buffer("solari_scene/gbuffer_frame_views", &GpuFrameViews::zeroed());
+        let reader_layout = Self::reader_layout(gpu);
+        let reader_groups = reader_groups(gpu, &reader_layout, &frame_views, &targets);
         Ok(Self {
             pipeline,
             view_buffer,
             view_group,
             transforms_layout,
             transforms: None,
-            targets: [
-                GBufferTargets::new(gpu, width, height, 0),
-                GBufferTargets::new(gpu, width, height, 1),
-            ],
+            targets,
             parity: 0,
             size: (width, height),
             last_view_proj: None,
             last_instances: Vec::new(),
             draws: Vec::new(),
             history_valid: false,
+            frame_views,
+            last_view: None,
+            reader_layout,
+            reader_groups,
         })
     }
 
@@ -257,8 +287,11 @@ impl GBuffer {
             ];
             self.size = (width, height);
             self.last_view_proj = None;
+            self.last_view = None;
             self.last_instances.clear();
             self.history_valid = false;
+            self.reader_groups =
+                reader_groups(gpu, &self.reader_layout, &self.frame_views, &self.targets);
         }
         Ok(())
     }
@@ -318,6 +351,16 @@ impl GBuffer {
         };
         gpu.queue
             .write_buffer(&self.view_buffer, 0, bytemuck::bytes_of(&view));
+        let current = GpuView::new(camera, w, h);
+        let views = GpuFrameViews {
+            current,
+            previous: self.last_view.unwrap_or(current),
+            history_valid: self.history_valid as u32,
+            _pad: [0; 3],
+        };
+        gpu.queue
+            .write_buffer(&self.frame_views, 0, bytemuck::bytes_of(&views));
+        self.last_view = Some(current);
         // Reuse last frame's allocations.
         self.draws.clear();
         self.draws
@@ -401,6 +444,85 @@ impl GBuffer {
     pub fn size(&self) -> (u32, u32) {
         self.size
     }
+
+    /// The layout of bind group 1 for compute passes that read the G-buffer through
+    /// `gbuffer_read.wesl`: binding 0 the views ([`GpuFrameViews`]); 1–4 this frame's
+    /// material, emission, motion and depth; 5–7 last frame's material, emission and depth.
+    pub fn reader_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+        let stage = wgpu::ShaderStages::COMPUTE;
+        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: stage,
+            ty: wgpu::BindingType::Texture {
+                sample_type,
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let uint = wgpu::TextureSampleType::Uint;
+        let float = wgpu::TextureSampleType::Float { filterable: false };
+        let depth = wgpu::TextureSampleType::Depth;
+        gpu.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_scene/gbuffer_reader"),
+                entries: &[
+                    crate::gpu::buffer_layout_entry(0, wgpu::BufferBindingType::Uniform, stage),
+                    texture(1, uint),
+                    texture(2, float),
+                    texture(3, float),
+                    texture(4, depth),
+                    texture(5, uint),
+                    texture(6, float),
+                    texture(7, depth),
+                ],
+            })
+    }
+
+    /// Bind group 1 for this frame (see [`GBuffer::reader_layout`]); valid after
+    /// [`GBuffer::prepare`].
+    pub fn reader_group(&self) -> &wgpu::BindGroup {
+        &self.reader_groups[self.parity]
+    }
+}
+
+// One reader group per parity: `current` is targets[parity], `previous` the other set.
+fn reader_groups(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    views: &wgpu::Buffer,
+    targets: &[GBufferTargets; 2],
+) -> [wgpu::BindGroup; 2] {
+    [0, 1].map(|parity| {
+        let (now, before) = (&targets[parity], &targets[parity ^ 1]);
+        let entries: Vec<wgpu::BindGroupEntry> = std::iter::once(wgpu::BindGroupEntry {
+            binding: 0,
+            resource: views.as_entire_binding(),
+        })
+        .chain(
+            [
+                &now.views[0],
+                &now.views[1],
+                &now.views[2],
+                &now.views[3],
+                &before.views[0],
+                &before.views[1],
+                &before.views[3],
+            ]
+            .into_iter()
+            .enumerate()
+            .map(|(i, view)| wgpu::BindGroupEntry {
+                binding: i as u32 + 1,
+                resource: wgpu::BindingResource::TextureView(view),
+            }),
+        )
+        .collect();
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_scene/gbuffer_reader"),
+            layout,
+            entries: &entries,
+        })
+    })
 }
 
 fn check_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {

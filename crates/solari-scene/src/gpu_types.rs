@@ -120,8 +120,10 @@ pub struct GpuView {
     pub frame: u32,
     /// Pass-specific mode (the debug view for `primary`).
     pub view_mode: u32,
+    /// Near plane distance: turns G-buffer depth into view-axis distance (`znear / depth`).
+    pub znear: f32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 const _: () = assert!(size_of::<GpuView>() == 80);
 
@@ -141,6 +143,7 @@ impl GpuView {
             width,
             forward: forward.into(),
             height,
+            znear: camera.znear.max(1e-6),
             ..Default::default()
         }
     }

@@ -44,6 +44,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("brdf", include_str!("../shaders/brdf.wesl")),
     ("packing", include_str!("../shaders/packing.wesl")),
     ("gbuffer", include_str!("../shaders/gbuffer.wesl")),
+    ("gbuffer_read", include_str!("../shaders/gbuffer_read.wesl")),
 ];
 
 /// The entry-point files of `solari-scene`, by module name.

@@ -1,0 +1,316 @@
+//! The real-time renderer: G-buffer → light tiles → ReSTIR DI, one frame per call, with a
+//! report of which passes ran and their GPU times.
+//!
+//! Passes a scene does not need are skipped: with no lights, neither the light tiles nor
+//! ReSTIR DI run, and the frame shows emission only (pass `emission_only`).
+
+use glam::{Mat4, Vec3};
+use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+use solari_restir::{DiPasses, PASS_LABELS, RestirDi, RestirDiSettings};
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gpu::Gpu;
+use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::shaders::Backend;
+use solari_scene::{Camera, GpuError, Scene};
+use wgpu_profiler::{GpuProfiler, GpuProfilerSettings};
+
+/// Pass names as [`FrameReport`] lists them, in frame order (the last three are
+/// [`solari_restir::PASS_LABELS`]).
+pub const PASS_NAMES: [&str; 5] = [
+    "gbuffer",
+    "light_tiles",
+    PASS_LABELS[0],
+    PASS_LABELS[1],
+    PASS_LABELS[2],
+];
+
+/// What the renderer does each frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RealtimeSettings {
+    /// Light-tile presampling (Solari: 128 tiles × 1024 samples).
+    pub tiles: LightTileSettings,
+    /// ReSTIR DI's knobs.
+    pub di: RestirDiSettings,
+    /// Light selection for tile samples (power-proportional by default).
+    pub selection: Selection,
+    /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
+    /// without them times are `None`). Waits for each frame to finish.
+    pub timestamps: bool,
+}
+
+impl Default for RealtimeSettings {
+    fn default() -> Self {
+        Self {
+            tiles: LightTileSettings::default(),
+            di: RestirDiSettings::default(),
+            selection: Selection::Power,
+            timestamps: false,
+        }
+    }
+}
+
+/// One pass of one frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PassRun {
+    /// One of [`PASS_NAMES`].
+    pub name: &'static str,
+    /// Whether it was recorded this frame.
+    pub ran: bool,
+    /// GPU time in milliseconds, when timestamps are on and supported.
+    pub gpu_ms: Option<f64>,
+}
+
+/// Which passes a frame ran, and their GPU times.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameReport {
+    /// Frame index.
+    pub frame: u32,
+    /// Every pass of [`PASS_NAMES`], in order.
+    pub passes: Vec<PassRun>,
+}
+
+impl FrameReport {
+    /// Whether the pass `name` ran.
+    pub fn ran(&self, name: &str) -> bool {
+        self.passes.iter().any(|p| p.name == name && p.ran)
+    }
+
+    /// GPU time of the pass `name`, if it ran and was timed.
+    pub fn gpu_ms(&self, name: &str) -> Option<f64> {
+        self.passes
+            .iter()
+            .find(|p| p.name == name)
+            .and_then(|p| p.gpu_ms)
+    }
+}
+
+/// The frame loop's passes and the light list they were built for.
+pub struct RealtimeRenderer {
+    settings: RealtimeSettings,
+    gbuffer: GBuffer,
+    tiles: LightTiles,
+    di: RestirDi,
+    list: LightList,
+    lights: GpuLights,
+    lights_group: wgpu::BindGroup,
+    profiler: Option<GpuProfiler>,
+    frame: u32,
+}
+
+impl RealtimeRenderer {
+    /// Builds every pass for `gpu_scene` (uploaded with `backend` from `scene`) at
+    /// `width × height`.
+    pub fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        width: u32,
+        height: u32,
+        settings: RealtimeSettings,
+    ) -> Result<Self, GpuError> {
+        let gbuffer = GBuffer::new(gpu, backend, width, height)?;
+        let tiles = LightTiles::new(gpu, settings.tiles)?;
+        let di = RestirDi::new(
+            gpu,
+            backend,
+            TraceVariant::for_scene(gpu_scene),
+            width,
+            height,
+            settings.di,
+            settings.tiles,
+        )?;
+        let list = LightList::build(scene);
+        let lights = GpuLights::new(gpu, &list, settings.selection)?;
+        let lights_group = tiles.reader_group(gpu, &lights);
+        let profiler = if settings.timestamps {
+            Some(
+                GpuProfiler::new(&gpu.device, GpuProfilerSettings::default())
+                    .map_err(|e| GpuError::Validation(format!("GPU profiler: {e}")))?,
+            )
+        } else {
+            None
+        };
+        Ok(Self {
+            settings,
+            gbuffer,
+            tiles,
+            di,
+            list,
+            lights,
+            lights_group,
+            profiler,
+            frame: 0,
+        })
+    }
+
+    /// Rebuilds the light list from `scene` (after lights were added, removed or changed);
+    /// temporal reuse follows surviving lights to their new indices and drops removed ones.
+    pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
+        let list = LightList::build(scene);
+        let translation = list.translation_from(&self.list);
+        self.lights = GpuLights::new(gpu, &list, self.settings.selection)?;
+        self.lights_group = self.tiles.reader_group(gpu, &self.lights);
+        self.di.set_light_translation(translation);
+        self.list = list;
+        Ok(())
+    }
+
+    /// The light list in use.
+    pub fn lights(&self) -> &LightList {
+        &self.list
+    }
+
+    /// Changes ReSTIR DI's settings (history is kept).
+    pub fn set_di_settings(&mut self, settings: RestirDiSettings) -> Result<(), GpuError> {
+        self.di.set_settings(settings)?;
+        self.settings.di = settings;
+        Ok(())
+    }
+
+    /// Renders one frame of `scene` (as uploaded in `gpu_scene`) from `camera`.
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        camera: &Camera,
+    ) -> Result<FrameReport, GpuError> {
+        let frame = self.frame;
+        self.frame = self.frame.wrapping_add(1);
+        let light_count = self.lights.light_count;
+        self.gbuffer.prepare(gpu, scene, camera)?;
+        self.tiles.prepare(gpu, frame);
+        self.di
+            .prepare(gpu, frame, self.gbuffer.history_valid(), light_count)?;
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let mut ran = [false; PASS_NAMES.len()];
+        let profiler = self.profiler.as_ref();
+        in_scope(profiler, PASS_NAMES[0], &mut encoder, |e| {
+            self.gbuffer.encode(e, gpu_scene)
+        });
+        ran[0] = true;
+        if light_count > 0 {
+            ran[1] = in_scope(profiler, PASS_NAMES[1], &mut encoder, |e| {
+                self.tiles.encode(e, &self.lights)
+            });
+        }
+        let passes = self.di.encode(
+            &mut encoder,
+            profiler,
+            gpu_scene,
+            &self.gbuffer,
+            &self.lights_group,
+            light_count,
+        );
+        match passes {
+            DiPasses::Full => {
+                ran[2] = true;
+                ran[3] = true;
+            }
+            DiPasses::EmissionOnly => ran[4] = true,
+        }
+        if let Some(p) = &mut self.profiler {
+            p.resolve_queries(&mut encoder);
+        }
+        gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
+        let mut times = [None; PASS_NAMES.len()];
+        if let Some(p) = &mut self.profiler {
+            p.end_frame()
+                .map_err(|e| GpuError::Validation(format!("GPU profiler: {e}")))?;
+            let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+            if let Some(results) = p.process_finished_frame(gpu.queue.get_timestamp_period()) {
+                for r in results {
+                    let ms = r.time.map(|t| (t.end - t.start) * 1e3);
+                    if let Some(i) = PASS_NAMES.iter().position(|n| *n == r.label) {
+                        times[i] = ms;
+                    }
+                }
+            }
+        }
+        Ok(FrameReport {
+            frame,
+            passes: PASS_NAMES
+                .iter()
+                .zip(ran)
+                .zip(times)
+                .map(|((name, ran), gpu_ms)| PassRun {
+                    name,
+                    ran,
+                    gpu_ms: if ran { gpu_ms } else { None },
+                })
+                .collect(),
+        })
+    }
+
+    /// The last frame's linear radiance, row by row from the top left (w: 1 on surfaces,
+    /// 0 on background).
+    pub fn read_output(&self, gpu: &Gpu) -> Result<Vec<[f32; 4]>, GpuError> {
+        let (w, h) = self.di.size();
+        let bytes = gpu.read_buffer(self.di.output(), w as u64 * h as u64 * 16)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
+    }
+
+    /// Image size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        self.di.size()
+    }
+}
+
+// Runs `f` inside a named profiler scope (directly without a profiler).
+fn in_scope<R>(
+    profiler: Option<&GpuProfiler>,
+    name: &str,
+    encoder: &mut wgpu::CommandEncoder,
+    f: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
+) -> R {
+    match profiler {
+        Some(p) => f(&mut p.scope(name, encoder)),
+        None => f(encoder),
+    }
+}
+
+/// A scripted camera path for `--camera-path`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraPath {
+    /// The camera stays put.
+    Fixed,
+    /// The camera swings ±20° around the vertical axis through the scene's centre, one
+    /// period every 240 frames, looking at the same point (sideways motion, as when a player
+    /// strafes; it never leaves a closed room like the Cornell box).
+    Orbit,
+}
+
+impl CameraPath {
+    /// Parses `fixed` or `orbit`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "fixed" => Some(Self::Fixed),
+            "orbit" => Some(Self::Orbit),
+            _ => None,
+        }
+    }
+
+    /// The camera at `frame` along the path starting from `start`.
+    pub fn camera(self, start: &Camera, scene: &Scene, frame: u32) -> Camera {
+        match self {
+            Self::Fixed => start.clone(),
+            Self::Orbit => {
+                let (lo, hi) = scene.bounds();
+                let pivot = if lo.is_finite() && hi.is_finite() {
+                    (lo + hi) * 0.5
+                } else {
+                    Vec3::ZERO
+                };
+                let phase = frame as f32 / 240.0 * std::f32::consts::TAU;
+                let angle = 20f32.to_radians() * phase.sin();
+                let about = Mat4::from_translation(pivot)
+                    * Mat4::from_rotation_y(angle)
+                    * Mat4::from_translation(-pivot);
+                let mut camera = start.clone();
+                camera.transform = about * start.transform;
+                camera
+            }
+        }
+    }
+}

@@ -1,0 +1,374 @@
+//! The ReSTIR DI pass pair and its per-pixel buffers.
+
+use crate::reservoir::GpuReservoir;
+use crate::settings::{GpuDiParams, RestirDiSettings, flags};
+use bytemuck::Zeroable;
+use solari_lights::{LightTileSettings, LightTiles};
+use solari_scene::GpuError;
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::shaders::{Backend, compose};
+use wgpu_profiler::GpuProfiler;
+
+/// Which of the pass's dispatches [`RestirDi::encode`] recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DiPasses {
+    /// Initial + temporal, then spatial + shade.
+    Full,
+    /// The scene has no lights: only the emission copy ran.
+    EmissionOnly,
+}
+
+/// ReSTIR DI: reads the G-buffer (group 1) and light tiles (group 3), writes shaded radiance
+/// (emission plus direct light, linear, one `vec4<f32>` per pixel) to
+/// [`RestirDi::output`], and keeps its reservoirs for the next frame.
+pub struct RestirDi {
+    settings: RestirDiSettings,
+    tiles: LightTileSettings,
+    size: (u32, u32),
+    initial: wgpu::ComputePipeline,
+    spatial: wgpu::ComputePipeline,
+    emission: wgpu::ComputePipeline,
+    own_layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    buffers: Option<PixelBuffers>,
+    translation: wgpu::Buffer,
+    translation_count: u32,
+    // A translation set for the next frame, and whether the uploaded table is the identity
+    // for this many lights (so unchanged lights cost no upload).
+    pending_translation: Option<Vec<u32>>,
+    identity_for: Option<u32>,
+    parity: usize,
+    frame: u32,
+    history: bool,
+}
+
+// Per-pixel buffers and the two bind groups that swap the final reservoirs by parity.
+struct PixelBuffers {
+    output: wgpu::Buffer,
+    groups: [wgpu::BindGroup; 2],
+}
+
+/// Labels of the dispatches (and profiler scopes): initial + temporal, spatial + shade, and
+/// the emission copy that replaces both when a scene has no lights.
+pub const PASS_LABELS: [&str; 3] = ["di_initial_temporal", "di_spatial_shade", "emission_only"];
+
+fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    groups: &[&wgpu::BindGroup; 4],
+    workgroups: [u32; 2],
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(pipeline);
+    for (i, g) in groups.iter().enumerate() {
+        pass.set_bind_group(i as u32, *g, &[]);
+    }
+    pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
+}
+
+impl RestirDi {
+    /// Builds the pipelines for scenes uploaded with `backend` and traced with `variant`, and
+    /// allocates `width × height` buffers. `tiles` must be the settings of the
+    /// [`LightTiles`] whose reader group [`RestirDi::encode`] gets.
+    pub fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        variant: TraceVariant,
+        width: u32,
+        height: u32,
+        settings: RestirDiSettings,
+        tiles: LightTileSettings,
+    ) -> Result<Self, GpuError> {
+        settings.validate()?;
+        let variant = variant.for_backend(backend);
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        let write = wgpu::BufferBindingType::Storage { read_only: false };
+        let own_layout = gpu.buffer_layout(
+            "solari_restir/di",
+            &[
+                wgpu::BufferBindingType::Uniform,
+                read,
+                write,
+                write,
+                write,
+                read,
+            ],
+        );
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let gbuffer_layout = GBuffer::reader_layout(gpu);
+        let lights_layout = LightTiles::reader_layout(gpu);
+        let layouts = [
+            Some(&scene_layout),
+            Some(&gbuffer_layout),
+            Some(&own_layout),
+            Some(&lights_layout),
+        ];
+        let modules = crate::modules();
+        let pipeline = |entry: &str, constants: &[(&str, f64)]| -> Result<_, GpuError> {
+            let wgsl = compose(entry, backend, &modules)?;
+            gpu.compute_pipeline(
+                &format!("solari_restir/{entry}"),
+                &wgsl,
+                &layouts,
+                ShaderChecks::BoundsOnly,
+                constants,
+            )
+        };
+        let initial = pipeline("restir_di_initial", variant.constants())?;
+        let spatial = pipeline("restir_di_spatial", variant.constants())?;
+        let emission = pipeline("restir_di_emission", &[])?;
+        let params = gpu.uniform_buffer("solari_restir/di_params", &GpuDiParams::zeroed());
+        let translation = gpu.storage_buffer(
+            "solari_restir/light_translation",
+            bytemuck::bytes_of(&u32::MAX),
+            wgpu::BufferUsages::empty(),
+        )?;
+        let mut di = Self {
+            settings,
+            tiles,
+            size: (0, 0),
+            initial,
+            spatial,
+            emission,
+            own_layout,
+            params,
+            buffers: None,
+            translation,
+            translation_count: 0,
+            pending_translation: None,
+            identity_for: None,
+            parity: 0,
+            frame: 0,
+            history: false,
+        };
+        di.resize(gpu, width, height)?;
+        Ok(di)
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> RestirDiSettings {
+        self.settings
+    }
+
+    /// Changes the settings; history is kept (every knob is valid with any history).
+    pub fn set_settings(&mut self, settings: RestirDiSettings) -> Result<(), GpuError> {
+        settings.validate()?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// Reallocates the per-pixel buffers (20 + 20 × 2 bytes of reservoirs and 16 bytes of
+    /// output per pixel); history restarts.
+    pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+        if (width, height) == self.size && self.buffers.is_some() {
+            return Ok(());
+        }
+        let pixels = width as u64 * height as u64;
+        if pixels == 0 {
+            return Err(GpuError::Validation(format!(
+                "ReSTIR DI image size {width}×{height} is empty"
+            )));
+        }
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        let output_bytes = pixels * 16;
+        if output_bytes > limit {
+            return Err(GpuError::OverLimit {
+                what: "ReSTIR DI output".into(),
+                needed: output_bytes,
+                limit,
+            });
+        }
+        let reservoir_bytes = pixels * size_of::<GpuReservoir>() as u64;
+        let buffer = |label: &str, size: u64| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let finals = [
+            buffer("solari_restir/di_reservoirs_0", reservoir_bytes),
+            buffer("solari_restir/di_reservoirs_1", reservoir_bytes),
+        ];
+        let initial = buffer("solari_restir/di_reservoirs_initial", reservoir_bytes);
+        let output = buffer("solari_restir/di_output", output_bytes);
+        // Group p writes final[p] and reads final[1 - p], last frame's.
+        let groups = [0, 1].map(|p| {
+            gpu.bind_buffers(
+                "solari_restir/di",
+                &self.own_layout,
+                &[
+                    &self.params,
+                    &finals[p ^ 1],
+                    &initial,
+                    &finals[p],
+                    &output,
+                    &self.translation,
+                ],
+            )
+        });
+        self.buffers = Some(PixelBuffers { output, groups });
+        self.size = (width, height);
+        self.history = false;
+        Ok(())
+    }
+
+    /// Sets the map from last frame's light indices to this frame's
+    /// ([`solari_lights::LightList::translation_from`]) for the next frame. Call it when the
+    /// light list changes; frames without a call assume unchanged lights.
+    pub fn set_light_translation(&mut self, translation: Vec<u32>) {
+        self.pending_translation = Some(translation);
+    }
+
+    fn upload_translation(&mut self, gpu: &Gpu, table: &[u32]) -> Result<(), GpuError> {
+        let needed = (table.len().max(1) * 4) as u64;
+        if self.translation.size() < needed {
+            self.translation = gpu.storage_buffer(
+                "solari_restir/light_translation",
+                bytemuck::cast_slice(table),
+                wgpu::BufferUsages::empty(),
+            )?;
+            // The bind groups hold the old buffer: rebuild them, keeping history.
+            let history = self.history;
+            let (w, h) = self.size;
+            self.buffers = None;
+            self.resize(gpu, w, h)?;
+            self.history = history;
+        } else if !table.is_empty() {
+            gpu.queue
+                .write_buffer(&self.translation, 0, bytemuck::cast_slice(table));
+        }
+        self.translation_count = table.len() as u32;
+        Ok(())
+    }
+
+    /// Drops history: the next frame uses no temporal reuse (for camera cuts).
+    pub fn reset(&mut self) {
+        self.history = false;
+    }
+
+    /// Starts frame `frame` for a scene with `light_count` lights: swaps the reservoir
+    /// buffers, uploads the light translation (the identity unless
+    /// [`RestirDi::set_light_translation`] gave one) and writes the parameters.
+    /// `gbuffer_history` is [`GBuffer::history_valid`].
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        frame: u32,
+        gbuffer_history: bool,
+        light_count: u32,
+    ) -> Result<(), GpuError> {
+        match self.pending_translation.take() {
+            Some(table) => {
+                self.upload_translation(gpu, &table)?;
+                self.identity_for = None;
+            }
+            None if self.identity_for != Some(light_count) => {
+                let table: Vec<u32> = (0..light_count).collect();
+                self.upload_translation(gpu, &table)?;
+                self.identity_for = Some(light_count);
+            }
+            None => {}
+        }
+        self.parity ^= 1;
+        self.frame = frame;
+        let s = self.settings;
+        let mut bits = 0;
+        if s.temporal {
+            bits |= flags::TEMPORAL;
+        }
+        if s.spatial {
+            bits |= flags::SPATIAL;
+        }
+        if s.permutation_sampling {
+            bits |= flags::PERMUTATION;
+        }
+        if s.initial_visibility {
+            bits |= flags::INITIAL_VISIBILITY;
+        }
+        if self.history && gbuffer_history {
+            bits |= flags::HISTORY;
+        }
+        let params = GpuDiParams {
+            width: self.size.0,
+            height: self.size.1,
+            frame,
+            initial_candidates: s.initial_candidates,
+            tile_count: self.tiles.tiles,
+            samples_per_tile: self.tiles.samples_per_tile,
+            spatial_tries: s.spatial_tries,
+            flags: bits,
+            spatial_radius: s.spatial_radius,
+            confidence_cap: s.confidence_cap,
+            translation_count: self.translation_count,
+            _pad: 0,
+        };
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        Ok(())
+    }
+
+    /// Records the frame's dispatches, each in a profiler scope named as in
+    /// [`PASS_LABELS`] when `profiler` is given. With `light_count == 0` only the emission
+    /// copy runs (and history is dropped); otherwise initial + temporal, then spatial +
+    /// shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles.
+    pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        scene: &GpuScene,
+        gbuffer: &GBuffer,
+        lights: &wgpu::BindGroup,
+        light_count: u32,
+    ) -> DiPasses {
+        let buffers = self.buffers.as_ref().expect("resize allocates the buffers");
+        let groups = [
+            scene.bind_group(),
+            gbuffer.reader_group(),
+            &buffers.groups[self.parity],
+            lights,
+        ];
+        let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
+        let run = |encoder: &mut wgpu::CommandEncoder, label: &str, pipeline| match profiler {
+            Some(p) => record(
+                &mut p.scope(label, encoder),
+                label,
+                pipeline,
+                &groups,
+                workgroups,
+            ),
+            None => record(encoder, label, pipeline, &groups, workgroups),
+        };
+        if light_count == 0 {
+            run(encoder, PASS_LABELS[2], &self.emission);
+            self.history = false;
+            return DiPasses::EmissionOnly;
+        }
+        run(encoder, PASS_LABELS[0], &self.initial);
+        run(encoder, PASS_LABELS[1], &self.spatial);
+        self.history = true;
+        DiPasses::Full
+    }
+
+    /// Shaded radiance, `width × height` `vec4<f32>` row by row from the top left: rgb is
+    /// emission plus direct light, w is 1 where a surface was drawn and 0 on background.
+    pub fn output(&self) -> &wgpu::Buffer {
+        &self
+            .buffers
+            .as_ref()
+            .expect("resize allocates the buffers")
+            .output
+    }
+
+    /// Image size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+}

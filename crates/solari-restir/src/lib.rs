@@ -1,0 +1,89 @@
+//! # solari-restir
+//!
+//! ReSTIR DI for the Solari workspace: direct light from every light in a scene at a cost of
+//! two shadow rays per pixel, by resampling light samples across candidates, frames and
+//! neighbouring pixels.
+//!
+//! ## The algorithm (after Solari 0.18)
+//!
+//! 1. **Initial RIS** ([`RestirDiSettings::initial_candidates`], default 8): each pixel draws
+//!    candidates from one light tile ([`solari_lights::LightTiles`]) shared by its 8×8
+//!    workgroup and keeps one with probability proportional to its unshadowed contribution
+//!    (the luminance of Le · BRDF · cos · G, with the full BRDF). One visibility ray tests the
+//!    choice; an occluded choice contributes nothing but keeps its confidence.
+//! 2. **Temporal reuse**: last frame's final reservoir at the motion-vector reprojection,
+//!    permuted within 4×4 blocks each frame (falling back to the unpermuted pixel), rejected
+//!    where the surfaces differ (tangent-plane distance over 0.3% of the view distance, or
+//!    normals over 25° apart), with its light translated to this frame's light list (removed
+//!    lights drop the history) and its confidence capped
+//!    ([`RestirDiSettings::confidence_cap`], default 20).
+//! 3. **Spatial reuse**: one neighbour within [`RestirDiSettings::spatial_radius`] (30 px),
+//!    up to [`RestirDiSettings::spatial_tries`] (5) tries, halving the radius after each
+//!    rejected one.
+//! 4. Merges use the **balance heuristic** over confidence-weighted target functions evaluated
+//!    at both pixels (generalised RIS).
+//! 5. The merged reservoir is stored as next frame's history, and **then** one visibility ray
+//!    decides shading; its result is not stored (feeding it forward would bias shadows
+//!    outward, Solari 0.18).
+//!
+//! Samples are identities ([`solari_lights::LightSampleId`]) in the lights' own domain (points
+//! on emitters by area, directions for directional lights), so reuse across pixels needs no
+//! Jacobian.
+//!
+//! ## Limits
+//!
+//! - Only lights in the light list are sampled: the scene's constant environment and light
+//!   reflected by mirror-like surfaces (roughness under the BRDF's mirror threshold) are not
+//!   direct light here; the reference tracer's `--max-bounces 1` image includes both.
+//! - Emissive textures are not part of light samples (the light list uses the emissive
+//!   factor), as in `solari-lights`.
+//!
+//! ## Use
+//!
+//! Per frame: [`solari_scene::gbuffer::GBuffer::prepare`] and `encode`,
+//! [`solari_lights::LightTiles::prepare`] and `encode`, then [`RestirDi::prepare`] and
+//! [`RestirDi::encode`]. `solari-app`'s real-time renderer is the worked example; the crate
+//! README has a compiled one.
+
+pub mod di;
+pub mod reservoir;
+pub mod settings;
+
+pub use di::{DiPasses, PASS_LABELS, RestirDi};
+pub use reservoir::GpuReservoir;
+pub use settings::{GpuDiParams, RestirDiSettings};
+
+/// The crate's importable WGSL modules, by module name.
+pub const MODULES: &[(&str, &str)] = &[("restir_di", include_str!("../shaders/restir_di.wesl"))];
+
+/// The crate's entry-point shaders, by module name.
+pub const ENTRY_POINTS: &[(&str, &str)] = &[
+    (
+        "restir_di_initial",
+        include_str!("../shaders/restir_di_initial.wesl"),
+    ),
+    (
+        "restir_di_spatial",
+        include_str!("../shaders/restir_di_spatial.wesl"),
+    ),
+    (
+        "restir_di_emission",
+        include_str!("../shaders/restir_di_emission.wesl"),
+    ),
+];
+
+/// Every module the crate's shaders need beyond `solari-scene`'s: its own and the lights'.
+pub fn modules() -> Vec<(&'static str, &'static str)> {
+    [
+        solari_lights::MODULES,
+        solari_lights::tiles::ENTRY_POINTS,
+        MODULES,
+        ENTRY_POINTS,
+    ]
+    .concat()
+}
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

@@ -1,0 +1,124 @@
+//! ReSTIR DI's knobs, each with its default and its cost.
+
+use bytemuck::{Pod, Zeroable};
+use solari_scene::GpuError;
+
+/// Most initial candidates a pixel may draw (the shader loop's bound).
+pub const MAX_INITIAL_CANDIDATES: u32 = 1024;
+/// Most spatial neighbour tries (the shader loop's bound).
+pub const MAX_SPATIAL_TRIES: u32 = 16;
+
+/// Every quality knob of [`crate::RestirDi`]. The defaults are Solari's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestirDiSettings {
+    /// Light-tile samples each pixel resamples in initial RIS (default 8). Cost: one light
+    /// evaluation (no ray) per candidate; fewer candidates mean noisier initial samples.
+    pub initial_candidates: u32,
+    /// Reuse last frame's reservoir at the reprojected pixel (default on). Costs one more
+    /// reservoir merge per pixel; off, every frame starts afresh.
+    pub temporal: bool,
+    /// Reuse one neighbour's reservoir (default on). Costs one merge per pixel.
+    pub spatial: bool,
+    /// Permute the temporal source pixel within 4×4 blocks each frame (default on), which
+    /// decorrelates the noise a denoiser sees at no cost in rays.
+    pub permutation_sampling: bool,
+    /// Cap on the confidence (candidate count) history carries into a frame (default 20):
+    /// higher is smoother on static views, slower to follow changes in light.
+    pub confidence_cap: f32,
+    /// First spatial search radius in pixels (default 30), halved after each rejected try.
+    pub spatial_radius: f32,
+    /// Neighbours tried before spatial reuse gives up for the pixel (default 5).
+    pub spatial_tries: u32,
+    /// Trace a shadow ray for each pixel's initial sample and zero it when occluded, before
+    /// reuse (Solari 0.18's order; default off). Costs one ray per pixel and removes noise in
+    /// shadows, but biases reuse: a neighbour's occluded sample counts in the MIS weights as
+    /// if it could have been chosen, so light near shadow edges is lost (measured: the
+    /// Cornell box comes out 0.8–2% dark; see the crate docs).
+    pub initial_visibility: bool,
+}
+
+impl Default for RestirDiSettings {
+    fn default() -> Self {
+        Self {
+            initial_candidates: 8,
+            temporal: true,
+            spatial: true,
+            permutation_sampling: true,
+            confidence_cap: 20.0,
+            spatial_radius: 30.0,
+            spatial_tries: 5,
+            initial_visibility: false,
+        }
+    }
+}
+
+impl RestirDiSettings {
+    /// Checks every knob is in range; the error names the bad one.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        let bad = |what: String| Err(GpuError::Validation(format!("ReSTIR DI settings: {what}")));
+        if self.initial_candidates == 0 || self.initial_candidates > MAX_INITIAL_CANDIDATES {
+            return bad(format!(
+                "initial_candidates is {}, expected 1 to {MAX_INITIAL_CANDIDATES}",
+                self.initial_candidates
+            ));
+        }
+        if self.spatial_tries > MAX_SPATIAL_TRIES {
+            return bad(format!(
+                "spatial_tries is {}, expected at most {MAX_SPATIAL_TRIES}",
+                self.spatial_tries
+            ));
+        }
+        if !(self.confidence_cap.is_finite() && self.confidence_cap >= 1.0) {
+            return bad(format!(
+                "confidence_cap is {}, expected a finite value of at least 1",
+                self.confidence_cap
+            ));
+        }
+        if !(self.spatial_radius.is_finite() && self.spatial_radius >= 1.0) {
+            return bad(format!(
+                "spatial_radius is {}, expected a finite value of at least 1 pixel",
+                self.spatial_radius
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `DI_FLAG_*` in `restir_di.wesl`.
+pub(crate) mod flags {
+    pub const TEMPORAL: u32 = 1;
+    pub const SPATIAL: u32 = 2;
+    pub const PERMUTATION: u32 = 4;
+    pub const HISTORY: u32 = 8;
+    pub const INITIAL_VISIBILITY: u32 = 16;
+}
+
+/// WGSL twin: `DiParams` in `restir_di.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuDiParams {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frame index (seeds random numbers).
+    pub frame: u32,
+    /// [`RestirDiSettings::initial_candidates`].
+    pub initial_candidates: u32,
+    /// Light tiles.
+    pub tile_count: u32,
+    /// Samples per light tile.
+    pub samples_per_tile: u32,
+    /// [`RestirDiSettings::spatial_tries`].
+    pub spatial_tries: u32,
+    /// `DI_FLAG_*` bits.
+    pub flags: u32,
+    /// [`RestirDiSettings::spatial_radius`].
+    pub spatial_radius: f32,
+    /// [`RestirDiSettings::confidence_cap`].
+    pub confidence_cap: f32,
+    /// Entries of the light translation table (0 disables temporal reuse this frame).
+    pub translation_count: u32,
+    /// Padding.
+    pub _pad: u32,
+}
