@@ -16,3 +16,5 @@ pub fn shared_scenes() -> Vec<PathBuf> {
     out.sort();
     out
 }
+
+pub mod sweep;

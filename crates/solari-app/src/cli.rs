@@ -25,6 +25,9 @@ pub enum Command {
     BenchRays(BenchArgs),
     /// Compare a test image with a reference: RMSE, relative MSE and FLIP.
     Compare(CompareArgs),
+    /// Time the real-time passes and sweep ReSTIR DI candidates and light-tile settings
+    /// against error (CSV).
+    BenchDi(BenchDiArgs),
 }
 
 /// A loaded scene on the device, ready to render.
@@ -170,6 +173,34 @@ pub struct BenchArgs {
     /// JSON lines instead of a table.
     #[arg(long)]
     pub json: bool,
+}
+
+#[derive(Args)]
+pub struct BenchDiArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080")]
+    pub size: String,
+    /// Frames per setting (static camera); the last one is compared with --reference.
+    #[arg(long, default_value_t = 64)]
+    pub frames: u32,
+    /// Leading frames per setting left out of the timings.
+    #[arg(long, default_value_t = 8)]
+    pub warmup: u32,
+    /// Initial candidates to sweep (comma separated).
+    #[arg(long, default_value = "8")]
+    pub candidates: String,
+    /// Light-tile settings to sweep as TILESxSAMPLES (comma separated).
+    #[arg(long, default_value = "128x1024")]
+    pub tiles: String,
+    /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
+    /// --pixel-centre`) for the error columns.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Also write the CSV here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
 }
 
 /// Parses `WxH`.

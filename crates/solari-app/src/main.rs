@@ -6,10 +6,12 @@
 //! - `solari info [SCENE] [--json]`
 //! - `solari compare TEST REFERENCE [--heatmap OUT.png] [--mask-emitters SCENE] [--json]`
 //! - `solari bench-rays [SCENE | --heightfield N] [--json]`
+//! - `solari bench-di [SCENE] --candidates 1,8,32 --tiles 32x256,128x1024 --reference REF.exr`
 //!
 //! With no SCENE the built-in Cornell box is used.
 
 mod bench;
+mod bench_di;
 mod cli;
 mod compare;
 mod info;
@@ -26,6 +28,7 @@ fn main() {
         cli::Command::Info(a) => info::run(&a),
         cli::Command::BenchRays(a) => bench::run(&a),
         cli::Command::Compare(a) => compare::run(&a),
+        cli::Command::BenchDi(a) => bench_di::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

@@ -146,7 +146,7 @@ impl Batches {
                 acc[c] += p[c] as f64 / self.batch as f64;
             }
         }
-        if (frame + 1) % self.batch == 0 {
+        if (frame + 1).is_multiple_of(self.batch) {
             self.done.push(std::mem::replace(
                 &mut self.current,
                 vec![[0.0; 3]; (SIZE * SIZE) as usize],

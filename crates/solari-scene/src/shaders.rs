@@ -139,3 +139,31 @@ pub fn validate(name: &str, wgsl: &str) -> Result<naga::Module, GpuError> {
     .map_err(|e| err(e.emit_to_string(wgsl)))?;
     Ok(module)
 }
+
+/// Size and member offsets of a WGSL struct as naga lays it out.
+pub type StructLayout = (u32, std::collections::HashMap<String, u32>);
+
+/// Every named struct of a validated module by its unmangled name (WESL turns
+/// `package::module::Name` into `package_..._Name`): what the layout tests compare Rust
+/// mirrors with.
+pub fn struct_layouts(
+    module: &naga::Module,
+) -> Result<std::collections::HashMap<String, StructLayout>, GpuError> {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .map_err(|e| GpuError::Validation(format!("layout: {e}")))?;
+    let mut out = std::collections::HashMap::new();
+    for (handle, ty) in module.types.iter() {
+        let (Some(name), naga::TypeInner::Struct { members, .. }) = (&ty.name, &ty.inner) else {
+            continue;
+        };
+        let short = name.rsplit('_').next().unwrap_or(name).to_string();
+        let offsets = members
+            .iter()
+            .filter_map(|m| Some((m.name.clone()?, m.offset)))
+            .collect();
+        out.insert(short, (layouter[handle].size, offsets));
+    }
+    Ok(out)
+}

@@ -5,7 +5,7 @@ use solari_scene::bvh::GpuTriangle;
 use solari_scene::gpu_types::{
     GpuInstance, GpuMaterial, GpuRay, GpuRayHit, GpuSceneInfo, GpuVertex, GpuView,
 };
-use solari_scene::shaders::{Backend, ENTRY_POINTS, compose, validate};
+use solari_scene::shaders::{Backend, ENTRY_POINTS, compose, struct_layouts, validate};
 use std::collections::HashMap;
 use std::mem::offset_of;
 
@@ -16,22 +16,7 @@ fn wgsl_layouts() -> Layouts {
     let mut out = Layouts::new();
     for (entry, _) in ENTRY_POINTS {
         let wgsl = compose(entry, Backend::Software, &[]).unwrap();
-        let module = validate(entry, &wgsl).unwrap();
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).unwrap();
-        for (handle, ty) in module.types.iter() {
-            let (Some(name), naga::TypeInner::Struct { members, .. }) = (&ty.name, &ty.inner)
-            else {
-                continue;
-            };
-            // WESL mangles `package::module::Name` into `package_..._Name`.
-            let short = name.rsplit('_').next().unwrap().to_string();
-            let offsets = members
-                .iter()
-                .filter_map(|m| Some((m.name.clone()?, m.offset)))
-                .collect();
-            out.insert(short, (layouter[handle].size, offsets));
-        }
+        out.extend(struct_layouts(&validate(entry, &wgsl).unwrap()).unwrap());
     }
     out
 }

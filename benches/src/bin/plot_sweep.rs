@@ -1,0 +1,105 @@
+//! Draws a `solari bench-di` sweep as run time against error: one line per light-tile
+//! setting through its candidate counts, each point labelled with its count.
+//!
+//! `cargo run -p solari-benches --bin plot-sweep -- SWEEP.csv OUT.png [--font FONT.ttf]`
+//!
+//! Text needs a TrueType font (plotters draws glyphs with ab_glyph and bundles none); the
+//! default is DejaVu Sans where Debian installs it.
+
+use plotters::prelude::*;
+use solari_benches::sweep::{SweepRow, parse_sweep};
+
+const DEFAULT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+fn main() {
+    if let Err(e) = run() {
+        eprintln!("error: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn run() -> Result<(), String> {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let usage = "usage: plot-sweep SWEEP.csv OUT.png [--font FONT.ttf]";
+    let (csv, out) = match args.as_slice() {
+        [c, o, ..] => (c, o),
+        _ => return Err(usage.into()),
+    };
+    let font = match args.iter().position(|a| a == "--font") {
+        Some(i) => args.get(i + 1).ok_or(usage)?.clone(),
+        None => DEFAULT_FONT.to_string(),
+    };
+    let bytes = std::fs::read(&font).map_err(|e| format!("font {font}: {e} (pass --font)"))?;
+    plotters::style::register_font("sans-serif", FontStyle::Normal, Box::leak(bytes.into()))
+        .map_err(|_| format!("{font} is not a TrueType font"))?;
+    let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
+    let rows: Vec<SweepRow> = parse_sweep(&text)?
+        .into_iter()
+        .filter(|r| r.rmse.is_finite() && r.lighting_ms.is_finite())
+        .collect();
+    if rows.is_empty() {
+        return Err(format!("{csv}: no rows with both a time and an error"));
+    }
+    let max_ms = rows.iter().map(|r| r.lighting_ms).fold(0.0, f64::max) * 1.15;
+    let max_err = rows.iter().map(|r| r.rmse).fold(0.0, f64::max) * 1.15;
+    let root = BitMapBackend::new(out, (900, 600)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!("{}: ReSTIR DI time against error", rows[0].scene),
+            ("sans-serif", 24),
+        )
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(72)
+        .build_cartesian_2d(0.0..max_ms, 0.0..max_err)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("GPU ms per frame (light tiles + ReSTIR DI)")
+        .y_desc("RMSE of one frame vs the direct-only reference")
+        .label_style(("sans-serif", 14))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    let mut settings: Vec<(u32, u32)> =
+        rows.iter().map(|r| (r.tiles, r.samples_per_tile)).collect();
+    settings.sort();
+    settings.dedup();
+    for (i, (tiles, spt)) in settings.iter().enumerate() {
+        let colour = Palette99::pick(i).to_rgba();
+        let mut series: Vec<&SweepRow> = rows
+            .iter()
+            .filter(|r| (r.tiles, r.samples_per_tile) == (*tiles, *spt))
+            .collect();
+        series.sort_by_key(|r| r.candidates);
+        chart
+            .draw_series(LineSeries::new(
+                series.iter().map(|r| (r.lighting_ms, r.rmse)),
+                colour.stroke_width(2),
+            ))
+            .map_err(|e| e.to_string())?
+            .label(format!("{tiles} tiles × {spt}"))
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
+        chart
+            .draw_series(series.iter().map(|r| {
+                EmptyElement::at((r.lighting_ms, r.rmse))
+                    + Circle::new((0, 0), 4, colour.filled())
+                    + Text::new(
+                        format!("{}", r.candidates),
+                        (6, -14),
+                        ("sans-serif", 13).into_font(),
+                    )
+            }))
+            .map_err(|e| e.to_string())?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    root.present().map_err(|e| e.to_string())?;
+    eprintln!("wrote {out}");
+    Ok(())
+}

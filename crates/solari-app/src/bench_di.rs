@@ -1,0 +1,182 @@
+//! `solari bench-di`: per-pass GPU times of the real-time frame, and a sweep over initial
+//! candidates and light-tile settings that records run time against error (a CSV row per
+//! setting; `cargo run -p solari-benches --bin plot-sweep` draws it).
+
+use crate::cli::{BenchDiArgs, Prepared, parse_size};
+use indicatif::{ProgressBar, ProgressStyle};
+use solari_app::image_io::read_linear;
+use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
+use solari_lights::LightTileSettings;
+use solari_restir::RestirDiSettings;
+use std::io::Write;
+
+/// One measured setting.
+struct Row {
+    candidates: u32,
+    tiles: LightTileSettings,
+    // Mean GPU ms per pass over the timed frames.
+    gbuffer: f64,
+    light_tiles: f64,
+    initial_temporal: f64,
+    spatial_shade: f64,
+    // (RMSE, relative MSE) of the last frame.
+    error: Option<(f64, f64)>,
+}
+
+/// RMSE and relative MSE as `solari compare` defines them (FLIP is left to `compare`: at
+/// 1080p it would cost seconds per setting).
+fn errors(test: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
+    let (mut se, mut rel) = (0.0, 0.0);
+    for (t, r) in test.iter().zip(reference) {
+        for c in 0..3 {
+            let d = t[c] as f64 - r[c] as f64;
+            se += d * d;
+            rel += d * d / ((r[c] as f64).powi(2) + 0.01);
+        }
+    }
+    let n = (test.len() * 3).max(1) as f64;
+    ((se / n).sqrt(), rel / n)
+}
+
+fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>, String> {
+    s.split(',')
+        .map(|v| {
+            v.trim()
+                .parse()
+                .map_err(|_| format!("{what}: cannot read '{v}'"))
+        })
+        .collect()
+}
+
+pub fn run(args: &BenchDiArgs) -> Result<(), String> {
+    let (w, h) = parse_size(&args.size)?;
+    let candidates: Vec<u32> = parse_list(&args.candidates, "--candidates")?;
+    let tiles: Vec<LightTileSettings> = args
+        .tiles
+        .split(',')
+        .map(|t| {
+            parse_size(t.trim())
+                .map(|(tiles, samples_per_tile)| LightTileSettings {
+                    tiles,
+                    samples_per_tile,
+                })
+                .map_err(|_| format!("--tiles: '{t}' is not TILESxSAMPLES"))
+        })
+        .collect::<Result<_, _>>()?;
+    if args.frames <= args.warmup {
+        return Err("--frames must exceed --warmup".into());
+    }
+    let reference = match &args.reference {
+        Some(p) => {
+            let (rw, rh, px) = read_linear(p)?;
+            if (rw, rh) != (w, h) {
+                return Err(format!(
+                    "{}: reference is {rw}x{rh}, the benchmark renders {w}x{h}",
+                    p.display()
+                ));
+            }
+            Some(px)
+        }
+        None => None,
+    };
+    let Prepared {
+        name,
+        scene,
+        camera,
+        gpu,
+        backend,
+        gpu_scene,
+    } = args.scene.prepare()?;
+    let configs: Vec<(u32, LightTileSettings)> = tiles
+        .iter()
+        .flat_map(|t| candidates.iter().map(move |c| (*c, *t)))
+        .collect();
+    let bar = ProgressBar::new((configs.len() as u32 * args.frames) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} elapsed, ETA {eta}")
+            .map_err(|e| e.to_string())?,
+    );
+    let mut rows = Vec::new();
+    for (c, t) in configs {
+        let settings = RealtimeSettings {
+            tiles: t,
+            di: RestirDiSettings {
+                initial_candidates: c,
+                ..Default::default()
+            },
+            timestamps: true,
+            ..Default::default()
+        };
+        let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
+            .map_err(|e| e.to_string())?;
+        let mut sums = [0.0f64; 4];
+        let names = [
+            "gbuffer",
+            "light_tiles",
+            "di_initial_temporal",
+            "di_spatial_shade",
+        ];
+        for frame in 0..args.frames {
+            let r = renderer
+                .render(&gpu, &scene, &gpu_scene, &camera)
+                .map_err(|e| e.to_string())?;
+            if frame >= args.warmup {
+                for (s, n) in sums.iter_mut().zip(names) {
+                    *s += r.gpu_ms(n).unwrap_or(0.0);
+                }
+            }
+            bar.inc(1);
+        }
+        let timed = (args.frames - args.warmup) as f64;
+        let error = match &reference {
+            Some(reference) => {
+                let out = renderer.read_output(&gpu).map_err(|e| e.to_string())?;
+                let rgb: Vec<[f32; 3]> = out.iter().map(|p| [p[0], p[1], p[2]]).collect();
+                Some(errors(&rgb, reference))
+            }
+            None => None,
+        };
+        rows.push(Row {
+            candidates: c,
+            tiles: t,
+            gbuffer: sums[0] / timed,
+            light_tiles: sums[1] / timed,
+            initial_temporal: sums[2] / timed,
+            spatial_shade: sums[3] / timed,
+            error,
+        });
+    }
+    bar.finish_and_clear();
+    let header = "scene,width,height,tracer,adapter,candidates,tiles,samples_per_tile,timed_frames,\
+                  gbuffer_ms,light_tiles_ms,di_initial_temporal_ms,di_spatial_shade_ms,\
+                  lighting_ms,rmse,rel_mse";
+    let mut lines = vec![header.to_string()];
+    for r in &rows {
+        let (rmse, rel) = r.error.unwrap_or((f64::NAN, f64::NAN));
+        lines.push(format!(
+            "{name},{w},{h},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{rmse:.6},{rel:.6}",
+            backend.name(),
+            gpu.info.name.replace(',', " "),
+            r.candidates,
+            r.tiles.tiles,
+            r.tiles.samples_per_tile,
+            args.frames - args.warmup,
+            r.gbuffer,
+            r.light_tiles,
+            r.initial_temporal,
+            r.spatial_shade,
+            r.light_tiles + r.initial_temporal + r.spatial_shade,
+        ));
+    }
+    if let Some(p) = &args.csv {
+        let mut f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        for l in &lines {
+            writeln!(f, "{l}").map_err(|e| e.to_string())?;
+        }
+        eprintln!("wrote {}", p.display());
+    }
+    for l in &lines {
+        println!("{l}");
+    }
+    Ok(())
+}
