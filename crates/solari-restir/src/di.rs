@@ -235,12 +235,12 @@ impl RestirDi {
                 bytemuck::cast_slice(table),
                 wgpu::BufferUsages::empty(),
             )?;
-            // The bind groups hold the old buffer: rebuild them, keeping history.
-            let history = self.history;
+            // The bind groups hold the old buffer: rebuilding them reallocates the
+            // reservoirs too, so this frame starts without history (rare: the light list
+            // grew past every earlier size).
             let (w, h) = self.size;
             self.buffers = None;
             self.resize(gpu, w, h)?;
-            self.history = history;
         } else if !table.is_empty() {
             gpu.queue
                 .write_buffer(&self.translation, 0, bytemuck::cast_slice(table));
