@@ -1,7 +1,7 @@
 //! # solari-restir
 //!
 //! ReSTIR DI for the Solari workspace: direct light from every light in a scene at a cost of
-//! two shadow rays per pixel, by resampling light samples across candidates, frames and
+//! one shadow ray per pixel, by resampling light samples across candidates, frames and
 //! neighbouring pixels.
 //!
 //! ## The algorithm (after Solari 0.18)
@@ -9,8 +9,9 @@
 //! 1. **Initial RIS** ([`RestirDiSettings::initial_candidates`], default 8): each pixel draws
 //!    candidates from one light tile ([`solari_lights::LightTiles`]) shared by its 8×8
 //!    workgroup and keeps one with probability proportional to its unshadowed contribution
-//!    (the luminance of Le · BRDF · cos · G, with the full BRDF). One visibility ray tests the
-//!    choice; an occluded choice contributes nothing but keeps its confidence.
+//!    (the luminance of Le · BRDF · cos · G, with the full BRDF). Optionally
+//!    ([`RestirDiSettings::initial_visibility`], off by default because it biases reuse) one
+//!    visibility ray tests the choice before reuse, as Solari 0.18 does.
 //! 2. **Temporal reuse**: last frame's final reservoir at the motion-vector reprojection,
 //!    permuted within 4×4 blocks each frame (falling back to the unpermuted pixel), rejected
 //!    where the surfaces differ (tangent-plane distance over 0.3% of the view distance, or
