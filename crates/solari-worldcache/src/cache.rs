@@ -1,0 +1,626 @@
+//! The world cache's buffers, its upkeep passes and its pixel passes.
+
+use crate::hash::CellGrid;
+use crate::settings::{
+    CONTROL_HEADER_BYTES, GpuCacheCell, GpuCacheParams, GpuNewSample, WorldCacheSettings, flags,
+};
+use bytemuck::Zeroable;
+use solari_lights::{LightTileSettings, LightTiles};
+use solari_scene::GpuError;
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry};
+use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::shaders::{Backend, compose};
+use wgpu_profiler::GpuProfiler;
+
+/// Profiler scope labels, in frame order: the four upkeep steps (the compaction's three
+/// dispatches share one scope), then the pixel passes (cache-only GI, or the debug view).
+pub const PASS_LABELS: [&str; 6] = [
+    "world_cache_decay",
+    "world_cache_compact",
+    "world_cache_update",
+    "world_cache_blend",
+    "world_cache_gi",
+    "world_cache_view",
+];
+
+/// First binding of the cache in bind group 2 (a consumer's own bindings go below it).
+pub const FIRST_BINDING: u32 = 16;
+
+/// Counters of the last frame, read back by [`WorldCache::read_stats`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CacheStats {
+    /// Cells alive after the frame's decay (the cells the update passes walked).
+    pub active_cells: u32,
+    /// Lookups that found every probed slot taken by other cells and returned nothing.
+    pub overflows: u32,
+}
+
+/// The world cache: a fixed-size hash table of surface cells, each holding irradiance that a
+/// few rays per frame keep up to date (see the crate docs). Its bindings live in group 2 at
+/// bindings [`FIRST_BINDING`] and up.
+pub struct WorldCache {
+    settings: WorldCacheSettings,
+    tiles: LightTileSettings,
+    params: wgpu::Buffer,
+    checksums: wgpu::Buffer,
+    life: wgpu::Buffer,
+    cells: wgpu::Buffer,
+    active: wgpu::Buffer,
+    new_samples: wgpu::Buffer,
+    control: wgpu::Buffer,
+    dispatch: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    group: wgpu::BindGroup,
+    dispatch_group: wgpu::BindGroup,
+    target_layout: wgpu::BindGroupLayout,
+    pipelines: Pipelines,
+    size: (u32, u32),
+}
+
+struct Pipelines {
+    decay: wgpu::ComputePipeline,
+    count: wgpu::ComputePipeline,
+    offsets: wgpu::ComputePipeline,
+    compact: wgpu::ComputePipeline,
+    update: wgpu::ComputePipeline,
+    blend: wgpu::ComputePipeline,
+    gi: wgpu::ComputePipeline,
+    view: wgpu::ComputePipeline,
+}
+
+// The table's buffers at a capacity.
+struct Table {
+    checksums: wgpu::Buffer,
+    life: wgpu::Buffer,
+    cells: wgpu::Buffer,
+    active: wgpu::Buffer,
+    new_samples: wgpu::Buffer,
+    control: wgpu::Buffer,
+}
+
+fn table(gpu: &Gpu, capacity: u32) -> Result<Table, GpuError> {
+    let slots = capacity as u64;
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let buffer = |label: &str, size: u64| -> Result<wgpu::Buffer, GpuError> {
+        if size > limit {
+            return Err(GpuError::OverLimit {
+                what: format!("world cache {label} ({capacity} slots)"),
+                needed: size,
+                limit,
+            });
+        }
+        // Created zeroed: every slot empty, no life, no light.
+        Ok(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }))
+    };
+    Ok(Table {
+        checksums: buffer("solari_worldcache/checksums", slots * 4)?,
+        life: buffer("solari_worldcache/life", slots * 4)?,
+        cells: buffer(
+            "solari_worldcache/cells",
+            slots * size_of::<GpuCacheCell>() as u64,
+        )?,
+        active: buffer("solari_worldcache/active", slots * 4)?,
+        new_samples: buffer(
+            "solari_worldcache/new_samples",
+            slots * size_of::<GpuNewSample>() as u64,
+        )?,
+        control: buffer(
+            "solari_worldcache/control",
+            CONTROL_HEADER_BYTES + slots / 1024 * 4,
+        )?,
+    })
+}
+
+// Records one dispatch (direct or indirect) in its own compute pass.
+fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    pipeline: &wgpu::ComputePipeline,
+    groups: &[(u32, &wgpu::BindGroup)],
+    size: Dispatch,
+) {
+    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+        label: Some(label),
+        timestamp_writes: None,
+    });
+    pass.set_pipeline(pipeline);
+    for (i, g) in groups {
+        pass.set_bind_group(*i, *g, &[]);
+    }
+    match size {
+        Dispatch::Direct(x, y) => pass.dispatch_workgroups(x, y, 1),
+        Dispatch::Indirect(buffer) => pass.dispatch_workgroups_indirect(buffer, 0),
+    }
+}
+
+#[derive(Clone, Copy)]
+enum Dispatch<'a> {
+    Direct(u32, u32),
+    Indirect(&'a wgpu::Buffer),
+}
+
+// Runs `f` inside a named profiler scope (directly without a profiler).
+fn in_scope(
+    profiler: Option<&GpuProfiler>,
+    label: &str,
+    encoder: &mut wgpu::CommandEncoder,
+    f: impl FnOnce(&mut wgpu::CommandEncoder),
+) {
+    match profiler {
+        Some(p) => f(&mut p.scope(label, encoder)),
+        None => f(encoder),
+    }
+}
+
+impl WorldCache {
+    /// Builds the passes for scenes uploaded with `backend` and traced with `variant`, and
+    /// allocates an empty table. `tiles` must be the settings of the [`LightTiles`] whose
+    /// reader group [`WorldCache::encode_update`] gets. Errors name a bad setting or a table
+    /// over the device's buffer limit.
+    pub fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        variant: TraceVariant,
+        settings: WorldCacheSettings,
+        tiles: LightTileSettings,
+    ) -> Result<Self, GpuError> {
+        settings.validate()?;
+        let variant = variant.for_backend(backend);
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_worldcache/cache"),
+                entries: &Self::layout_entries(wgpu::ShaderStages::COMPUTE),
+            });
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let dispatch_layout = gpu.buffer_layout("solari_worldcache/dispatch", &[rw]);
+        let target_layout = gpu.buffer_layout("solari_worldcache/target", &[rw]);
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let gbuffer_layout = GBuffer::reader_layout(gpu);
+        let lights_layout = LightTiles::reader_layout(gpu);
+        let modules = crate::modules();
+        let pipeline = |entry: &str,
+                        layouts: [Option<&wgpu::BindGroupLayout>; 4],
+                        constants: &[(&str, f64)]|
+         -> Result<_, GpuError> {
+            let wgsl = compose(entry, backend, &modules)?;
+            gpu.compute_pipeline(
+                &format!("solari_worldcache/{entry}"),
+                &wgsl,
+                &layouts,
+                ShaderChecks::BoundsOnly,
+                constants,
+            )
+        };
+        let own = [None, None, Some(&layout), None];
+        let pipelines = Pipelines {
+            decay: pipeline("world_cache_decay", own, &[])?,
+            count: pipeline("world_cache_count", own, &[])?,
+            offsets: pipeline(
+                "world_cache_offsets",
+                [None, None, Some(&layout), Some(&dispatch_layout)],
+                &[],
+            )?,
+            compact: pipeline("world_cache_compact", own, &[])?,
+            update: pipeline(
+                "world_cache_update",
+                [
+                    Some(&scene_layout),
+                    None,
+                    Some(&layout),
+                    Some(&lights_layout),
+                ],
+                variant.constants(),
+            )?,
+            blend: pipeline("world_cache_blend", own, &[])?,
+            gi: pipeline(
+                "world_cache_gi",
+                [
+                    None,
+                    Some(&gbuffer_layout),
+                    Some(&layout),
+                    Some(&target_layout),
+                ],
+                &[],
+            )?,
+            view: pipeline(
+                "world_cache_view",
+                [
+                    None,
+                    Some(&gbuffer_layout),
+                    Some(&layout),
+                    Some(&target_layout),
+                ],
+                &[],
+            )?,
+        };
+        let params = gpu.uniform_buffer("solari_worldcache/params", &GpuCacheParams::zeroed());
+        let dispatch = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_worldcache/dispatch"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            mapped_at_creation: false,
+        });
+        let dispatch_group =
+            gpu.bind_buffers("solari_worldcache/dispatch", &dispatch_layout, &[&dispatch]);
+        let t = table(gpu, settings.capacity)?;
+        let group = Self::group_for(gpu, &layout, &params, &t);
+        Ok(Self {
+            settings,
+            tiles,
+            params,
+            checksums: t.checksums,
+            life: t.life,
+            cells: t.cells,
+            active: t.active,
+            new_samples: t.new_samples,
+            control: t.control,
+            dispatch,
+            layout,
+            group,
+            dispatch_group,
+            target_layout,
+            pipelines,
+            size: (0, 0),
+        })
+    }
+
+    fn group_for(
+        gpu: &Gpu,
+        layout: &wgpu::BindGroupLayout,
+        params: &wgpu::Buffer,
+        t: &Table,
+    ) -> wgpu::BindGroup {
+        let buffers = [
+            params,
+            &t.checksums,
+            &t.life,
+            &t.cells,
+            &t.active,
+            &t.new_samples,
+            &t.control,
+        ];
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_worldcache/cache"),
+            layout,
+            entries: &Self::entries_of(&buffers),
+        })
+    }
+
+    fn entries_of<'a>(buffers: &[&'a wgpu::Buffer; 7]) -> Vec<wgpu::BindGroupEntry<'a>> {
+        buffers
+            .iter()
+            .enumerate()
+            .map(|(i, b)| wgpu::BindGroupEntry {
+                binding: FIRST_BINDING + i as u32,
+                resource: b.as_entire_binding(),
+            })
+            .collect()
+    }
+
+    /// Layout entries of the cache's bindings (group 2, bindings 16–22: the parameters
+    /// uniform, then checksums, life, cells, active list, new samples, control), for a pass
+    /// that reads the cache with `world_cache.wesl` and keeps its own bindings below 16.
+    pub fn layout_entries(visibility: wgpu::ShaderStages) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        std::iter::once(wgpu::BufferBindingType::Uniform)
+            .chain([rw; 6])
+            .enumerate()
+            .map(|(i, ty)| buffer_layout_entry(FIRST_BINDING + i as u32, ty, visibility))
+            .collect()
+    }
+
+    /// Bind group entries matching [`WorldCache::layout_entries`]. They stay valid until
+    /// [`WorldCache::set_settings`] changes the capacity.
+    pub fn bind_group_entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
+        Self::entries_of(&[
+            &self.params,
+            &self.checksums,
+            &self.life,
+            &self.cells,
+            &self.active,
+            &self.new_samples,
+            &self.control,
+        ])
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> WorldCacheSettings {
+        self.settings
+    }
+
+    /// Changes the settings. A new capacity reallocates (and so empties) the table; other
+    /// knobs keep the cached light.
+    pub fn set_settings(
+        &mut self,
+        gpu: &Gpu,
+        settings: WorldCacheSettings,
+    ) -> Result<(), GpuError> {
+        settings.validate()?;
+        if settings.capacity != self.settings.capacity {
+            let t = table(gpu, settings.capacity)?;
+            self.group = Self::group_for(gpu, &self.layout, &self.params, &t);
+            self.checksums = t.checksums;
+            self.life = t.life;
+            self.cells = t.cells;
+            self.active = t.active;
+            self.new_samples = t.new_samples;
+            self.control = t.control;
+        }
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// Empties the table (every cell dies; light starts again from zero).
+    pub fn clear(&self, gpu: &Gpu) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        for b in [&self.checksums, &self.life, &self.cells, &self.control] {
+            encoder.clear_buffer(b, 0, None);
+        }
+        gpu.queue.submit([encoder.finish()]);
+    }
+
+    /// GPU memory the cache holds, in bytes ([`WorldCacheSettings::memory_bytes`]).
+    pub fn memory_bytes(&self) -> u64 {
+        self.settings.memory_bytes()
+    }
+
+    /// The bind group a consumer's pipeline can use at group 2 when it needs nothing else
+    /// there (its layout is [`WorldCache::layout_entries`] alone).
+    pub fn bind_group(&self) -> &wgpu::BindGroup {
+        &self.group
+    }
+
+    /// Its layout.
+    pub fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// A group-3 bind group for the pixel passes around `target`: `width × height`
+    /// `vec4<f32>` (row by row from the top left, the layout of ReSTIR DI's output).
+    pub fn target_group(&self, gpu: &Gpu, target: &wgpu::Buffer) -> wgpu::BindGroup {
+        gpu.bind_buffers("solari_worldcache/target", &self.target_layout, &[target])
+    }
+
+    /// Writes the frame's parameters: the camera position (levels of detail follow it),
+    /// frame index, light count (0: no direct-light samples) and the pixel passes' image size.
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        frame: u32,
+        view_position: [f32; 3],
+        light_count: u32,
+        size: (u32, u32),
+    ) {
+        let s = self.settings;
+        let grid = CellGrid::new(s.cell_size, s.lod_distance, s.capacity);
+        let mut bits = 0;
+        if s.jitter {
+            bits |= flags::JITTER;
+        }
+        if s.leak_rule {
+            bits |= flags::LEAK_RULE;
+        }
+        let params = GpuCacheParams {
+            view_position,
+            frame,
+            cell_size: grid.cell_size,
+            inv_cell_size: grid.inv_cell_size,
+            inv_lod_distance: grid.inv_lod_distance,
+            mask: grid.mask,
+            lifetime: s.lifetime,
+            max_search_steps: s.max_search_steps,
+            flags: bits,
+            update_budget: s.update_budget,
+            max_temporal_samples: s.max_temporal_samples,
+            max_ray_distance: if s.max_ray_distance.is_finite() {
+                s.max_ray_distance
+            } else {
+                f32::MAX
+            },
+            direct_candidates: s.direct_candidates,
+            light_count,
+            tile_count: self.tiles.tiles,
+            samples_per_tile: self.tiles.samples_per_tile,
+            width: size.0,
+            height: size.1,
+        };
+        self.size = size;
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Records decay and compaction: cells lose a frame of life (dead ones free their
+    /// slots) and the live ones are listed densely for the update passes.
+    pub fn encode_maintain(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+    ) {
+        let own = [(2, &self.group)];
+        let slots = self.settings.capacity;
+        let p = &self.pipelines;
+        in_scope(profiler, PASS_LABELS[0], encoder, |e| {
+            record(
+                e,
+                PASS_LABELS[0],
+                &p.decay,
+                &own,
+                Dispatch::Direct(slots / 256, 1),
+            )
+        });
+        in_scope(profiler, PASS_LABELS[1], encoder, |e| {
+            let blocks = slots / 1024;
+            record(
+                e,
+                "world_cache_count",
+                &p.count,
+                &own,
+                Dispatch::Direct(blocks, 1),
+            );
+            record(
+                e,
+                "world_cache_offsets",
+                &p.offsets,
+                &[(2, &self.group), (3, &self.dispatch_group)],
+                Dispatch::Direct(1, 1),
+            );
+            record(
+                e,
+                "world_cache_write",
+                &p.compact,
+                &own,
+                Dispatch::Direct(blocks, 1),
+            );
+        });
+    }
+
+    /// Records the update (a new sample per live cell, stochastic past the budget) and the
+    /// blend, both sized on the GPU by the compaction. `lights` is the light tiles' reader
+    /// group ([`LightTiles::reader_group`]) for this frame.
+    pub fn encode_update(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        scene: &GpuScene,
+        lights: &wgpu::BindGroup,
+    ) {
+        let p = &self.pipelines;
+        let size = Dispatch::Indirect(&self.dispatch);
+        in_scope(profiler, PASS_LABELS[2], encoder, |e| {
+            record(
+                e,
+                PASS_LABELS[2],
+                &p.update,
+                &[(0, scene.bind_group()), (2, &self.group), (3, lights)],
+                size,
+            )
+        });
+        in_scope(profiler, PASS_LABELS[3], encoder, |e| {
+            record(e, PASS_LABELS[3], &p.blend, &[(2, &self.group)], size)
+        });
+    }
+
+    /// Records the whole upkeep: [`WorldCache::encode_maintain`] then
+    /// [`WorldCache::encode_update`].
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        scene: &GpuScene,
+        lights: &wgpu::BindGroup,
+    ) {
+        self.encode_maintain(encoder, profiler);
+        self.encode_update(encoder, profiler, scene, lights);
+    }
+
+    /// Records cache-only GI: every G-buffer pixel adds its diffuse albedo × the cache's
+    /// indirect irradiance to `target` ([`WorldCache::target_group`]), renewing the cells it
+    /// reads. Run it after the upkeep and after whatever wrote the direct light.
+    pub fn encode_gi(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        gbuffer: &GBuffer,
+        target: &wgpu::BindGroup,
+    ) {
+        self.pixels(encoder, profiler, 4, &self.pipelines.gi, gbuffer, target);
+    }
+
+    /// Records the debug view: every pixel of `target` shows its cell's irradiance, tinted
+    /// per cell (background black, magenta where the table was full).
+    pub fn encode_view(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        gbuffer: &GBuffer,
+        target: &wgpu::BindGroup,
+    ) {
+        self.pixels(encoder, profiler, 5, &self.pipelines.view, gbuffer, target);
+    }
+
+    fn pixels(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        label: usize,
+        pipeline: &wgpu::ComputePipeline,
+        gbuffer: &GBuffer,
+        target: &wgpu::BindGroup,
+    ) {
+        let groups = [(1, gbuffer.reader_group()), (2, &self.group), (3, target)];
+        let size = Dispatch::Direct(self.size.0.div_ceil(8), self.size.1.div_ceil(8));
+        in_scope(profiler, PASS_LABELS[label], encoder, |e| {
+            record(e, PASS_LABELS[label], pipeline, &groups, size)
+        });
+    }
+
+    /// The last frame's counters. Blocks until the GPU is done.
+    pub fn read_stats(&self, gpu: &Gpu) -> Result<CacheStats, GpuError> {
+        let bytes = gpu.read_buffer(&self.control, 8)?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
+        Ok(CacheStats {
+            active_cells: words[0],
+            overflows: words[1],
+        })
+    }
+
+    /// Every slot: (checksum, remaining life, contents). Blocks until the GPU is done; for
+    /// tests, tools and saving a warm cache.
+    pub fn read_cells(&self, gpu: &Gpu) -> Result<Vec<(u32, u32, GpuCacheCell)>, GpuError> {
+        let n = self.settings.capacity as u64;
+        let checksums = gpu.read_buffer(&self.checksums, n * 4)?;
+        let life = gpu.read_buffer(&self.life, n * 4)?;
+        let cells = gpu.read_buffer(&self.cells, n * size_of::<GpuCacheCell>() as u64)?;
+        let checksums: &[u32] = bytemuck::cast_slice(&checksums);
+        let life: &[u32] = bytemuck::cast_slice(&life);
+        let cells: &[GpuCacheCell] = bytemuck::cast_slice(&cells);
+        Ok((0..n as usize)
+            .map(|i| (checksums[i], life[i], cells[i]))
+            .collect())
+    }
+
+    /// Replaces every slot's contents (as [`WorldCache::read_cells`] returns them); the
+    /// slice must have one entry per slot.
+    pub fn write_cells(
+        &self,
+        gpu: &Gpu,
+        slots: &[(u32, u32, GpuCacheCell)],
+    ) -> Result<(), GpuError> {
+        if slots.len() != self.settings.capacity as usize {
+            return Err(GpuError::Validation(format!(
+                "world cache: {} slots given for a table of {}",
+                slots.len(),
+                self.settings.capacity
+            )));
+        }
+        let checksums: Vec<u32> = slots.iter().map(|s| s.0).collect();
+        let life: Vec<u32> = slots.iter().map(|s| s.1).collect();
+        let cells: Vec<GpuCacheCell> = slots.iter().map(|s| s.2).collect();
+        gpu.queue
+            .write_buffer(&self.checksums, 0, bytemuck::cast_slice(&checksums));
+        gpu.queue
+            .write_buffer(&self.life, 0, bytemuck::cast_slice(&life));
+        gpu.queue
+            .write_buffer(&self.cells, 0, bytemuck::cast_slice(&cells));
+        Ok(())
+    }
+
+    /// The dense list of live slots the last compaction wrote. Blocks until the GPU is done.
+    pub fn read_active(&self, gpu: &Gpu) -> Result<Vec<u32>, GpuError> {
+        let count = self.read_stats(gpu)?.active_cells as u64;
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let bytes = gpu.read_buffer(&self.active, count * 4)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
+    }
+}

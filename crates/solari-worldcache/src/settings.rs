@@ -1,0 +1,232 @@
+//! The cache's knobs, each with its default and its cost, and the GPU structs they fill.
+
+use bytemuck::{Pod, Zeroable};
+use solari_scene::GpuError;
+
+/// Fewest table slots (one compaction block).
+pub const MIN_CAPACITY: u32 = 1 << 10;
+/// Most table slots: the compaction's scan handles 2,048 blocks of 1,024, and the update's
+/// indirect dispatch stays under 65,536 workgroups of 64.
+pub const MAX_CAPACITY: u32 = 1 << 21;
+/// Most probing steps (the shader loop's bound).
+pub const MAX_SEARCH_STEPS: u32 = 64;
+/// Most direct-light candidates per cell update (the shader loop's bound).
+pub const MAX_DIRECT_CANDIDATES: u32 = 64;
+
+/// Every knob of [`crate::WorldCache`]. Lengths are in world units (metres for glTF).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldCacheSettings {
+    /// Table slots, a power of two from 2^10 to 2^21 (default 2^18 = 262,144). Each slot
+    /// costs 92 bytes (24 MiB at the default); more slots mean fewer probing collisions and
+    /// room for larger views. Changing it clears the cache.
+    pub capacity: u32,
+    /// Edge of the finest cells (default 0.25). Smaller cells follow light more closely
+    /// (less leaking, sharper variation) but there are more of them to update, each noisier.
+    pub cell_size: f32,
+    /// Distance from the camera over which cells double in size (default 10): level
+    /// `floor(log2(1 + d / lod_distance))`, so cells are finest within 10, twice as large
+    /// to 30, four times to 70 and so on. Infinite: one level everywhere.
+    pub lod_distance: f32,
+    /// Frames a cell lives without being queried by a pixel (default 30). A cell queried by
+    /// another cell only gets that cell's remaining life, so areas the camera left die out
+    /// within this many frames.
+    pub lifetime: u32,
+    /// Slots probed past the first before a lookup gives up (default 8, at most 64). A full
+    /// neighbourhood makes the query return nothing and counts an overflow.
+    pub max_search_steps: u32,
+    /// Cap on the samples averaged per cell (default 30): higher is smoother under static
+    /// light, slower to follow changes; the adaptive blend lowers it where the cell's
+    /// luminance is changing.
+    pub max_temporal_samples: f32,
+    /// Cells updated per frame before updates become stochastic (default 40,000): above it
+    /// each active cell updates with probability budget / active, bounding the cost.
+    pub update_budget: u32,
+    /// Light-tile samples resampled for each cell's direct-light sample (default 8, at most
+    /// 64); one shadow ray tests the chosen one.
+    pub direct_candidates: u32,
+    /// Longest indirect ray traced from a cell (default 50). A ray that hits nothing within
+    /// it counts as escaping to the environment, so scenes larger than this may see
+    /// environment light through distant walls.
+    pub max_ray_distance: f32,
+    /// Jitter pixel queries within the surface's tangent plane by up to half a cell
+    /// (default on): blurs the cell grid's blocks into noise the image's accumulation
+    /// averages away.
+    pub jitter: bool,
+    /// Use the finest level when the query ray is shorter than the cell it would land in
+    /// (Solari 0.19's light-leak rule; default on): a short ray ends near a corner, where a
+    /// coarse cell spans both sides.
+    pub leak_rule: bool,
+}
+
+impl Default for WorldCacheSettings {
+    fn default() -> Self {
+        Self {
+            capacity: 1 << 18,
+            cell_size: 0.25,
+            lod_distance: 10.0,
+            lifetime: 30,
+            max_search_steps: 8,
+            max_temporal_samples: 30.0,
+            update_budget: 40_000,
+            direct_candidates: 8,
+            max_ray_distance: 50.0,
+            jitter: true,
+            leak_rule: true,
+        }
+    }
+}
+
+impl WorldCacheSettings {
+    /// Checks every knob is in range; the error names the bad one.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        let bad = |what: String| {
+            Err(GpuError::Validation(format!(
+                "world cache settings: {what}"
+            )))
+        };
+        if !self.capacity.is_power_of_two()
+            || !(MIN_CAPACITY..=MAX_CAPACITY).contains(&self.capacity)
+        {
+            return bad(format!(
+                "capacity {} must be a power of two from {MIN_CAPACITY} to {MAX_CAPACITY}",
+                self.capacity
+            ));
+        }
+        if !(self.cell_size.is_finite() && self.cell_size > 1e-6) {
+            return bad(format!(
+                "cell_size {} must be finite and above 1e-6",
+                self.cell_size
+            ));
+        }
+        if self.lod_distance.is_nan() || self.lod_distance <= 0.0 {
+            return bad(format!(
+                "lod_distance {} must be positive (infinite for one level)",
+                self.lod_distance
+            ));
+        }
+        if !(1..=100_000).contains(&self.lifetime) {
+            return bad(format!("lifetime {} must be 1 to 100000", self.lifetime));
+        }
+        if !(1..=MAX_SEARCH_STEPS).contains(&self.max_search_steps) {
+            return bad(format!(
+                "max_search_steps {} must be 1 to {MAX_SEARCH_STEPS}",
+                self.max_search_steps
+            ));
+        }
+        if !(self.max_temporal_samples.is_finite() && self.max_temporal_samples >= 1.0) {
+            return bad(format!(
+                "max_temporal_samples {} must be finite and at least 1",
+                self.max_temporal_samples
+            ));
+        }
+        if self.update_budget == 0 {
+            return bad("update_budget must be at least 1".into());
+        }
+        if !(1..=MAX_DIRECT_CANDIDATES).contains(&self.direct_candidates) {
+            return bad(format!(
+                "direct_candidates {} must be 1 to {MAX_DIRECT_CANDIDATES}",
+                self.direct_candidates
+            ));
+        }
+        if self.max_ray_distance.is_nan() || self.max_ray_distance <= 0.0 {
+            return bad(format!(
+                "max_ray_distance {} must be positive (infinite allowed)",
+                self.max_ray_distance
+            ));
+        }
+        Ok(())
+    }
+
+    /// Bytes of GPU memory the cache holds at this capacity (table, active list, new
+    /// samples, control), excluding the 80-byte parameters.
+    pub fn memory_bytes(&self) -> u64 {
+        let slots = self.capacity as u64;
+        slots * (4 + 4 + size_of::<GpuCacheCell>() as u64 + 4 + size_of::<GpuNewSample>() as u64)
+            + CONTROL_HEADER_BYTES
+            + slots / 1024 * 4
+            + 16
+    }
+}
+
+/// `WorldCacheParams::flags` bits.
+pub(crate) mod flags {
+    pub const JITTER: u32 = 1;
+    pub const LEAK_RULE: u32 = 2;
+}
+
+/// The uniform every cache pass reads (WGSL `WorldCacheParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuCacheParams {
+    /// Camera position (level of detail is by distance from it).
+    pub view_position: [f32; 3],
+    /// Frame index (random seeds).
+    pub frame: u32,
+    /// See [`crate::hash::CellGrid`].
+    pub cell_size: f32,
+    /// See [`crate::hash::CellGrid`].
+    pub inv_cell_size: f32,
+    /// See [`crate::hash::CellGrid`].
+    pub inv_lod_distance: f32,
+    /// Table size minus one.
+    pub mask: u32,
+    /// [`WorldCacheSettings::lifetime`].
+    pub lifetime: u32,
+    /// [`WorldCacheSettings::max_search_steps`].
+    pub max_search_steps: u32,
+    /// Jitter and leak-rule bits.
+    pub flags: u32,
+    /// [`WorldCacheSettings::update_budget`].
+    pub update_budget: u32,
+    /// [`WorldCacheSettings::max_temporal_samples`].
+    pub max_temporal_samples: f32,
+    /// [`WorldCacheSettings::max_ray_distance`].
+    pub max_ray_distance: f32,
+    /// [`WorldCacheSettings::direct_candidates`].
+    pub direct_candidates: u32,
+    /// Lights in the light list (0: no direct-light sample).
+    pub light_count: u32,
+    /// Light tiles.
+    pub tile_count: u32,
+    /// Samples per light tile.
+    pub samples_per_tile: u32,
+    /// Image width for the pixel passes.
+    pub width: u32,
+    /// Image height for the pixel passes.
+    pub height: u32,
+}
+
+/// One table slot's contents (WGSL `CacheCell`), as [`crate::WorldCache::read_cells`]
+/// returns them.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuCacheCell {
+    /// The surface point that created the cell (where its rays start).
+    pub position: [f32; 3],
+    /// Its normal, octahedral 16 + 16 bits (`packing::pack_unit_vector`).
+    pub normal: u32,
+    /// Irradiance over π (cosine-weighted mean incident radiance) from everything, rgb; w:
+    /// samples averaged so far.
+    pub irradiance: [f32; 4],
+    /// The part of `irradiance` not from the light list (light arriving after at least one
+    /// bounce, and the environment), rgb; w: running luminance change for the adaptive
+    /// blend.
+    pub indirect: [f32; 4],
+}
+
+/// A cell's new sample between the update and blend passes (WGSL `NewSample`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuNewSample {
+    /// Direct-light estimate, rgb.
+    pub direct: [f32; 3],
+    /// 1 when the cell was updated this frame, 0 when skipped.
+    pub updated: u32,
+    /// Indirect estimate, rgb.
+    pub indirect: [f32; 3],
+    /// Padding.
+    pub _pad: u32,
+}
+
+/// Bytes before the per-block counts in the control buffer (WGSL `CacheControl`).
+pub const CONTROL_HEADER_BYTES: u64 = 16;

@@ -1,0 +1,306 @@
+//! The cache's table on the GPU (lavapipe in CI) against its Rust twin: addressing bit for
+//! bit, probing and insertion under concurrency, a full table, and compaction against a CPU
+//! prefix sum on random occupancy.
+
+use bytemuck::{Pod, Zeroable};
+use rand::{Rng as _, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_lights::LightTileSettings;
+use solari_scene::gpu::{Gpu, ShaderChecks, test_gpu};
+use solari_scene::gpu_scene::TraceVariant;
+use solari_scene::shaders::compose;
+use solari_worldcache::hash::{CellGrid, EMPTY_CHECKSUM, probe_sequence};
+use solari_worldcache::{GpuCacheCell, WorldCache, WorldCacheSettings};
+use std::collections::{HashMap, HashSet};
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct FindCase {
+    position: [f32; 3],
+    ray_length: f32,
+    normal: [f32; 3],
+    _pad: u32,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable, PartialEq)]
+struct FindResult {
+    key: u32,
+    checksum: u32,
+    level: u32,
+    slot: u32,
+}
+
+const NONE: u32 = u32::MAX;
+const VIEW: [f32; 3] = [1.5, -2.0, 3.25];
+
+fn cache(gpu: &Gpu, settings: WorldCacheSettings) -> WorldCache {
+    let backend = gpu.backend(Default::default()).unwrap();
+    let mut c = WorldCache::new(
+        gpu,
+        backend,
+        TraceVariant::General,
+        settings,
+        LightTileSettings::default(),
+    )
+    .expect("world cache");
+    c.prepare(gpu, 0, VIEW, 0, (1, 1));
+    c
+}
+
+// Runs the find kernel over `cases` against `cache`'s table.
+fn find(gpu: &Gpu, cache: &WorldCache, cases: &[FindCase]) -> Vec<FindResult> {
+    let backend = gpu.backend(Default::default()).unwrap();
+    let kernel = include_str!("shaders/world_cache_find_test.wesl");
+    let mut modules = solari_worldcache::modules();
+    modules.push(("world_cache_find_test", kernel));
+    let wgsl = compose("world_cache_find_test", backend, &modules).expect("compose");
+    let rw = wgpu::BufferBindingType::Storage { read_only: false };
+    let io = gpu.buffer_layout(
+        "find_test",
+        &[wgpu::BufferBindingType::Storage { read_only: true }, rw],
+    );
+    let (empty_layout, empty) = gpu.empty_group();
+    let pipeline = gpu
+        .compute_pipeline(
+            "find_test",
+            &wgsl,
+            &[
+                Some(&io),
+                Some(&empty_layout),
+                Some(cache.bind_group_layout()),
+            ],
+            ShaderChecks::All,
+            &[],
+        )
+        .expect("pipeline");
+    gpu.run_cases(
+        "find_test",
+        &pipeline,
+        &io,
+        &[None, Some(&empty), Some(cache.bind_group())],
+        cases,
+    )
+    .expect("run")
+}
+
+fn random_unit(rng: &mut Pcg32) -> [f32; 3] {
+    loop {
+        let v: [f32; 3] = std::array::from_fn(|_| rng.random_range(-1.0f32..1.0));
+        let l = v.iter().map(|x| x * x).sum::<f32>().sqrt();
+        if l > 0.1 && l <= 1.0 {
+            return v.map(|x| x / l);
+        }
+    }
+}
+
+fn random_case(rng: &mut Pcg32, extent: f32) -> FindCase {
+    FindCase {
+        position: std::array::from_fn(|_| rng.random_range(-extent..extent)),
+        ray_length: if rng.random_bool(0.3) {
+            f32::INFINITY
+        } else {
+            rng.random_range(0.01f32..4.0)
+        },
+        normal: random_unit(rng),
+        _pad: 0,
+    }
+}
+
+fn grid(s: &WorldCacheSettings) -> CellGrid {
+    CellGrid::new(s.cell_size, s.lod_distance, s.capacity)
+}
+
+#[test]
+fn gpu_addressing_matches_the_rust_twin() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut rng = Pcg32::seed_from_u64(5);
+    for (cell_size, lod) in [(0.25f32, 10.0f32), (0.07, 1.5), (1.0, f32::INFINITY)] {
+        let s = WorldCacheSettings {
+            capacity: 1 << 16,
+            cell_size,
+            lod_distance: lod,
+            max_search_steps: 64,
+            ..Default::default()
+        };
+        let c = cache(&gpu, s);
+        let cases: Vec<FindCase> = (0..4096).map(|_| random_case(&mut rng, 200.0)).collect();
+        let out = find(&gpu, &c, &cases);
+        let g = grid(&s);
+        let mut levels = HashSet::new();
+        for (case, r) in cases.iter().zip(&out) {
+            let cpu = g.cell(case.position, case.normal, VIEW, case.ray_length);
+            assert_eq!(
+                (r.key, r.checksum, r.level),
+                (cpu.key, cpu.checksum, cpu.level),
+                "cell {cell_size} lod {lod}: {case:?}"
+            );
+            levels.insert(r.level);
+        }
+        eprintln!("cell {cell_size}, lod {lod}: 4096 cases agree, levels {levels:?}");
+        if lod.is_finite() {
+            assert!(levels.len() >= 3, "the cases should span several levels");
+        }
+    }
+}
+
+#[test]
+fn concurrent_insertion_finds_each_cell_once_within_its_probe_run() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut rng = Pcg32::seed_from_u64(9);
+    let s = WorldCacheSettings {
+        capacity: 1024,
+        max_search_steps: 64,
+        ..Default::default()
+    };
+    let c = cache(&gpu, s);
+    // 600 distinct surface points, each queried 1 to 4 times in the same dispatch.
+    let points: Vec<FindCase> = (0..600)
+        .map(|_| FindCase {
+            ray_length: f32::INFINITY,
+            ..random_case(&mut rng, 30.0)
+        })
+        .collect();
+    let mut cases = Vec::new();
+    for p in &points {
+        for _ in 0..rng.random_range(1..=4) {
+            cases.push(*p);
+        }
+    }
+    // Shuffle so copies of a cell race each other in different workgroups.
+    for i in (1..cases.len()).rev() {
+        cases.swap(i, rng.random_range(0..=i));
+    }
+    let out = find(&gpu, &c, &cases);
+    let slots = c.read_cells(&gpu).unwrap();
+    let mut slot_of: HashMap<u32, u32> = HashMap::new();
+    for (case, r) in cases.iter().zip(&out) {
+        assert_ne!(r.slot, NONE, "no overflow below capacity");
+        let first = *slot_of.entry(r.checksum).or_insert(r.slot);
+        assert_eq!(first, r.slot, "every query of one cell gets one slot");
+        let cell = grid(&s).cell(case.position, case.normal, VIEW, f32::INFINITY);
+        assert!(
+            probe_sequence(cell, s.capacity - 1, s.max_search_steps).any(|k| k == r.slot),
+            "slot {} outside the probe run from key {}",
+            r.slot,
+            cell.key
+        );
+        let (checksum, life, geometry) = slots[r.slot as usize];
+        assert_eq!(checksum, r.checksum);
+        assert_eq!(life, s.lifetime, "a pixel query gives the full lifetime");
+        assert!(geometry.position.iter().all(|x| x.is_finite()));
+    }
+    let occupied = slots.iter().filter(|s| s.0 != EMPTY_CHECKSUM).count();
+    assert_eq!(occupied, slot_of.len(), "one slot per distinct cell");
+    assert_eq!(c.read_stats(&gpu).unwrap().overflows, 0);
+    eprintln!(
+        "{} queries of {} cells: {occupied} slots, none duplicated",
+        cases.len(),
+        slot_of.len()
+    );
+}
+
+#[test]
+fn a_full_table_returns_nothing_and_leaves_other_cells_alone() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut rng = Pcg32::seed_from_u64(13);
+    let s = WorldCacheSettings {
+        capacity: 1024,
+        max_search_steps: 4,
+        ..Default::default()
+    };
+    let c = cache(&gpu, s);
+    // Fill part of the table and give every cell a recognisable light value.
+    let first: Vec<FindCase> = (0..400).map(|_| random_case(&mut rng, 50.0)).collect();
+    find(&gpu, &c, &first);
+    let mut slots = c.read_cells(&gpu).unwrap();
+    for (i, slot) in slots.iter_mut().enumerate() {
+        if slot.0 != EMPTY_CHECKSUM {
+            slot.2.irradiance = [i as f32, 1.0, 2.0, 3.0];
+        }
+    }
+    c.write_cells(&gpu, &slots).unwrap();
+    // The counter runs until the next decay: what the flood adds is the difference.
+    let before = c.read_stats(&gpu).unwrap().overflows;
+    // Then far more new cells than the table holds.
+    let flood: Vec<FindCase> = (0..5000).map(|_| random_case(&mut rng, 500.0)).collect();
+    let out = find(&gpu, &c, &flood);
+    let after = c.read_cells(&gpu).unwrap();
+    let failed = out.iter().filter(|r| r.slot == NONE).count();
+    let overflows = c.read_stats(&gpu).unwrap().overflows - before;
+    eprintln!(
+        "5000 new cells into 1024 slots: {failed} lookups failed, {overflows} overflows counted"
+    );
+    assert!(failed > 3000, "the table cannot hold them: {failed} failed");
+    assert_eq!(overflows as usize, failed, "every failure is counted");
+    for (i, (before, now)) in slots.iter().zip(&after).enumerate() {
+        if before.0 != EMPTY_CHECKSUM {
+            assert_eq!(before, now, "slot {i} holding an earlier cell changed");
+        }
+    }
+    for r in out.iter().filter(|r| r.slot != NONE) {
+        assert_eq!(after[r.slot as usize].0, r.checksum);
+    }
+}
+
+#[test]
+fn compaction_equals_a_cpu_prefix_sum_on_random_occupancy() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut rng = Pcg32::seed_from_u64(21);
+    for (capacity, fill) in [
+        (1024u32, 0.5f64),
+        (1 << 16, 0.03),
+        (1 << 16, 0.97),
+        (1 << 20, 0.2),
+    ] {
+        let s = WorldCacheSettings {
+            capacity,
+            ..Default::default()
+        };
+        let c = cache(&gpu, s);
+        let slots: Vec<(u32, u32, GpuCacheCell)> = (0..capacity)
+            .map(|i| {
+                if rng.random_bool(fill) {
+                    let cell = GpuCacheCell {
+                        irradiance: [1.0, 2.0, 3.0, 4.0],
+                        ..Default::default()
+                    };
+                    (i | 1, rng.random_range(1..4), cell)
+                } else {
+                    (0, 0, GpuCacheCell::default())
+                }
+            })
+            .collect();
+        c.write_cells(&gpu, &slots).unwrap();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        c.encode_maintain(&mut encoder, None);
+        gpu.queue.submit([encoder.finish()]);
+        let active = c.read_active(&gpu).unwrap();
+        // Decay first: a cell with one frame left dies and is not listed.
+        let expected: Vec<u32> = (0..capacity).filter(|&i| slots[i as usize].1 > 1).collect();
+        assert_eq!(active.len(), expected.len(), "capacity {capacity}");
+        assert_eq!(
+            active, expected,
+            "capacity {capacity}: dense list in slot order"
+        );
+        let after = c.read_cells(&gpu).unwrap();
+        for (i, (before, now)) in slots.iter().zip(&after).enumerate() {
+            match before.1 {
+                0 => assert_eq!(now.1, 0),
+                1 => {
+                    assert_eq!(
+                        (now.0, now.1),
+                        (EMPTY_CHECKSUM, 0),
+                        "slot {i} should be freed"
+                    );
+                    assert_eq!(now.2.irradiance, [0.0; 4]);
+                }
+                l => assert_eq!((now.0, now.1), (before.0, l - 1), "slot {i}"),
+            }
+        }
+        eprintln!(
+            "capacity {capacity}, fill {fill}: {} live cells listed",
+            active.len()
+        );
+    }
+}
