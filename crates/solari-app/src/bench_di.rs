@@ -25,7 +25,7 @@ struct Row {
 
 /// RMSE and relative MSE as `solari compare` defines them (FLIP is left to `compare`: at
 /// 1080p it would cost seconds per setting).
-fn errors(test: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
+pub(crate) fn errors(test: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
     let (mut se, mut rel) = (0.0, 0.0);
     for (t, r) in test.iter().zip(reference) {
         for c in 0..3 {
@@ -38,7 +38,7 @@ fn errors(test: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
     ((se / n).sqrt(), rel / n)
 }
 
-fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>, String> {
+pub(crate) fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>, String> {
     s.split(',')
         .map(|v| {
             v.trim()

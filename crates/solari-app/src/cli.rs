@@ -28,6 +28,9 @@ pub enum Command {
     /// Time the real-time passes and sweep ReSTIR DI candidates and light-tile settings
     /// against error (CSV).
     BenchDi(BenchDiArgs),
+    /// World-cache upkeep times, live cells and memory, and cache-only GI's error against a
+    /// full-bounce reference, over cell sizes and update budgets (CSV rows).
+    BenchCache(BenchCacheArgs),
 }
 
 /// A loaded scene on the device, ready to render.
@@ -82,12 +85,27 @@ pub struct RenderArgs {
     /// Real-time mode: light tiles as TILESxSAMPLES.
     #[arg(long, default_value = "128x1024")]
     pub tiles: String,
+    /// Real-time mode: indirect light, off or cache (albedo × the world cache's indirect
+    /// irradiance, added to ReSTIR DI).
+    #[arg(long, default_value = "off")]
+    pub gi: String,
+    /// Real-time mode: world-cache cell size at the finest level, in scene units.
+    #[arg(long, default_value_t = 0.25)]
+    pub cache_cell_size: f32,
+    /// Real-time mode: world-cache cells updated per frame before updates turn stochastic.
+    #[arg(long, default_value_t = 40_000)]
+    pub cache_budget: u32,
+    /// Real-time mode: world-cache table slots (a power of two, 1024 to 2097152).
+    #[arg(long, default_value_t = 1 << 18)]
+    pub cache_capacity: u32,
     /// Real-time mode: write each frame's pass report (passes run, GPU ms) as JSON lines.
     #[arg(long)]
     pub report: Option<PathBuf>,
-    /// Debug view: albedo, normal, depth or instance.
-    #[arg(long, default_value = "albedo")]
-    pub view: String,
+    /// What to show. Debug mode: albedo (default), normal, depth or instance. Real-time
+    /// mode: lit (default) or world-cache (each pixel shows its world-cache cell's
+    /// irradiance, tinted per cell).
+    #[arg(long)]
+    pub view: Option<String>,
     /// Reference mode: paths per pixel.
     #[arg(long, default_value_t = 64)]
     pub spp: u32,
@@ -173,6 +191,38 @@ pub struct BenchArgs {
     /// JSON lines instead of a table.
     #[arg(long)]
     pub json: bool,
+}
+
+#[derive(Args)]
+pub struct BenchCacheArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080")]
+    pub size: String,
+    /// Frames per setting (static camera).
+    #[arg(long, default_value_t = 300)]
+    pub frames: u32,
+    /// Leading frames per setting left out of timings and the error of the mean (the cache
+    /// needs a few hundred frames to gather its bounces).
+    #[arg(long, default_value_t = 200)]
+    pub warmup: u32,
+    /// Finest cell sizes to sweep (comma separated, scene units).
+    #[arg(long, default_value = "0.25")]
+    pub cell_sizes: String,
+    /// Update budgets to sweep (comma separated, cells per frame).
+    #[arg(long, default_value = "40000")]
+    pub budgets: String,
+    /// Table slots (a power of two).
+    #[arg(long, default_value_t = 1 << 20)]
+    pub capacity: u32,
+    /// Full-bounce reference (EXR from `render --mode reference --pixel-centre`) for the
+    /// error columns.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Also write the rows to this CSV file.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
 }
 
 #[derive(Args)]

@@ -11,6 +11,7 @@
 //! With no SCENE the built-in Cornell box is used.
 
 mod bench;
+mod bench_cache;
 mod bench_di;
 mod cli;
 mod compare;
@@ -29,6 +30,7 @@ fn main() {
         cli::Command::BenchRays(a) => bench::run(&a),
         cli::Command::Compare(a) => compare::run(&a),
         cli::Command::BenchDi(a) => bench_di::run(&a),
+        cli::Command::BenchCache(a) => bench_cache::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

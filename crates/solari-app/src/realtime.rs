@@ -1,8 +1,10 @@
-//! The real-time renderer: G-buffer → light tiles → ReSTIR DI, one frame per call, with a
-//! report of which passes ran and their GPU times.
+//! The real-time renderer: G-buffer → light tiles → world cache upkeep → ReSTIR DI →
+//! cache-only GI, one frame per call, with a report of which passes ran and their GPU times.
 //!
-//! Passes a scene does not need are skipped: with no lights, neither the light tiles nor
-//! ReSTIR DI run, and the frame shows emission only (pass `emission_only`).
+//! Passes a frame does not need are skipped: with no lights, neither the light tiles nor
+//! ReSTIR DI run, and the frame shows emission only (pass `emission_only`); without
+//! [`GiMode::WorldCache`] (and outside [`FrameView::WorldCache`]) the world cache neither
+//! runs nor holds memory.
 
 use glam::{Mat4, Vec3};
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
@@ -12,17 +14,70 @@ use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
+use solari_worldcache::{CacheStats, WorldCache, WorldCacheSettings};
 use wgpu_profiler::{GpuProfiler, GpuProfilerSettings};
 
-/// Pass names as [`FrameReport`] lists them, in frame order (the last three are
-/// [`solari_restir::PASS_LABELS`]).
-pub const PASS_NAMES: [&str; 5] = [
+use solari_worldcache::PASS_LABELS as CACHE;
+
+/// Pass names as [`FrameReport`] lists them, in frame order: the G-buffer, light tiles, the
+/// world cache's upkeep ([`solari_worldcache::PASS_LABELS`]), ReSTIR DI
+/// ([`solari_restir::PASS_LABELS`]), then cache-only GI or the cache view.
+pub const PASS_NAMES: [&str; 11] = [
     "gbuffer",
     "light_tiles",
+    CACHE[0],
+    CACHE[1],
+    CACHE[2],
+    CACHE[3],
     PASS_LABELS[0],
     PASS_LABELS[1],
     PASS_LABELS[2],
+    CACHE[4],
+    CACHE[5],
 ];
+
+/// Indirect light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum GiMode {
+    /// Direct light only (ReSTIR DI).
+    #[default]
+    Off,
+    /// ReSTIR DI plus albedo × the world cache's indirect irradiance at each pixel: the
+    /// cheapest GI tier (blocky where cells are large; no glossy indirect light).
+    WorldCache,
+}
+
+impl GiMode {
+    /// Parses `off` or `cache`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "off" | "none" => Some(Self::Off),
+            "cache" | "world-cache" => Some(Self::WorldCache),
+            _ => None,
+        }
+    }
+}
+
+/// What the frame's output shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FrameView {
+    /// The lit image.
+    #[default]
+    Lit,
+    /// The world cache's cells: each pixel shows its cell's irradiance, tinted per cell.
+    WorldCache,
+}
+
+impl FrameView {
+    /// Parses `lit` or `world-cache`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "lit" => Some(Self::Lit),
+            "world-cache" => Some(Self::WorldCache),
+            _ => None,
+        }
+    }
+}
 
 /// What the renderer does each frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,6 +88,12 @@ pub struct RealtimeSettings {
     pub di: RestirDiSettings,
     /// Light selection for tile samples (power-proportional by default).
     pub selection: Selection,
+    /// Indirect light (default off).
+    pub gi: GiMode,
+    /// The world cache's knobs (used with [`GiMode::WorldCache`] or [`FrameView::WorldCache`]).
+    pub cache: WorldCacheSettings,
+    /// What the output shows (default the lit image).
+    pub view: FrameView,
     /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
     /// without them times are `None`). Waits for each frame to finish.
     pub timestamps: bool,
@@ -44,6 +105,9 @@ impl Default for RealtimeSettings {
             tiles: LightTileSettings::default(),
             di: RestirDiSettings::default(),
             selection: Selection::Power,
+            gi: GiMode::Off,
+            cache: WorldCacheSettings::default(),
+            view: FrameView::Lit,
             timestamps: false,
         }
     }
@@ -90,6 +154,9 @@ pub struct RealtimeRenderer {
     gbuffer: GBuffer,
     tiles: LightTiles,
     di: RestirDi,
+    // The world cache and its pixel passes' target (ReSTIR DI's output), when GI or the
+    // cache view is on.
+    cache: Option<(WorldCache, wgpu::BindGroup)>,
     list: LightList,
     lights: GpuLights,
     lights_group: wgpu::BindGroup,
@@ -123,6 +190,19 @@ impl RealtimeRenderer {
         let list = LightList::build(scene);
         let lights = GpuLights::new(gpu, &list, settings.selection)?;
         let lights_group = tiles.reader_group(gpu, &lights);
+        let cache = if settings.gi == GiMode::WorldCache || settings.view == FrameView::WorldCache {
+            let cache = WorldCache::new(
+                gpu,
+                backend,
+                TraceVariant::for_scene(gpu_scene),
+                settings.cache,
+                settings.tiles,
+            )?;
+            let target = cache.target_group(gpu, di.output());
+            Some((cache, target))
+        } else {
+            None
+        };
         let profiler = if settings.timestamps {
             Some(
                 GpuProfiler::new(&gpu.device, GpuProfilerSettings::default())
@@ -136,6 +216,7 @@ impl RealtimeRenderer {
             gbuffer,
             tiles,
             di,
+            cache,
             list,
             lights,
             lights_group,
@@ -168,6 +249,17 @@ impl RealtimeRenderer {
         Ok(())
     }
 
+    /// The world cache, when the settings use it.
+    pub fn world_cache(&self) -> Option<&WorldCache> {
+        self.cache.as_ref().map(|(c, _)| c)
+    }
+
+    /// The world cache's counters for the last frame (`None` without a cache). Blocks until
+    /// the GPU is done.
+    pub fn cache_stats(&self, gpu: &Gpu) -> Result<Option<CacheStats>, GpuError> {
+        self.world_cache().map(|c| c.read_stats(gpu)).transpose()
+    }
+
     /// Renders one frame of `scene` (as uploaded in `gpu_scene`) from `camera`.
     pub fn render(
         &mut self,
@@ -183,6 +275,10 @@ impl RealtimeRenderer {
         self.tiles.prepare(gpu, frame);
         self.di
             .prepare(gpu, frame, self.gbuffer.history_valid(), light_count)?;
+        if let Some((cache, _)) = &mut self.cache {
+            let eye = camera.transform.w_axis.truncate().to_array();
+            cache.prepare(gpu, frame, eye, light_count, self.di.size());
+        }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let mut ran = [false; PASS_NAMES.len()];
         let profiler = self.profiler.as_ref();
@@ -195,6 +291,10 @@ impl RealtimeRenderer {
                 self.tiles.encode(e, &self.lights)
             });
         }
+        if let Some((cache, _)) = &self.cache {
+            cache.encode(&mut encoder, profiler, gpu_scene, &self.lights_group);
+            ran[2..6].fill(true);
+        }
         let passes = self.di.encode(
             &mut encoder,
             profiler,
@@ -205,10 +305,19 @@ impl RealtimeRenderer {
         );
         match passes {
             DiPasses::Full => {
-                ran[2] = true;
-                ran[3] = true;
+                ran[6] = true;
+                ran[7] = true;
             }
-            DiPasses::EmissionOnly => ran[4] = true,
+            DiPasses::EmissionOnly => ran[8] = true,
+        }
+        if let Some((cache, target)) = &self.cache {
+            if self.settings.view == FrameView::WorldCache {
+                cache.encode_view(&mut encoder, profiler, &self.gbuffer, target);
+                ran[10] = true;
+            } else if self.settings.gi == GiMode::WorldCache {
+                cache.encode_gi(&mut encoder, profiler, &self.gbuffer, target);
+                ran[9] = true;
+            }
         }
         if let Some(p) = &mut self.profiler {
             p.resolve_queries(&mut encoder);

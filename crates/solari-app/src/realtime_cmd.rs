@@ -5,10 +5,11 @@ use crate::cli::{Prepared, RenderArgs, parse_size};
 use indicatif::{ProgressBar, ProgressStyle};
 use solari_app::image_io;
 use solari_app::realtime::{
-    CameraPath, FrameReport, PASS_NAMES, RealtimeRenderer, RealtimeSettings,
+    CameraPath, FrameReport, FrameView, GiMode, PASS_NAMES, RealtimeRenderer, RealtimeSettings,
 };
 use solari_lights::{LightTileSettings, Selection};
 use solari_restir::RestirDiSettings;
+use solari_worldcache::WorldCacheSettings;
 use std::io::Write;
 use std::time::Instant;
 
@@ -35,6 +36,19 @@ pub fn settings(args: &RenderArgs) -> Result<RealtimeSettings, String> {
             ..Default::default()
         },
         selection,
+        gi: GiMode::parse(&args.gi)
+            .ok_or_else(|| format!("--gi {}: expected off or cache", args.gi))?,
+        cache: WorldCacheSettings {
+            cell_size: args.cache_cell_size,
+            update_budget: args.cache_budget,
+            capacity: args.cache_capacity,
+            ..Default::default()
+        },
+        view: match args.view.as_deref() {
+            None => FrameView::Lit,
+            Some(v) => FrameView::parse(v)
+                .ok_or_else(|| format!("--view {v}: real-time mode shows lit or world-cache"))?,
+        },
         timestamps: true,
     })
 }
@@ -105,6 +119,22 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         .unwrap_or_else(|| args.out.with_extension("exr"));
     image_io::write_exr(&exr, w, h, &rgb)?;
     image_io::write_png(&args.out, w, h, &rgb, args.exposure)?;
+    let cache = renderer.cache_stats(&gpu).map_err(|e| e.to_string())?;
+    let cache_memory = renderer.world_cache().map(|c| c.memory_bytes());
+    if let (Some(c), Some(bytes)) = (cache, cache_memory) {
+        log::info!(
+            "world cache: {} live cells, {} overflows in the last frame, {:.1} MiB",
+            c.active_cells,
+            c.overflows,
+            bytes as f64 / (1 << 20) as f64
+        );
+        if c.overflows > 0 {
+            log::warn!(
+                "world cache table full ({} lookups found no slot): raise --cache-capacity",
+                c.overflows
+            );
+        }
+    }
     let summary = summarise(&reports);
     let elapsed = start.elapsed().as_secs_f64();
     if args.json {
@@ -115,7 +145,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         let v = serde_json::json!({"scene": name, "mode": "realtime", "png": args.out, "exr": exr,
             "width": w, "height": h, "frames": args.frames, "camera_path": args.camera_path,
             "candidates": args.candidates, "tiles": args.tiles, "tracer": backend.name(),
-            "adapter": gpu.info.name, "passes": passes, "seconds": elapsed});
+            "adapter": gpu.info.name, "passes": passes, "seconds": elapsed, "gi": args.gi,
+            "cache_active_cells": cache.map(|c| c.active_cells),
+            "cache_overflows": cache.map(|c| c.overflows), "cache_bytes": cache_memory});
         println!("{v}");
     } else {
         println!(

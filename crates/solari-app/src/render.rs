@@ -180,10 +180,11 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
 
 fn run_debug(args: &RenderArgs) -> Result<(), String> {
     let start = Instant::now();
-    let view_kind = DebugView::parse(&args.view).ok_or_else(|| {
+    let view_name = args.view.as_deref().unwrap_or("albedo");
+    let view_kind = DebugView::parse(view_name).ok_or_else(|| {
         format!(
             "--view {}: expected albedo, normal, depth or instance",
-            args.view
+            view_name
         )
     })?;
     let (w, h) = parse_size(&args.size)?;
@@ -209,14 +210,14 @@ fn run_debug(args: &RenderArgs) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", args.out.display()))?;
     let elapsed = start.elapsed().as_secs_f64();
     if args.json {
-        let v = serde_json::json!({"scene": name, "out": args.out, "view": args.view, "width": w, "height": h,
+        let v = serde_json::json!({"scene": name, "out": args.out, "view": view_name, "width": w, "height": h,
             "tracer": backend.name(), "adapter": gpu.info.name, "camera": camera.name, "seconds": elapsed});
         println!("{v}");
     } else {
         println!(
             "wrote {} ({w}x{h}, {} view, {} tracer on {}) in {elapsed:.2} s",
             args.out.display(),
-            args.view,
+            view_name,
             backend.name(),
             gpu.info.name
         );
