@@ -138,3 +138,8 @@ pub fn modules() -> Vec<(&'static str, &'static str)> {
     ]
     .concat()
 }
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
