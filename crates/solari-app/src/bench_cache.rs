@@ -3,13 +3,10 @@
 //! upkeep pass and for the GI pass, live cells, overflows, memory, and RMSE / relative MSE of
 //! one frame and of the mean of the timed frames against a full-bounce reference.
 
-use crate::bench_di::{errors, parse_list};
+use crate::bench_io::{emit_csv, errors, frame_bar, load_reference, parse_list};
 use crate::cli::{BenchCacheArgs, Prepared, parse_size};
-use indicatif::{ProgressBar, ProgressStyle};
-use solari_app::image_io::read_linear;
 use solari_app::realtime::{GiMode, RealtimeRenderer, RealtimeSettings};
 use solari_worldcache::{PASS_LABELS, WorldCacheSettings};
-use std::io::Write;
 
 // Passes timed per row: the cache's upkeep, its GI pass, and ReSTIR DI for scale.
 const TIMED: [&str; 7] = [
@@ -29,19 +26,7 @@ pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
     if args.frames <= args.warmup {
         return Err("--frames must exceed --warmup".into());
     }
-    let reference = match &args.reference {
-        Some(p) => {
-            let (rw, rh, px) = read_linear(p)?;
-            if (rw, rh) != (w, h) {
-                return Err(format!(
-                    "{}: reference is {rw}x{rh}, the benchmark renders {w}x{h}",
-                    p.display()
-                ));
-            }
-            Some(px)
-        }
-        None => None,
-    };
+    let reference = load_reference(args.reference.as_ref(), w, h)?;
     let Prepared {
         name,
         scene,
@@ -55,11 +40,7 @@ pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
     for c in &cell_sizes {
         configs.extend(budgets.iter().map(|b| Some((*c, *b))));
     }
-    let bar = ProgressBar::new((configs.len() as u32 * args.frames) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} elapsed, ETA {eta}")
-            .map_err(|e| e.to_string())?,
-    );
+    let bar = frame_bar((configs.len() as u32 * args.frames) as u64, false)?;
     let header = "scene,width,height,tracer,adapter,gi,cell_size,budget,capacity,timed_frames,\
                   decay_ms,compact_ms,update_ms,blend_ms,gi_ms,di_initial_temporal_ms,\
                   di_spatial_shade_ms,cache_ms,live_cells,overflows,cache_mib,\
@@ -150,15 +131,6 @@ pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
         ));
     }
     bar.finish_and_clear();
-    if let Some(p) = &args.csv {
-        let mut f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        for l in &lines {
-            writeln!(f, "{l}").map_err(|e| e.to_string())?;
-        }
-        eprintln!("wrote {}", p.display());
-    }
-    for l in &lines {
-        println!("{l}");
-    }
+    emit_csv(&lines, args.csv.as_ref())?;
     Ok(())
 }

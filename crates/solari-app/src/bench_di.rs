@@ -2,13 +2,11 @@
 //! candidates and light-tile settings that records run time against error (a CSV row per
 //! setting; `cargo run -p solari-benches --bin plot-sweep` draws it).
 
+use crate::bench_io::{emit_csv, errors, frame_bar, load_reference, parse_list};
 use crate::cli::{BenchDiArgs, Prepared, parse_size};
-use indicatif::{ProgressBar, ProgressStyle};
-use solari_app::image_io::read_linear;
 use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_lights::LightTileSettings;
 use solari_restir::RestirDiSettings;
-use std::io::Write;
 
 /// One measured setting.
 struct Row {
@@ -21,31 +19,6 @@ struct Row {
     spatial_shade: f64,
     // (RMSE, relative MSE) of the last frame.
     error: Option<(f64, f64)>,
-}
-
-/// RMSE and relative MSE as `solari compare` defines them (FLIP is left to `compare`: at
-/// 1080p it would cost seconds per setting).
-pub(crate) fn errors(test: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
-    let (mut se, mut rel) = (0.0, 0.0);
-    for (t, r) in test.iter().zip(reference) {
-        for c in 0..3 {
-            let d = t[c] as f64 - r[c] as f64;
-            se += d * d;
-            rel += d * d / ((r[c] as f64).powi(2) + 0.01);
-        }
-    }
-    let n = (test.len() * 3).max(1) as f64;
-    ((se / n).sqrt(), rel / n)
-}
-
-pub(crate) fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>, String> {
-    s.split(',')
-        .map(|v| {
-            v.trim()
-                .parse()
-                .map_err(|_| format!("{what}: cannot read '{v}'"))
-        })
-        .collect()
 }
 
 pub fn run(args: &BenchDiArgs) -> Result<(), String> {
@@ -66,19 +39,7 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
     if args.frames <= args.warmup {
         return Err("--frames must exceed --warmup".into());
     }
-    let reference = match &args.reference {
-        Some(p) => {
-            let (rw, rh, px) = read_linear(p)?;
-            if (rw, rh) != (w, h) {
-                return Err(format!(
-                    "{}: reference is {rw}x{rh}, the benchmark renders {w}x{h}",
-                    p.display()
-                ));
-            }
-            Some(px)
-        }
-        None => None,
-    };
+    let reference = load_reference(args.reference.as_ref(), w, h)?;
     let Prepared {
         name,
         scene,
@@ -91,11 +52,7 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         .iter()
         .flat_map(|t| candidates.iter().map(move |c| (*c, *t)))
         .collect();
-    let bar = ProgressBar::new((configs.len() as u32 * args.frames) as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} elapsed, ETA {eta}")
-            .map_err(|e| e.to_string())?,
-    );
+    let bar = frame_bar((configs.len() as u32 * args.frames) as u64, false)?;
     let mut rows = Vec::new();
     for (c, t) in configs {
         let settings = RealtimeSettings {
@@ -168,15 +125,6 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
             r.light_tiles + r.initial_temporal + r.spatial_shade,
         ));
     }
-    if let Some(p) = &args.csv {
-        let mut f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
-        for l in &lines {
-            writeln!(f, "{l}").map_err(|e| e.to_string())?;
-        }
-        eprintln!("wrote {}", p.display());
-    }
-    for l in &lines {
-        println!("{l}");
-    }
+    emit_csv(&lines, args.csv.as_ref())?;
     Ok(())
 }

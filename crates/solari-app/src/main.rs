@@ -13,6 +13,7 @@
 mod bench;
 mod bench_cache;
 mod bench_di;
+mod bench_io;
 mod cli;
 mod compare;
 mod info;

@@ -1,8 +1,8 @@
 //! `solari render --mode realtime`: the frame loop on a fixed or scripted camera, a pass
 //! report per frame, and the last frame written as EXR + PNG.
 
+use crate::bench_io::frame_bar;
 use crate::cli::{Prepared, RenderArgs, parse_size};
-use indicatif::{ProgressBar, ProgressStyle};
 use solari_app::image_io;
 use solari_app::realtime::{
     CameraPath, FrameReport, FrameView, GiMode, PASS_NAMES, RealtimeRenderer, RealtimeSettings,
@@ -85,15 +85,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         )),
         None => None,
     };
-    let bar = if args.json {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(args.frames as u64)
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} frames  {elapsed} elapsed, ETA {eta}")
-            .map_err(|e| e.to_string())?,
-    );
+    let bar = frame_bar(args.frames as u64, args.json)?;
     let mut reports = Vec::with_capacity(args.frames as usize);
     for frame in 0..args.frames {
         let cam = path.camera(&camera, &scene, frame);
