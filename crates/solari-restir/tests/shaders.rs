@@ -4,51 +4,26 @@
 
 use solari_restir::{ENTRY_POINTS, GpuDiParams, GpuReservoir, MODULES, modules};
 use solari_scene::gbuffer::GpuFrameViews;
-use solari_scene::shaders::{Backend, StructLayout, compose, struct_layouts, validate};
+use solari_scene::shaders::{StructLayout, check_crate_shaders, check_layout};
 use std::collections::HashMap;
 use std::mem::offset_of;
 
-#[test]
-fn entry_points_compose_and_validate_for_both_backends() {
-    for (entry, _) in ENTRY_POINTS {
-        for backend in Backend::ALL {
-            let wgsl = compose(entry, backend, &modules()).expect("compose");
-            validate(entry, &wgsl).unwrap_or_else(|e| panic!("{entry} ({backend:?}): {e}"));
-        }
-    }
+fn layouts() -> HashMap<String, StructLayout> {
     let reader = include_str!("../../solari-scene/shaders/gbuffer_read.wesl");
-    for (name, source) in MODULES
-        .iter()
-        .chain(ENTRY_POINTS)
-        .chain(&[("gbuffer_read", reader)])
-    {
-        let missing = solari_scene::shaders::loops_without_bound(source);
-        assert!(
-            missing.is_empty(),
-            "{name}: loops without a bound at lines {missing:?}"
-        );
-    }
+    let own: Vec<_> = [MODULES, ENTRY_POINTS, &[("gbuffer_read", reader)]].concat();
+    check_crate_shaders(&own, ENTRY_POINTS, &modules()).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// (size, member → offset) of every named struct in the composed passes.
-fn layouts() -> HashMap<String, StructLayout> {
-    let mut out = HashMap::new();
-    for (entry, _) in ENTRY_POINTS {
-        let wgsl = compose(entry, Backend::Software, &modules()).unwrap();
-        out.extend(struct_layouts(&validate(entry, &wgsl).unwrap()).unwrap());
-    }
-    out
+#[test]
+fn entry_points_compose_and_validate_for_both_backends() {
+    layouts();
 }
 
 #[test]
 fn rust_mirrors_match_naga_layouts() {
     let l = layouts();
     let check = |wgsl: &str, size: usize, fields: &[(&str, usize)]| {
-        let (wgsl_size, offsets) = l.get(wgsl).unwrap_or_else(|| panic!("no WGSL {wgsl}"));
-        assert_eq!(*wgsl_size as usize, size, "size of {wgsl}");
-        for (name, offset) in fields {
-            assert_eq!(offsets[*name] as usize, *offset, "{wgsl}.{name}");
-        }
+        check_layout(&l, wgsl, size, fields).unwrap_or_else(|e| panic!("{e}"))
     };
     check(
         "Reservoir",

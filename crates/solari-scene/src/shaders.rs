@@ -167,3 +167,55 @@ pub fn struct_layouts(
     }
     Ok(out)
 }
+
+/// What each crate's shader test checks, in one call: every entry of `entries` composes
+/// (with `modules`) and validates for both backends, every loop in `own` (the crate's
+/// modules and entries) carries its `// bound:` note, and the software variants' struct
+/// layouts come back for [`check_layout`].
+pub fn check_crate_shaders(
+    own: &[(&str, &str)],
+    entries: &[(&str, &str)],
+    modules: &[(&str, &str)],
+) -> Result<std::collections::HashMap<String, StructLayout>, GpuError> {
+    for (name, source) in own {
+        let missing = loops_without_bound(source);
+        if !missing.is_empty() {
+            return Err(GpuError::Validation(format!(
+                "{name}: loops without a `// bound:` note at lines {missing:?}"
+            )));
+        }
+    }
+    let mut layouts = std::collections::HashMap::new();
+    for (entry, _) in entries {
+        for backend in Backend::ALL {
+            let module = validate(entry, &compose(entry, backend, modules)?)?;
+            if backend == Backend::Software {
+                layouts.extend(struct_layouts(&module)?);
+            }
+        }
+    }
+    Ok(layouts)
+}
+
+/// Checks a Rust mirror against naga's layout of the WGSL struct `wgsl`: its size and the
+/// offsets of the named members. The error says which differs.
+pub fn check_layout(
+    layouts: &std::collections::HashMap<String, StructLayout>,
+    wgsl: &str,
+    size: usize,
+    fields: &[(&str, usize)],
+) -> Result<(), String> {
+    let (wgsl_size, offsets) = layouts.get(wgsl).ok_or(format!("no WGSL struct {wgsl}"))?;
+    if *wgsl_size as usize != size {
+        return Err(format!("size of {wgsl}: WGSL {wgsl_size}, Rust {size}"));
+    }
+    for (name, offset) in fields {
+        let got = offsets
+            .get(*name)
+            .ok_or(format!("{wgsl} has no member {name}"))?;
+        if *got as usize != *offset {
+            return Err(format!("{wgsl}.{name}: WGSL offset {got}, Rust {offset}"));
+        }
+    }
+    Ok(())
+}

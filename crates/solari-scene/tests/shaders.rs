@@ -38,3 +38,17 @@ fn every_shader_loop_states_its_bound() {
         );
     }
 }
+
+#[test]
+fn crate_shader_check_refuses_an_unbounded_loop_and_a_wrong_layout() {
+    let own = [("bad", "fn f() {\n    for (var i = 0u; i < 4u; i++) {}\n}\n")];
+    let err = solari_scene::shaders::check_crate_shaders(&own, &[], &[]).unwrap_err();
+    assert!(err.to_string().contains("bad"), "{err}");
+    let mut layouts = std::collections::HashMap::new();
+    layouts.insert("S".to_string(), (8u32, [("b".to_string(), 4u32)].into()));
+    let check = solari_scene::shaders::check_layout;
+    assert!(check(&layouts, "S", 8, &[("b", 4)]).is_ok());
+    assert!(check(&layouts, "S", 12, &[("b", 4)]).is_err());
+    assert!(check(&layouts, "S", 8, &[("b", 0)]).is_err());
+    assert!(check(&layouts, "T", 8, &[]).is_err());
+}

@@ -27,8 +27,8 @@
 //!   Wellons' lowbias32 for the checksum); **linear probing** for at most
 //!   [`WorldCacheSettings::max_search_steps`] slots; **insertion by compare-exchange** of the
 //!   empty checksum, after which the creator records the cell's position and normal.
-//! - **Jitter** ([`WorldCacheSettings::jitter`]): pixel queries move up to half a cell in the
-//!   tangent plane.
+//! - **Jitter** ([`WorldCacheSettings::jitter`]): lookups from the GI pass and from cell
+//!   updates move up to half a cell in the tangent plane (the debug view's do not).
 //! - **Light-leak rule** ([`WorldCacheSettings::leak_rule`]): a query at the end of a ray
 //!   shorter than its cell uses the finest level.
 //! - **Full table**: a lookup that finds only other cells returns nothing (zero light) and

@@ -48,9 +48,10 @@ pub struct WorldCacheSettings {
     /// it counts as escaping to the environment, so scenes larger than this may see
     /// environment light through distant walls.
     pub max_ray_distance: f32,
-    /// Jitter pixel queries within the surface's tangent plane by up to half a cell
-    /// (default on): blurs the cell grid's blocks into noise the image's accumulation
-    /// averages away.
+    /// Jitter lookups within the surface's tangent plane by up to half a cell (default on):
+    /// the GI pass's pixel lookups and the update's cell-to-cell lookups (not the debug
+    /// view's). Blurs the cell grid's blocks into noise that accumulation averages away, at
+    /// the price of some light leaking across cell borders.
     pub jitter: bool,
     /// Use the finest level when the query ray is shorter than the cell it would land in
     /// (Solari 0.19's light-leak rule; default on): a short ray ends near a corner, where a
