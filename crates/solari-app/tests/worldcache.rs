@@ -497,3 +497,33 @@ fn ten_thousand_frames_in_the_white_furnace_stay_finite_and_bounded() {
     let drift = means.last().unwrap().0 - means[1].0;
     assert!(drift.abs() < 0.01, "drift {drift}");
 }
+
+#[test]
+fn absurd_light_keeps_the_cache_finite() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut scene = default_scene::cornell_box();
+    for m in scene.materials.iter_mut().filter(|m| m.is_emissive()) {
+        m.emissive = Vec3::splat(1e30);
+    }
+    let (_, mut s) = setup(&gpu, &scene, 32, settings(1 << 14));
+    run(&gpu, &scene, &mut s, 60);
+    let cells = s.renderer.world_cache().unwrap().read_cells(&gpu).unwrap();
+    let live = cells.iter().filter(|(_, life, _)| *life > 0).count();
+    let finite = |c: &GpuCacheCell| {
+        c.irradiance
+            .iter()
+            .chain(&c.indirect)
+            .all(|x| x.is_finite())
+    };
+    assert!(live > 100);
+    assert!(
+        cells.iter().all(|(_, _, c)| finite(c)),
+        "a cell went non-finite"
+    );
+    let out = s.renderer.read_output(&gpu).unwrap();
+    assert!(
+        out.iter().flatten().all(|x| x.is_finite()),
+        "a pixel went non-finite"
+    );
+    eprintln!("cornell 32x32 with 1e30 emission: {live} live cells, all finite");
+}
