@@ -34,6 +34,7 @@ pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
         gpu,
         backend,
         gpu_scene,
+        ..
     } = args.scene.prepare()?;
     // None: the direct-light-only baseline.
     let mut configs: Vec<Option<(f32, u32)>> = vec![None];

@@ -47,6 +47,7 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         gpu,
         backend,
         gpu_scene,
+        ..
     } = args.scene.prepare()?;
     let configs: Vec<(u32, LightTileSettings)> = tiles
         .iter()

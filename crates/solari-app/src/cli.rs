@@ -1,6 +1,7 @@
 //! Command-line arguments, and the scene/device setup every command shares.
 
 use clap::{Args, Parser, Subcommand};
+use solari_denoise::DlssAvailability;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
@@ -47,6 +48,8 @@ pub struct Prepared {
     pub backend: Backend,
     /// The uploaded scene.
     pub gpu_scene: GpuScene,
+    /// Whether DLSS-RR can run on this device, and if not why.
+    pub dlss: DlssAvailability,
 }
 
 /// Options shared by every command that loads a scene.
@@ -98,6 +101,21 @@ pub struct RenderArgs {
     /// Real-time mode: world-cache table slots (a power of two, 1024 to 2097152).
     #[arg(long, default_value_t = 1 << 18)]
     pub cache_capacity: u32,
+    /// Real-time mode: denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr
+    /// (NVIDIA DLSS Ray Reconstruction; builds with `--features dlss` only). Default: the
+    /// best available (DLSS-RR where it runs, else the fallback).
+    #[arg(long)]
+    pub denoiser: Option<String>,
+    /// Real-time mode, fallback denoiser: à-trous iterations (1–8).
+    #[arg(long, default_value_t = 5)]
+    pub denoise_iterations: u32,
+    /// Real-time mode, fallback denoiser: most frames the temporal average spans.
+    #[arg(long, default_value_t = 32.0)]
+    pub denoise_max_history: f32,
+    /// Real-time mode, fallback denoiser: firefly limit in multiples of the recent mean
+    /// (0: off). Clamped energy is carried into later frames, not removed.
+    #[arg(long, default_value_t = 8.0)]
+    pub firefly_clamp: f32,
     /// Real-time mode: write each frame's pass report (passes run, GPU ms) as JSON lines.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -295,9 +313,16 @@ impl SceneArgs {
 
     /// Creates the device and resolves the backend.
     pub fn device(&self) -> Result<(Gpu, Backend), String> {
-        let gpu = Gpu::new().map_err(|e| e.to_string())?;
+        self.device_with_dlss()
+            .map(|(gpu, backend, _)| (gpu, backend))
+    }
+
+    /// Creates the device (through DLSS's Vulkan set-up in builds with the `dlss` feature)
+    /// and resolves the backend.
+    pub fn device_with_dlss(&self) -> Result<(Gpu, Backend, DlssAvailability), String> {
+        let (gpu, dlss) = solari_denoise::create_gpu().map_err(|e| e.to_string())?;
         let backend = gpu.backend(self.tracer()?).map_err(|e| e.to_string())?;
-        Ok((gpu, backend))
+        Ok((gpu, backend, dlss))
     }
 
     /// Loads the scene (logging its import warnings), picks its camera, opens the device and
@@ -310,7 +335,7 @@ impl SceneArgs {
         let camera = scene
             .camera(self.camera.as_deref())
             .ok_or_else(|| format!("no camera {:?} in {name}", self.camera))?;
-        let (gpu, backend) = self.device()?;
+        let (gpu, backend, dlss) = self.device_with_dlss()?;
         let options = GpuSceneOptions {
             bvh_quality: self.quality()?,
             ..Default::default()
@@ -324,6 +349,7 @@ impl SceneArgs {
             gpu,
             backend,
             gpu_scene,
+            dlss,
         })
     }
 

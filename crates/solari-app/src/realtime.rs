@@ -1,5 +1,6 @@
 //! The real-time renderer: G-buffer → light tiles → world cache upkeep → ReSTIR DI →
-//! cache-only GI, one frame per call, with a report of which passes ran and their GPU times.
+//! cache-only GI → denoiser, one frame per call, with a report of which passes ran and their
+//! GPU times.
 //!
 //! Passes a frame does not need are skipped: with no lights, neither the light tiles nor
 //! ReSTIR DI run, and the frame shows emission only (pass `emission_only`); without
@@ -7,6 +8,9 @@
 //! runs nor holds memory.
 
 use glam::{Mat4, Vec3};
+use solari_denoise::{
+    Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
+};
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{DiPasses, PASS_LABELS, RestirDi, RestirDiSettings};
 use solari_scene::gbuffer::GBuffer;
@@ -21,8 +25,10 @@ use solari_worldcache::PASS_LABELS as CACHE;
 
 /// Pass names as [`FrameReport`] lists them, in frame order: the G-buffer, light tiles, the
 /// world cache's upkeep ([`solari_worldcache::PASS_LABELS`]), ReSTIR DI
-/// ([`solari_restir::PASS_LABELS`]), then cache-only GI or the cache view.
-pub const PASS_NAMES: [&str; 11] = [
+/// ([`solari_restir::PASS_LABELS`]), cache-only GI or the cache view, then the fallback
+/// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
+/// (DLSS-RR itself records outside the profiler's reach).
+pub const PASS_NAMES: [&str; 15] = [
     "gbuffer",
     "light_tiles",
     CACHE[0],
@@ -34,7 +40,13 @@ pub const PASS_NAMES: [&str; 11] = [
     PASS_LABELS[2],
     CACHE[4],
     CACHE[5],
+    DENOISE[0],
+    DENOISE[1],
+    DENOISE[2],
+    solari_denoise::dlss_io::COPY_LABELS[0],
 ];
+
+use solari_denoise::fallback::PASS_LABELS as DENOISE;
 
 /// Indirect light.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -97,6 +109,12 @@ pub struct RealtimeSettings {
     /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
     /// without them times are `None`). Waits for each frame to finish.
     pub timestamps: bool,
+    /// The denoiser: `None` picks the best available (DLSS-RR where it can run, else the
+    /// fallback); the default is `Some(DenoiserKind::None)`, the raw image, so that library
+    /// users measuring the lighting itself get it unfiltered.
+    pub denoiser: Option<DenoiserKind>,
+    /// The fallback denoiser's knobs.
+    pub denoise: FallbackSettings,
 }
 
 impl Default for RealtimeSettings {
@@ -109,6 +127,8 @@ impl Default for RealtimeSettings {
             cache: WorldCacheSettings::default(),
             view: FrameView::Lit,
             timestamps: false,
+            denoiser: Some(DenoiserKind::None),
+            denoise: FallbackSettings::default(),
         }
     }
 }
@@ -161,12 +181,16 @@ pub struct RealtimeRenderer {
     lights: GpuLights,
     lights_group: wgpu::BindGroup,
     profiler: Option<GpuProfiler>,
+    denoiser: Option<Box<dyn Denoiser>>,
+    denoiser_kind: DenoiserKind,
+    denoiser_fallback: Option<String>,
+    reset_next: bool,
     frame: u32,
 }
 
 impl RealtimeRenderer {
     /// Builds every pass for `gpu_scene` (uploaded with `backend` from `scene`) at
-    /// `width × height`.
+    /// `width × height`, without DLSS (see [`RealtimeRenderer::with_dlss`]).
     pub fn new(
         gpu: &Gpu,
         backend: Backend,
@@ -176,6 +200,43 @@ impl RealtimeRenderer {
         height: u32,
         settings: RealtimeSettings,
     ) -> Result<Self, GpuError> {
+        Self::with_dlss(
+            gpu,
+            backend,
+            scene,
+            gpu_scene,
+            width,
+            height,
+            settings,
+            &DlssAvailability::NotBuilt,
+        )
+    }
+
+    /// As [`RealtimeRenderer::new`], offering DLSS-RR where `dlss` says it can run (see
+    /// [`solari_denoise::create_gpu`]). `width × height` is the output size; with an
+    /// upscaling denoiser the lighting passes run at its smaller render size.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_dlss(
+        gpu: &Gpu,
+        backend: Backend,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        output_width: u32,
+        output_height: u32,
+        settings: RealtimeSettings,
+        dlss: &DlssAvailability,
+    ) -> Result<Self, GpuError> {
+        let created = solari_denoise::create(
+            gpu,
+            settings.denoiser,
+            dlss,
+            (output_width, output_height),
+            settings.denoise,
+        )?;
+        let (width, height) = created
+            .denoiser
+            .as_ref()
+            .map_or((output_width, output_height), |d| d.render_size());
         let gbuffer = GBuffer::new(gpu, backend, width, height)?;
         let tiles = LightTiles::new(gpu, settings.tiles)?;
         let di = RestirDi::new(
@@ -221,8 +282,44 @@ impl RealtimeRenderer {
             lights,
             lights_group,
             profiler,
+            denoiser: created.denoiser,
+            denoiser_kind: created.kind,
+            denoiser_fallback: created.fallback_reason,
+            reset_next: false,
             frame: 0,
         })
+    }
+
+    /// The denoiser in use ([`DenoiserKind::None`]: the raw image).
+    pub fn denoiser_kind(&self) -> DenoiserKind {
+        self.denoiser_kind
+    }
+
+    /// Why the denoiser asked for could not run and another is used, if so.
+    pub fn denoiser_fallback_reason(&self) -> Option<&str> {
+        self.denoiser_fallback.as_deref()
+    }
+
+    /// GPU memory the denoiser holds, in bytes.
+    pub fn denoiser_memory_bytes(&self) -> u64 {
+        self.denoiser.as_ref().map_or(0, |d| d.memory_bytes())
+    }
+
+    /// Makes the next frame drop the denoiser's history (camera cut, teleport).
+    pub fn reset_history(&mut self) {
+        self.reset_next = true;
+    }
+
+    /// The noisy lighting of the last frame, before the denoiser, at the render size.
+    pub fn read_noisy(&self, gpu: &Gpu) -> Result<Vec<[f32; 4]>, GpuError> {
+        let (w, h) = self.di.size();
+        let bytes = gpu.read_buffer(self.di.output(), w as u64 * h as u64 * 16)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
+    }
+
+    // Whether this frame's output goes through the denoiser (debug views do not).
+    fn denoising(&self) -> bool {
+        self.denoiser.is_some() && self.settings.view == FrameView::Lit
     }
 
     /// Rebuilds the light list from `scene` (after lights were added, removed or changed);
@@ -319,10 +416,29 @@ impl RealtimeRenderer {
                 ran[9] = true;
             }
         }
+        let mut after = Vec::new();
+        if self.denoising() {
+            let denoiser = self.denoiser.as_mut().expect("denoising() checked it");
+            let inputs = DenoiserInputs {
+                lighting: Lighting::Combined(self.di.output()),
+                gbuffer: &self.gbuffer,
+                hit_distance: None,
+                reset: std::mem::take(&mut self.reset_next),
+            };
+            after = denoiser.encode(gpu, &mut encoder, profiler, &inputs)?;
+            for label in denoiser.pass_labels() {
+                if let Some(i) = PASS_NAMES.iter().position(|n| n == label) {
+                    ran[i] = true;
+                }
+            }
+        }
         if let Some(p) = &mut self.profiler {
             p.resolve_queries(&mut encoder);
         }
-        gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
+        gpu.scoped(|| {
+            gpu.queue
+                .submit(std::iter::once(encoder.finish()).chain(after))
+        })?;
         let mut times = [None; PASS_NAMES.len()];
         if let Some(p) = &mut self.profiler {
             p.end_frame()
@@ -352,17 +468,25 @@ impl RealtimeRenderer {
         })
     }
 
-    /// The last frame's linear radiance, row by row from the top left (w: 1 on surfaces,
-    /// 0 on background).
+    /// The last frame's linear radiance (denoised, when a denoiser is on), row by row from
+    /// the top left (w: 1 on surfaces, 0 on background), at [`RealtimeRenderer::size`].
     pub fn read_output(&self, gpu: &Gpu) -> Result<Vec<[f32; 4]>, GpuError> {
-        let (w, h) = self.di.size();
-        let bytes = gpu.read_buffer(self.di.output(), w as u64 * h as u64 * 16)?;
-        Ok(bytemuck::cast_slice(&bytes).to_vec())
+        match &self.denoiser {
+            Some(d) if self.denoising() => {
+                let (w, h) = d.output_size();
+                let bytes = gpu.read_buffer(d.output(), w as u64 * h as u64 * 16)?;
+                Ok(bytemuck::cast_slice(&bytes).to_vec())
+            }
+            _ => self.read_noisy(gpu),
+        }
     }
 
-    /// Image size in pixels.
+    /// Output image size in pixels.
     pub fn size(&self) -> (u32, u32) {
-        self.di.size()
+        match &self.denoiser {
+            Some(d) if self.denoising() => d.output_size(),
+            _ => self.di.size(),
+        }
     }
 }
 

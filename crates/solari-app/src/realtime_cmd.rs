@@ -7,6 +7,7 @@ use solari_app::image_io;
 use solari_app::realtime::{
     CameraPath, FrameReport, FrameView, GiMode, PASS_NAMES, RealtimeRenderer, RealtimeSettings,
 };
+use solari_denoise::{DenoiserKind, FallbackSettings};
 use solari_lights::{LightTileSettings, Selection};
 use solari_restir::RestirDiSettings;
 use solari_worldcache::WorldCacheSettings;
@@ -50,6 +51,19 @@ pub fn settings(args: &RenderArgs) -> Result<RealtimeSettings, String> {
                 .ok_or_else(|| format!("--view {v}: real-time mode shows lit or world-cache"))?,
         },
         timestamps: true,
+        denoiser: match args.denoiser.as_deref() {
+            None => None,
+            Some(d) => Some(
+                DenoiserKind::parse(d)
+                    .ok_or_else(|| format!("--denoiser {d}: expected none, fallback or dlss-rr"))?,
+            ),
+        },
+        denoise: FallbackSettings {
+            atrous_iterations: args.denoise_iterations,
+            max_history: args.denoise_max_history,
+            firefly_clamp: args.firefly_clamp,
+            ..Default::default()
+        },
     })
 }
 
@@ -73,9 +87,19 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         gpu,
         backend,
         gpu_scene,
+        dlss,
     } = args.scene.prepare()?;
-    let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
-        .map_err(|e| e.to_string())?;
+    let mut renderer =
+        RealtimeRenderer::with_dlss(&gpu, backend, &scene, &gpu_scene, w, h, settings, &dlss)
+            .map_err(|e| e.to_string())?;
+    if let Some(why) = renderer.denoiser_fallback_reason() {
+        log::warn!("{why}");
+    }
+    log::info!(
+        "denoiser: {} ({:.1} MiB)",
+        renderer.denoiser_kind().name(),
+        renderer.denoiser_memory_bytes() as f64 / (1 << 20) as f64
+    );
     if renderer.lights().is_empty() {
         log::info!("{name} has no lights: light tiles and ReSTIR DI are skipped");
     }
@@ -139,16 +163,19 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             "candidates": args.candidates, "tiles": args.tiles, "tracer": backend.name(),
             "adapter": gpu.info.name, "passes": passes, "seconds": elapsed, "gi": args.gi,
             "cache_active_cells": cache.map(|c| c.active_cells),
-            "cache_overflows": cache.map(|c| c.overflows), "cache_bytes": cache_memory});
+            "cache_overflows": cache.map(|c| c.overflows), "cache_bytes": cache_memory,
+            "denoiser": renderer.denoiser_kind().name(),
+            "denoiser_fallback": renderer.denoiser_fallback_reason()});
         println!("{v}");
     } else {
         println!(
-            "wrote {} and {} ({w}x{h}, {} frames, {} tracer on {}) in {elapsed:.2} s",
+            "wrote {} and {} ({w}x{h}, {} frames, {} tracer on {}, denoiser {}) in {elapsed:.2} s",
             exr.display(),
             args.out.display(),
             args.frames,
             backend.name(),
-            gpu.info.name
+            gpu.info.name,
+            renderer.denoiser_kind().name()
         );
         println!("pass                  ran   GPU ms (mean over timed frames after the first)");
         for (n, s) in &summary {

@@ -103,6 +103,7 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
         gpu,
         backend,
         gpu_scene,
+        ..
     } = args.scene.prepare()?;
     let lights = LightList::build(&scene);
     if lights.report != Default::default() {
@@ -195,6 +196,7 @@ fn run_debug(args: &RenderArgs) -> Result<(), String> {
         gpu,
         backend,
         gpu_scene,
+        ..
     } = args.scene.prepare()?;
     let pass = ViewPass::primary(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .map_err(|e| e.to_string())?;

@@ -108,12 +108,31 @@ impl Gpu {
     /// DX12 are tried (GL is skipped: it has no storage buffers in compute on some drivers);
     /// `WGPU_BACKEND` overrides.
     pub fn new() -> Result<Self, GpuError> {
-        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
-            backends,
+        let instance = wgpu::Instance::new(Self::instance_descriptor());
+        let adapter = Self::pick_adapter(&instance)?;
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&Self::device_descriptor(&adapter)))
+                .map_err(|source| GpuError::RequestDevice {
+                    adapter: adapter.get_info().name,
+                    source,
+                })?;
+        Ok(Self::from_parts(instance, adapter, device, queue))
+    }
+
+    /// The instance [`Gpu::new`] creates: primary backends unless `WGPU_BACKEND` says
+    /// otherwise, flags from the environment. Public so integrations that must create the
+    /// instance themselves (DLSS registers Vulkan extensions) start from the same one.
+    pub fn instance_descriptor() -> wgpu::InstanceDescriptor {
+        wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY),
             flags: wgpu::InstanceFlags::from_env_or_default(),
             ..wgpu::InstanceDescriptor::new_without_display_handle()
-        });
+        }
+    }
+
+    /// The best adapter of `instance`: discrete over integrated over virtual over CPU.
+    pub fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, GpuError> {
+        let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
         let adapters = pollster::block_on(instance.enumerate_adapters(backends));
         let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
             wgpu::DeviceType::DiscreteGpu => 0,
@@ -122,11 +141,15 @@ impl Gpu {
             wgpu::DeviceType::Cpu => 3,
             wgpu::DeviceType::Other => 4,
         };
-        let adapter = adapters
+        adapters
             .into_iter()
             .min_by_key(rank)
-            .ok_or_else(|| GpuError::NoAdapter(format!("backends {backends:?}")))?;
-        let info = adapter.get_info();
+            .ok_or_else(|| GpuError::NoAdapter(format!("backends {backends:?}")))
+    }
+
+    /// What [`Gpu::new`] asks of `adapter`: every feature of [`OPTIONAL_FEATURES`] it has
+    /// (ray queries through wgpu's experimental API) and its own limits.
+    pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
         let features = adapter.features() & OPTIONAL_FEATURES;
         let experimental = if features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY) {
             // SAFETY: ray queries are wgpu's "experimental" API; we accept that it may have
@@ -135,25 +158,33 @@ impl Gpu {
         } else {
             wgpu::ExperimentalFeatures::disabled()
         };
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        wgpu::DeviceDescriptor {
             label: Some("solari"),
             required_features: features,
             required_limits: adapter.limits(),
             experimental_features: experimental,
             ..Default::default()
-        }))
-        .map_err(|source| GpuError::RequestDevice {
-            adapter: info.name.clone(),
-            source,
-        })?;
-        Ok(Self {
+        }
+    }
+
+    /// Wraps a device created elsewhere (for example through `dlss_wgpu`); the features are
+    /// read back from the device.
+    pub fn from_parts(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+    ) -> Self {
+        let info = adapter.get_info();
+        let features = device.features();
+        Self {
             instance,
             adapter,
             device,
             queue,
             info,
             features,
-        })
+        }
     }
 
     /// Whether the device can trace with ray queries.

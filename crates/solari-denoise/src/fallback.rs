@@ -1,0 +1,362 @@
+//! The portable spatiotemporal denoiser (after SVGF): temporal accumulation with
+//! reprojection, variance estimation and an edge-aware à-trous wavelet filter, per signal.
+
+use crate::denoiser::{Denoiser, DenoiserInputs, Inputs, Lighting, Requirements};
+use crate::settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
+use bytemuck::Zeroable;
+use solari_scene::GpuError;
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::shaders::{Backend, compose};
+use wgpu_profiler::GpuProfiler;
+
+/// Profiler scopes of the fallback's passes: temporal accumulation, variance, and all à-trous
+/// iterations together (per signal, so split lighting records each twice).
+pub const PASS_LABELS: [&str; 3] = ["denoise_temporal", "denoise_variance", "denoise_atrous"];
+
+/// One pixel's history (WGSL `History`), in demodulated units.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuHistory {
+    /// Colour (rgb) and history length in frames (w; 0 = none).
+    pub color: [f32; 4],
+    /// Short-window mean luminance, mean squared luminance, fast (4-frame) mean luminance,
+    /// long mean luminance (this pixel's own samples).
+    pub moments: [f32; 4],
+    /// Firefly energy still to be added (rgb), unused.
+    pub carry: [f32; 4],
+}
+
+// Bytes per pixel: two histories, two filter buffers, the guide.
+const HISTORY_BYTES: u64 = size_of::<GpuHistory>() as u64;
+const PIXEL_BYTES: u64 = 2 * HISTORY_BYTES + 2 * 16 + 16;
+
+// One signal's buffers and bind groups (combined lighting has one signal, split two).
+struct Signal {
+    histories: [wgpu::Buffer; 2],
+    // [parity][dispatch]: temporal, variance, then each à-trous iteration.
+    groups: [Vec<wgpu::BindGroup>; 2],
+}
+
+/// The fallback denoiser. See the crate docs for the algorithm and its measured bias.
+pub struct FallbackDenoiser {
+    settings: FallbackSettings,
+    size: (u32, u32),
+    temporal: wgpu::ComputePipeline,
+    variance: wgpu::ComputePipeline,
+    atrous: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    // Per signal slot (0 combined/diffuse, 1 specular) and dispatch.
+    pass_params: [Vec<wgpu::Buffer>; 2],
+    filters: [wgpu::Buffer; 2],
+    guide: wgpu::Buffer,
+    output: wgpu::Buffer,
+    // Built on first use for the lighting buffers given, rebuilt when they change.
+    signals: Vec<Signal>,
+    bound_to: Vec<wgpu::Buffer>,
+    parity: usize,
+    history: bool,
+}
+
+impl FallbackDenoiser {
+    /// Builds the passes and allocates `width × height` buffers (about 136 bytes per pixel:
+    /// 282 MiB at 1920×1080 for combined lighting, 96 bytes more per pixel for split).
+    pub fn new(
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        settings: FallbackSettings,
+    ) -> Result<Self, GpuError> {
+        settings.validate()?;
+        let pixels = width as u64 * height as u64;
+        if pixels == 0 {
+            return Err(GpuError::Validation(format!(
+                "fallback denoiser: image size {width}×{height} is empty"
+            )));
+        }
+        let largest = pixels * HISTORY_BYTES;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if largest > limit {
+            return Err(GpuError::Validation(format!(
+                "fallback denoiser: {width}×{height} needs {largest}-byte history buffers, over \
+                 the device's {limit}-byte binding limit"
+            )));
+        }
+        let read = wgpu::BufferBindingType::Storage { read_only: true };
+        let write = wgpu::BufferBindingType::Storage { read_only: false };
+        let uniform = wgpu::BufferBindingType::Uniform;
+        let layout = gpu.buffer_layout(
+            "solari_denoise/fallback",
+            &[
+                uniform, read, read, write, read, write, write, write, uniform,
+            ],
+        );
+        let gbuffer_layout = GBuffer::reader_layout(gpu);
+        let modules = crate::modules();
+        let pipeline = |entry: &str| -> Result<_, GpuError> {
+            // The denoiser traces no rays: either backend's composition serves.
+            let wgsl = compose(entry, Backend::Software, &modules)?;
+            gpu.compute_pipeline(
+                &format!("solari_denoise/{entry}"),
+                &wgsl,
+                &[Some(&layout), Some(&gbuffer_layout)],
+                ShaderChecks::BoundsOnly,
+                &[],
+            )
+        };
+        let temporal = pipeline("denoise_temporal")?;
+        let variance = pipeline("denoise_variance")?;
+        let atrous = pipeline("denoise_atrous")?;
+        let params = gpu.uniform_buffer("solari_denoise/params", &GpuDenoiseParams::zeroed());
+        let storage = |label: &str, bytes: u64| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes.max(16),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let filters = [
+            storage("solari_denoise/filter_a", pixels * 16),
+            storage("solari_denoise/filter_b", pixels * 16),
+        ];
+        let guide = storage("solari_denoise/guide", pixels * 16);
+        let output = storage("solari_denoise/output", pixels * 16);
+        let pass_params = [0u32, 1].map(|slot| {
+            (0..settings.atrous_iterations + 2)
+                .map(|dispatch| {
+                    gpu.uniform_buffer(
+                        "solari_denoise/pass",
+                        &pass_params(&settings, slot, dispatch, false),
+                    )
+                })
+                .collect::<Vec<_>>()
+        });
+        Ok(Self {
+            settings,
+            size: (width, height),
+            temporal,
+            variance,
+            atrous,
+            layout,
+            params,
+            pass_params,
+            filters,
+            guide,
+            output,
+            signals: Vec::new(),
+            bound_to: Vec::new(),
+            parity: 0,
+            history: false,
+        })
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> FallbackSettings {
+        self.settings
+    }
+
+    /// Drops all history: the next frame starts afresh (as `DenoiserInputs::reset` does).
+    pub fn reset(&mut self) {
+        self.history = false;
+    }
+
+    // (Re)builds per-signal buffers and bind groups for these lighting buffers.
+    fn bind(&mut self, gpu: &Gpu, lighting: &Lighting) {
+        let inputs: Vec<&wgpu::Buffer> = match lighting {
+            Lighting::Combined(b) => vec![b],
+            Lighting::Split { diffuse, specular } => vec![diffuse, specular],
+        };
+        if self.bound_to.len() == inputs.len()
+            && self.bound_to.iter().zip(&inputs).all(|(a, b)| a == *b)
+        {
+            return;
+        }
+        let pixels = self.size.0 as u64 * self.size.1 as u64;
+        let split = inputs.len() == 2;
+        for slot in 0..2u32 {
+            for (dispatch, buffer) in self.pass_params[slot as usize].iter().enumerate() {
+                let p = pass_params(&self.settings, slot, dispatch as u32, split);
+                gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(&p));
+            }
+        }
+        self.signals = inputs
+            .iter()
+            .enumerate()
+            .map(|(slot, input)| {
+                let histories = [0, 1].map(|_| {
+                    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("solari_denoise/history"),
+                        size: pixels * HISTORY_BYTES,
+                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                        mapped_at_creation: false,
+                    })
+                });
+                let groups = [0usize, 1].map(|parity| {
+                    let (before, now) = (&histories[parity ^ 1], &histories[parity]);
+                    (0..self.settings.atrous_iterations as usize + 2)
+                        .map(|dispatch| {
+                            // Temporal writes history; variance writes filter A; iteration k
+                            // reads filter (k % 2) and writes the other.
+                            let (from, to) = match dispatch {
+                                0 | 1 => (&self.filters[1], &self.filters[0]),
+                                d => (&self.filters[d % 2], &self.filters[(d + 1) % 2]),
+                            };
+                            let params = &self.pass_params[slot][dispatch];
+                            gpu.bind_buffers(
+                                "solari_denoise/fallback",
+                                &self.layout,
+                                &[
+                                    &self.params,
+                                    input,
+                                    before,
+                                    now,
+                                    from,
+                                    to,
+                                    &self.guide,
+                                    &self.output,
+                                    params,
+                                ],
+                            )
+                        })
+                        .collect()
+                });
+                Signal { histories, groups }
+            })
+            .collect();
+        self.bound_to = inputs.into_iter().cloned().collect();
+        self.history = false;
+    }
+
+    /// Reads the current history of signal `slot` (0 combined or diffuse, 1 specular), for
+    /// tests. Blocks until the GPU is done.
+    pub fn read_history(&self, gpu: &Gpu, slot: usize) -> Result<Vec<GpuHistory>, GpuError> {
+        let signal = self.signals.get(slot).ok_or_else(|| {
+            GpuError::Validation(format!("fallback denoiser: no signal {slot} bound yet"))
+        })?;
+        let pixels = self.size.0 as u64 * self.size.1 as u64;
+        let bytes = gpu.read_buffer(&signal.histories[self.parity], pixels * HISTORY_BYTES)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
+    }
+}
+
+fn pass_params(
+    settings: &FallbackSettings,
+    slot: u32,
+    dispatch: u32,
+    split: bool,
+) -> GpuPassParams {
+    let iteration = dispatch.saturating_sub(2);
+    let atrous = dispatch >= 2;
+    GpuPassParams {
+        step: if atrous { 1 << iteration } else { 0 },
+        feedback: (atrous && iteration == 0 && settings.history_feedback) as u32,
+        last: (atrous && iteration + 1 == settings.atrous_iterations) as u32,
+        signal: if split { slot + 1 } else { 0 },
+        accumulate: (slot == 1) as u32,
+        _pad: [0; 3],
+    }
+}
+
+impl Denoiser for FallbackDenoiser {
+    fn name(&self) -> &'static str {
+        "fallback"
+    }
+
+    fn requirements(&self) -> Requirements {
+        Requirements {
+            features: wgpu::Features::empty(),
+            backend: None,
+            inputs: Inputs::COMBINED_LIGHTING | Inputs::SPLIT_LIGHTING | Inputs::GUIDES,
+        }
+    }
+
+    fn render_size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn output_size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn pass_labels(&self) -> &'static [&'static str] {
+        &PASS_LABELS
+    }
+
+    fn encode(
+        &mut self,
+        gpu: &Gpu,
+        encoder: &mut wgpu::CommandEncoder,
+        profiler: Option<&GpuProfiler>,
+        inputs: &DenoiserInputs,
+    ) -> Result<Vec<wgpu::CommandBuffer>, GpuError> {
+        if inputs.gbuffer.size() != self.size {
+            return Err(GpuError::Validation(format!(
+                "fallback denoiser: built for {:?}, G-buffer is {:?}",
+                self.size,
+                inputs.gbuffer.size()
+            )));
+        }
+        self.bind(gpu, &inputs.lighting);
+        self.parity ^= 1;
+        let reset = inputs.reset || !self.history || !inputs.gbuffer.history_valid();
+        let (w, h) = self.size;
+        let params = self.settings.gpu(w, h, reset);
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+        let workgroups = [w.div_ceil(8), h.div_ceil(8)];
+        let gbuffer = inputs.gbuffer.reader_group();
+        for signal in &self.signals {
+            let groups = &signal.groups[self.parity];
+            let run = |e: &mut wgpu::CommandEncoder, label, pipeline, group| {
+                let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.set_bind_group(1, gbuffer, &[]);
+                pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
+            };
+            in_scope(profiler, PASS_LABELS[0], encoder, |e| {
+                run(e, PASS_LABELS[0], &self.temporal, &groups[0])
+            });
+            in_scope(profiler, PASS_LABELS[1], encoder, |e| {
+                run(e, PASS_LABELS[1], &self.variance, &groups[1])
+            });
+            in_scope(profiler, PASS_LABELS[2], encoder, |e| {
+                for group in &groups[2..] {
+                    run(e, PASS_LABELS[2], &self.atrous, group);
+                }
+            });
+        }
+        self.history = true;
+        Ok(Vec::new())
+    }
+
+    fn output(&self) -> &wgpu::Buffer {
+        &self.output
+    }
+
+    fn memory_bytes(&self) -> u64 {
+        let pixels = self.size.0 as u64 * self.size.1 as u64;
+        pixels * PIXEL_BYTES
+            + (self.signals.len().saturating_sub(1) as u64) * pixels * 2 * HISTORY_BYTES
+    }
+}
+
+// Runs `f` inside a named profiler scope (directly without a profiler).
+pub(crate) fn in_scope<R>(
+    profiler: Option<&GpuProfiler>,
+    name: &str,
+    encoder: &mut wgpu::CommandEncoder,
+    f: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
+) -> R {
+    match profiler {
+        Some(p) => f(&mut p.scope(name, encoder)),
+        None => f(encoder),
+    }
+}

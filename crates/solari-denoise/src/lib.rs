@@ -1,0 +1,128 @@
+//! # solari-denoise
+//!
+//! Denoisers for the Solari workspace behind one trait, [`Denoiser`]: a renderer hands it the
+//! noisy lighting of a frame and the G-buffer, and reads back a denoised image.
+//!
+//! - [`FallbackDenoiser`] runs on every adapter with compute shaders (after SVGF, below).
+//! - `dlss::DlssRrDenoiser` (cargo feature `dlss`) wraps NVIDIA's DLSS Ray Reconstruction
+//!   through `dlss_wgpu`, on NVIDIA RTX GPUs under Vulkan. [`create`] picks one the adapter
+//!   supports and says why when it falls back.
+//!
+//! ## The fallback, and why SVGF
+//!
+//! The issue offered SVGF (spatiotemporal variance-guided filtering, Schied et al. 2017) or a
+//! recurrent blur after NVIDIA's ReBLUR. The fallback follows SVGF because its inputs are
+//! exactly what Solari's renderer has: combined (or split) lighting and a G-buffer. ReBLUR
+//! sizes its blur by each sample's hit distance and needs per-signal specular lobe data to do
+//! so well; Solari's DI has no secondary hit distance, and ReBLUR's quality over SVGF comes
+//! mostly from that. SVGF's à-trous filter is also a fixed number of passes with no
+//! recurrent state beyond the temporal history, which keeps its cost flat and easy to
+//! measure.
+//!
+//! Per signal (one for [`Lighting::Combined`], diffuse and specular for [`Lighting::Split`]):
+//!
+//! 1. **Demodulation**: emission (exact) is subtracted and the rest divided by the albedo
+//!    (`base × (1 − metallic)` + `mix(F0, base, metallic)` for combined lighting), so the
+//!    filters blur lighting, not texture; the last pass multiplies back and adds emission.
+//! 2. **Temporal accumulation**: last frame's history is fetched at the motion-vector
+//!    reprojection with bilinear taps, each kept only where the G-buffer sees the same
+//!    surface (tangent plane within 0.3% of the view distance, normals within 25°, the same
+//!    test ReSTIR DI uses); a pixel with no kept tap is disoccluded and starts over. Each
+//!    pixel keeps its history length (up to [`FallbackSettings::max_history`]); the colour is
+//!    averaged with weight 1/length.
+//! 3. **Rejecting bad samples**: NaN, infinite and overflowing samples are not accumulated;
+//!    the pixel keeps its history, or without one is filled by the spatial filter from its
+//!    neighbours. Nothing non-finite reaches the history or the output.
+//! 4. **Fireflies**: a sample brighter than [`FallbackSettings::firefly_clamp`] × the recent
+//!    mean is scaled down and the excess carried to the pixel's next frame, where it is added
+//!    before the same test. Energy is delayed, not removed: at least
+//!    1/[`FallbackSettings::firefly_spread`] of it is released each frame. Only a carry still
+//!    pending when its pixel is disoccluded or reset is lost.
+//! 5. **Fast history reset**: a 4-frame luminance average runs beside the long history; when
+//!    they disagree by more than [`FallbackSettings::reset_sigma`] standard deviations of the
+//!    fast average, the history is cut to [`FallbackSettings::reset_length`] frames and
+//!    rescaled to the fast average.
+//! 6. **Variance**: from the temporal luminance moments, or from a 5×5 neighbourhood while
+//!    the history is shorter than 4 frames.
+//! 7. **À-trous**: [`FallbackSettings::atrous_iterations`] passes of a 5×5 B3 kernel with
+//!    steps 1, 2, 4, …, weighted by tangent-plane distance, shading-normal angle and
+//!    luminance difference in units of the local standard deviation; variance is filtered
+//!    alongside (weights squared). The first pass's result is fed back as the colour
+//!    history.
+//!
+//! ## Limits
+//!
+//! - Moving objects: the same-surface test compares world positions, so a moving surface
+//!   loses its history every frame and shows the spatial filter's result alone (noisier, but
+//!   no ghost trail).
+//! - One filter for diffuse and specular in combined mode: glossy reflections are blurred by
+//!   the luminance-guided filter like diffuse light. Pass [`Lighting::Split`] to keep them
+//!   apart.
+//!
+//! ## Use
+//!
+//! ```no_run
+//! # fn main() -> Result<(), solari_scene::GpuError> {
+//! use solari_denoise::{Denoiser, DenoiserInputs, FallbackDenoiser, FallbackSettings, Lighting};
+//! # let gpu = solari_scene::gpu::Gpu::new()?;
+//! # let backend = gpu.backend(solari_scene::gpu::TracerChoice::Auto)?;
+//! # let gbuffer = solari_scene::gbuffer::GBuffer::new(&gpu, backend, 64, 64)?;
+//! # let noisy = gpu.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 64 * 64 * 16, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
+//! let mut denoiser = FallbackDenoiser::new(&gpu, 64, 64, FallbackSettings::default())?;
+//! let mut encoder = gpu.device.create_command_encoder(&Default::default());
+//! // ... record the G-buffer and the lighting passes that fill `noisy` ...
+//! let inputs = DenoiserInputs { lighting: Lighting::Combined(&noisy), gbuffer: &gbuffer, hit_distance: None, reset: false };
+//! let extra = denoiser.encode(&gpu, &mut encoder, None, &inputs)?;
+//! gpu.queue.submit(std::iter::once(encoder.finish()).chain(extra));
+//! // `denoiser.output()` now holds one vec4<f32> per pixel.
+//! # Ok(()) }
+//! ```
+//!
+//! The crate README has a complete example on a real scene.
+
+pub mod denoiser;
+#[cfg(feature = "dlss")]
+pub mod dlss;
+pub mod dlss_io;
+pub mod fallback;
+pub mod select;
+pub mod settings;
+
+pub use denoiser::{Denoiser, DenoiserInputs, DenoiserKind, Inputs, Lighting, Requirements};
+pub use fallback::{FallbackDenoiser, GpuHistory};
+pub use select::{Created, DlssAvailability, create, create_gpu};
+pub use settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
+
+/// The crate's importable WGSL modules, by module name.
+pub const MODULES: &[(&str, &str)] = &[(
+    "denoise_common",
+    include_str!("../shaders/denoise_common.wesl"),
+)];
+
+/// The crate's entry-point shaders, by module name.
+pub const ENTRY_POINTS: &[(&str, &str)] = &[
+    (
+        "denoise_temporal",
+        include_str!("../shaders/denoise_temporal.wesl"),
+    ),
+    (
+        "denoise_variance",
+        include_str!("../shaders/denoise_variance.wesl"),
+    ),
+    (
+        "denoise_atrous",
+        include_str!("../shaders/denoise_atrous.wesl"),
+    ),
+    ("dlss_inputs", include_str!("../shaders/dlss_inputs.wesl")),
+    ("dlss_output", include_str!("../shaders/dlss_output.wesl")),
+];
+
+/// Every module the crate's shaders need beyond `solari-scene`'s.
+pub fn modules() -> Vec<(&'static str, &'static str)> {
+    [MODULES, ENTRY_POINTS].concat()
+}
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;

@@ -1,0 +1,221 @@
+//! The fallback denoiser's knobs and their GPU mirror.
+
+use solari_scene::GpuError;
+
+/// Every knob of [`crate::FallbackDenoiser`], with the defaults the tests and benchmarks use.
+///
+/// Lengths are in frames; luminance tolerances are in units of the signal's own standard
+/// deviation, so one set of settings fits dim and bright scenes alike.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FallbackSettings {
+    /// Most frames the temporal average spans (default 32). Past it the history becomes an
+    /// exponential average with factor 1/`max_history`: longer is smoother on static views
+    /// and slower to follow changes that the fast-history test misses.
+    pub max_history: f32,
+    /// Edge-aware à-trous iterations, with steps 1, 2, 4, … pixels (default 5: a 5×5 kernel
+    /// spread to 125×125 pixels). 1–8. Each costs one full-screen pass.
+    pub atrous_iterations: u32,
+    /// Feed the first iteration's output back as the colour history, as SVGF does (default
+    /// off): steadier under motion, but the luminance-weighted blur then compounds over
+    /// frames; measured −3% energy under heavy fireflies against −1% without.
+    pub history_feedback: bool,
+    /// Luminance edge-stopping, in standard deviations of the pixel's (3×3 prefiltered)
+    /// variance (SVGF's σ_l, default 4). Larger blurs more across shading changes.
+    pub phi_luminance: f32,
+    /// Normal edge-stopping exponent on the cosine between shading normals (SVGF's σ_n,
+    /// default 128: 20° apart weighs 0.0004).
+    pub phi_normal: f32,
+    /// Depth edge-stopping: distance from the centre pixel's tangent plane, as a fraction of
+    /// its view distance, that weighs 1/e (default 0.005).
+    pub phi_depth: f32,
+    /// Firefly limit: a sample brighter than this many times the pixel's recent mean
+    /// luminance is clamped and the excess carried into later frames (default 8; 0 turns
+    /// suppression off). Energy is moved in time, not removed: see the crate docs.
+    pub firefly_clamp: f32,
+    /// History length below which samples are not clamped (default 4): without history
+    /// there is no mean to compare with.
+    pub firefly_min_history: f32,
+    /// At least 1/`firefly_spread` of a clamped sample's energy (with its carry) is released
+    /// each frame (default 16), so a firefly is spread over at most about this many frames
+    /// even where the mean is near zero.
+    pub firefly_spread: f32,
+    /// Length of the fast history used to detect stale history, in frames (default 4).
+    pub fast_history: f32,
+    /// Fast history reset: when a pixel's fast (4-frame) and long luminance averages of its
+    /// own samples differ by more than this many standard deviations of the fast average
+    /// (σ measured in calm frames) plus 10%, its history restarts from the current sample,
+    /// as at a disocclusion (default 4; 0 turns it off). Lights switched off, opened doors
+    /// and moving shadows then catch up in a few frames. Its price is a bias on noise with
+    /// heavy tails (a cut after a run of bright samples drops them): see the crate docs.
+    pub reset_sigma: f32,
+    /// History length while the fast reset holds (default 4): the average then follows a
+    /// change with factor 1/4 per frame.
+    pub reset_length: f32,
+    /// History length below which the fast reset is not tested (default 4; at most
+    /// `reset_length`, or the reset lets go after one frame): young
+    /// histories follow changes anyway.
+    pub reset_min_history: f32,
+    /// History length below which variance is estimated from a 5×5 neighbourhood instead of
+    /// over time (default 4, SVGF's choice).
+    pub spatial_variance_below: f32,
+}
+
+impl Default for FallbackSettings {
+    fn default() -> Self {
+        Self {
+            max_history: 32.0,
+            atrous_iterations: 5,
+            history_feedback: false,
+            phi_luminance: 4.0,
+            phi_normal: 128.0,
+            phi_depth: 0.005,
+            firefly_clamp: 8.0,
+            firefly_min_history: 4.0,
+            firefly_spread: 16.0,
+            fast_history: 4.0,
+            reset_sigma: 4.0,
+            reset_length: 4.0,
+            reset_min_history: 4.0,
+            spatial_variance_below: 4.0,
+        }
+    }
+}
+
+impl FallbackSettings {
+    /// Refuses values that make no sense, naming the knob.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        let bad = |name: &str, why: &str| {
+            Err(GpuError::Validation(format!(
+                "fallback denoiser: {name} {why}"
+            )))
+        };
+        let finite = [
+            ("max_history", self.max_history),
+            ("phi_luminance", self.phi_luminance),
+            ("phi_normal", self.phi_normal),
+            ("phi_depth", self.phi_depth),
+            ("firefly_clamp", self.firefly_clamp),
+            ("firefly_min_history", self.firefly_min_history),
+            ("firefly_spread", self.firefly_spread),
+            ("fast_history", self.fast_history),
+            ("reset_sigma", self.reset_sigma),
+            ("reset_min_history", self.reset_min_history),
+            ("reset_length", self.reset_length),
+            ("spatial_variance_below", self.spatial_variance_below),
+        ];
+        for (name, v) in finite {
+            if !v.is_finite() || v < 0.0 {
+                return bad(name, &format!("must be finite and ≥ 0, got {v}"));
+            }
+        }
+        if self.max_history < 1.0 {
+            return bad("max_history", "must be at least 1 frame");
+        }
+        if !(1..=8).contains(&self.atrous_iterations) {
+            return bad(
+                "atrous_iterations",
+                &format!("must be 1–8, got {}", self.atrous_iterations),
+            );
+        }
+        if self.phi_luminance <= 0.0 || self.phi_depth <= 0.0 {
+            return bad("phi_luminance/phi_depth", "must be > 0");
+        }
+        if self.fast_history < 1.0 {
+            return bad("fast_history", "must be at least 1 frame");
+        }
+        if self.firefly_spread < 1.0 {
+            return bad("firefly_spread", "must be at least 1 frame");
+        }
+        if self.firefly_clamp > 0.0 && self.firefly_clamp < 1.0 {
+            return bad(
+                "firefly_clamp",
+                "below 1 would clamp the mean itself; use 0 to turn it off",
+            );
+        }
+        if self.reset_min_history < 1.0 {
+            return bad("reset_min_history", "must be at least 1 frame");
+        }
+        if self.reset_length < 1.0 || self.reset_length > self.max_history {
+            return bad("reset_length", "must be between 1 and max_history");
+        }
+        Ok(())
+    }
+
+    /// The GPU parameters for one frame.
+    pub fn gpu(&self, width: u32, height: u32, reset: bool) -> GpuDenoiseParams {
+        GpuDenoiseParams {
+            width,
+            height,
+            reset: reset as u32,
+            _pad0: 0,
+            max_history: self.max_history,
+            phi_luminance: self.phi_luminance,
+            phi_normal: self.phi_normal,
+            phi_depth: self.phi_depth,
+            firefly_clamp: self.firefly_clamp,
+            firefly_min_history: self.firefly_min_history,
+            firefly_spread: self.firefly_spread,
+            fast_alpha: 1.0 / self.fast_history,
+            reset_sigma: self.reset_sigma,
+            reset_min_history: self.reset_min_history,
+            spatial_variance_below: self.spatial_variance_below,
+            reset_length: self.reset_length,
+        }
+    }
+}
+
+/// The per-frame uniform (WGSL `DenoiseParams`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuDenoiseParams {
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// 1: ignore history this frame.
+    pub reset: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// [`FallbackSettings::max_history`].
+    pub max_history: f32,
+    /// [`FallbackSettings::phi_luminance`].
+    pub phi_luminance: f32,
+    /// [`FallbackSettings::phi_normal`].
+    pub phi_normal: f32,
+    /// [`FallbackSettings::phi_depth`].
+    pub phi_depth: f32,
+    /// [`FallbackSettings::firefly_clamp`].
+    pub firefly_clamp: f32,
+    /// [`FallbackSettings::firefly_min_history`].
+    pub firefly_min_history: f32,
+    /// [`FallbackSettings::firefly_spread`].
+    pub firefly_spread: f32,
+    /// 1 / [`FallbackSettings::fast_history`].
+    pub fast_alpha: f32,
+    /// [`FallbackSettings::reset_sigma`].
+    pub reset_sigma: f32,
+    /// [`FallbackSettings::reset_min_history`].
+    pub reset_min_history: f32,
+    /// [`FallbackSettings::spatial_variance_below`].
+    pub spatial_variance_below: f32,
+    /// [`FallbackSettings::reset_length`].
+    pub reset_length: f32,
+}
+
+/// Per-dispatch uniform (WGSL `PassParams`): which signal, which iteration.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GpuPassParams {
+    /// À-trous step in pixels (1, 2, 4, …; 0 for the temporal and variance passes).
+    pub step: u32,
+    /// 1: write this iteration's result into the colour history.
+    pub feedback: u32,
+    /// 1: the last iteration, which remodulates and writes the output.
+    pub last: u32,
+    /// 0 combined, 1 diffuse, 2 specular: which albedo demodulates.
+    pub signal: u32,
+    /// 1: add to the output instead of overwriting it (the second of split signals).
+    pub accumulate: u32,
+    /// Padding.
+    pub _pad: [u32; 3],
+}

@@ -1,0 +1,60 @@
+//! CPU-only: the denoiser's shaders compose and validate, every loop carries its `// bound:`
+//! note, and the Rust mirrors have the sizes and offsets naga gives their WGSL twins.
+
+use solari_denoise::{ENTRY_POINTS, GpuDenoiseParams, GpuHistory, GpuPassParams, MODULES, modules};
+use solari_scene::shaders::{StructLayout, check_crate_shaders, check_layout};
+use std::collections::HashMap;
+use std::mem::offset_of;
+
+fn layouts() -> HashMap<String, StructLayout> {
+    let own: Vec<_> = [MODULES, ENTRY_POINTS].concat();
+    check_crate_shaders(&own, ENTRY_POINTS, &modules()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn entry_points_compose_and_validate() {
+    layouts();
+}
+
+#[test]
+fn rust_mirrors_match_naga_layouts() {
+    let l = layouts();
+    let check = |wgsl: &str, size: usize, fields: &[(&str, usize)]| {
+        check_layout(&l, wgsl, size, fields).unwrap_or_else(|e| panic!("{e}"))
+    };
+    check(
+        "DenoiseParams",
+        size_of::<GpuDenoiseParams>(),
+        &[
+            ("reset", offset_of!(GpuDenoiseParams, reset)),
+            ("max_history", offset_of!(GpuDenoiseParams, max_history)),
+            ("phi_depth", offset_of!(GpuDenoiseParams, phi_depth)),
+            (
+                "firefly_spread",
+                offset_of!(GpuDenoiseParams, firefly_spread),
+            ),
+            ("fast_alpha", offset_of!(GpuDenoiseParams, fast_alpha)),
+            (
+                "spatial_variance_below",
+                offset_of!(GpuDenoiseParams, spatial_variance_below),
+            ),
+        ],
+    );
+    check(
+        "PassParams",
+        size_of::<GpuPassParams>(),
+        &[
+            ("step", offset_of!(GpuPassParams, step)),
+            ("signal", offset_of!(GpuPassParams, signal)),
+            ("accumulate", offset_of!(GpuPassParams, accumulate)),
+        ],
+    );
+    check(
+        "History",
+        size_of::<GpuHistory>(),
+        &[
+            ("moments", offset_of!(GpuHistory, moments)),
+            ("carry", offset_of!(GpuHistory, carry)),
+        ],
+    );
+}
