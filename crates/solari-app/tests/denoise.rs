@@ -1,0 +1,235 @@
+//! The fallback denoiser in the real-time renderer on lavapipe: ReSTIR DI frames against the
+//! reference tracer's direct-only image (one frame, and the long-run mean), and a moving
+//! object's disoccluded trail. Figures are printed for the issue notes
+//! (`cargo test --release -p solari-app --test denoise -- --nocapture`).
+
+use glam::{Mat4, Vec3, Vec4};
+use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
+use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
+use solari_denoise::DenoiserKind;
+use solari_lights::{LightList, LightTileSettings, Selection};
+use solari_restir::RestirDiSettings;
+use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::shaders::Backend;
+use solari_scene::{Scene, default_scene};
+
+const SIZE: u32 = 64;
+
+fn settings(denoiser: DenoiserKind) -> RealtimeSettings {
+    RealtimeSettings {
+        tiles: LightTileSettings {
+            tiles: 16,
+            samples_per_tile: 256,
+        },
+        di: RestirDiSettings {
+            spatial_radius: 3.0,
+            ..Default::default()
+        },
+        denoiser: Some(denoiser),
+        ..Default::default()
+    }
+}
+
+fn upload(gpu: &Gpu, backend: Backend, scene: &Scene) -> GpuScene {
+    GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload")
+}
+
+fn reference_direct(gpu: &Gpu, backend: Backend, scene: &Scene, spp: u32) -> Vec<[f32; 3]> {
+    let gpu_scene = upload(gpu, backend, scene);
+    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("reference pipeline");
+    let settings = ReferenceSettings {
+        spp,
+        max_bounces: 1,
+        selection: Selection::Power,
+        pixel_centre: true,
+    };
+    let camera = scene.camera(None).expect("camera");
+    renderer
+        .render(
+            gpu,
+            &gpu_scene,
+            &LightList::build(scene),
+            &camera,
+            SIZE,
+            SIZE,
+            &settings,
+            |_| {},
+        )
+        .expect("reference")
+        .pixels
+}
+
+fn rgb(p: &[[f32; 4]]) -> Vec<[f32; 3]> {
+    p.iter().map(|p| [p[0], p[1], p[2]]).collect()
+}
+
+fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
+        .sum();
+    (sum / (a.len() * 3) as f64).sqrt()
+}
+
+fn total(a: &[[f32; 3]]) -> f64 {
+    a.iter().flatten().map(|v| *v as f64).sum()
+}
+
+#[test]
+fn denoised_di_is_closer_to_the_reference_and_converges() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let reference = reference_direct(&gpu, backend, &scene, 512);
+    let gpu_scene = upload(&gpu, backend, &scene);
+    let mut renderer = RealtimeRenderer::new(
+        &gpu,
+        backend,
+        &scene,
+        &gpu_scene,
+        SIZE,
+        SIZE,
+        settings(DenoiserKind::Fallback),
+    )
+    .expect("renderer");
+    let camera = scene.camera(None).expect("camera");
+    let frames = 200;
+    let n = (SIZE * SIZE) as usize;
+    let (mut raw_mean, mut den_mean) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
+    let mut rows = Vec::new();
+    for frame in 1..=frames {
+        renderer
+            .render(&gpu, &scene, &gpu_scene, &camera)
+            .expect("frame");
+        let raw = rgb(&renderer.read_noisy(&gpu).expect("noisy"));
+        let den = rgb(&renderer.read_output(&gpu).expect("output"));
+        if [1, 4, 16, 64, 200].contains(&frame) {
+            rows.push((frame, rmse(&raw, &reference), rmse(&den, &reference)));
+        }
+        if frame > 100 {
+            for i in 0..n {
+                for c in 0..3 {
+                    raw_mean[i][c] += raw[i][c] / 100.0;
+                    den_mean[i][c] += den[i][c] / 100.0;
+                }
+            }
+        }
+    }
+    for (frame, raw, den) in &rows {
+        println!("Cornell DI {SIZE}x{SIZE}, frame {frame}: RMSE raw {raw:.4}, denoised {den:.4}");
+    }
+    let raw_long = rmse(&raw_mean, &reference);
+    let den_long = rmse(&den_mean, &reference);
+    let energy = total(&den_mean) / total(&raw_mean) - 1.0;
+    println!(
+        "mean of frames 101-200: RMSE raw {raw_long:.4}, denoised {den_long:.4}; denoised/raw \
+         energy {:+.2}%",
+        energy * 100.0
+    );
+    // One frame: the 4th (measured 0.0034 against 0.0068 raw) and the 16th. The first frame
+    // (spatial filter alone) gains little here (measured 0.0075 against 0.0077): see the
+    // crate docs.
+    let (_, raw4, den4) = rows[1];
+    let (_, raw16, den16) = rows[2];
+    assert!(den4 < 0.6 * raw4, "frame 4: {den4} vs raw {raw4}");
+    assert!(den16 < 0.5 * raw16, "frame 16: {den16} vs raw {raw16}");
+    // Converged: the denoised long-run mean stays within 0.01 RMSE of the raw mean's error
+    // (which is itself ReSTIR's residual), and within 2% of its energy.
+    assert!(
+        den_long < raw_long + 0.01,
+        "denoised mean {den_long} vs raw mean {raw_long}"
+    );
+    assert!(energy.abs() < 0.02, "energy bias {energy}");
+}
+
+/// The Cornell box with the short block painted saturated blue, so its footprint (and any
+/// ghost of it) is easy to find by colour.
+fn blue_block_scene() -> (Scene, usize) {
+    let mut scene = default_scene::cornell_box();
+    let mut blue = scene.materials[0].clone();
+    blue.name = "blue".into();
+    blue.base_color = Vec4::new(0.02, 0.05, 0.9, 1.0);
+    blue.emissive = Vec3::ZERO;
+    scene.materials.push(blue);
+    let block = scene
+        .instances
+        .iter()
+        .position(|i| i.name == "short_block")
+        .expect("short block");
+    scene.instances[block].material = scene.materials.len() as u32 - 1;
+    (scene, block)
+}
+
+fn blue(c: [f32; 3]) -> bool {
+    c[2] > 2.0 * (c[0] + c[1]) && c[2] > 1e-3
+}
+
+#[test]
+fn moving_object_leaves_no_ghost_trail() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let (mut scene, block) = blue_block_scene();
+    let start = scene.instances[block].transform;
+    let mut gpu_scene = upload(&gpu, backend, &scene);
+    let mut renderer = RealtimeRenderer::new(
+        &gpu,
+        backend,
+        &scene,
+        &gpu_scene,
+        SIZE,
+        SIZE,
+        settings(DenoiserKind::Fallback),
+    )
+    .expect("renderer");
+    let camera = scene.camera(None).expect("camera");
+    // 40 static frames build a long history everywhere, then the block slides 0.1 units (about
+    // a pixel) a frame towards +x for 20 frames.
+    let mut covered_before = vec![false; (SIZE * SIZE) as usize];
+    let step = 0.1;
+    let moves = 20;
+    let mut trail_blue = Vec::new();
+    for frame in 0..(40 + moves) {
+        if frame >= 40 {
+            let k = (frame - 39) as f32;
+            scene.instances[block].transform =
+                Mat4::from_translation(Vec3::new(step * k, 0.0, 0.0)) * start;
+            gpu_scene.set_instances(&gpu, &scene).expect("move");
+        }
+        renderer
+            .render(&gpu, &scene, &gpu_scene, &camera)
+            .expect("frame");
+        let out = rgb(&renderer.read_output(&gpu).expect("output"));
+        if frame == 39 {
+            covered_before = out.iter().map(|c| blue(*c)).collect();
+        }
+        if frame >= 40 {
+            // The trail: pixels the block covered before it moved, no longer covered now
+            // (the raw frame shows where it is now).
+            let raw = rgb(&renderer.read_noisy(&gpu).expect("noisy"));
+            let trail: Vec<usize> = (0..out.len())
+                .filter(|&i| covered_before[i] && !blue(raw[i]))
+                .collect();
+            let ghosts = trail.iter().filter(|&&i| blue(out[i])).count();
+            trail_blue.push((frame - 39, trail.len(), ghosts));
+        }
+    }
+    for (k, trail, ghosts) in trail_blue.iter().step_by(5) {
+        println!("moving block, frame {k} of the move: {trail} trail pixels, {ghosts} still blue");
+    }
+    let (_, trail, ghosts) = *trail_blue.last().expect("frames");
+    assert!(
+        trail >= 20,
+        "the block should have uncovered pixels: {trail}"
+    );
+    // Stated bound: after the first frame of the move, no trail pixel is still blue.
+    for (k, trail, ghosts) in &trail_blue[1..] {
+        assert!(
+            *ghosts == 0,
+            "frame {k} of the move: {ghosts} of {trail} trail pixels still show the block"
+        );
+    }
+    let _ = ghosts;
+}
