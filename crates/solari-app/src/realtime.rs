@@ -14,7 +14,7 @@ use solari_denoise::{
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{DiPasses, PASS_LABELS, RestirDi, RestirDiSettings};
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::Gpu;
+use solari_scene::gpu::{Gpu, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
@@ -487,19 +487,6 @@ impl RealtimeRenderer {
             Some(d) if self.denoising() => d.output_size(),
             _ => self.di.size(),
         }
-    }
-}
-
-// Runs `f` inside a named profiler scope (directly without a profiler).
-fn in_scope<R>(
-    profiler: Option<&GpuProfiler>,
-    name: &str,
-    encoder: &mut wgpu::CommandEncoder,
-    f: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
-) -> R {
-    match profiler {
-        Some(p) => f(&mut p.scope(name, encoder)),
-        None => f(encoder),
     }
 }
 

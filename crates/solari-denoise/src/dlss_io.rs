@@ -2,10 +2,9 @@
 //! them and Solari's buffers. Kept apart from the `dlss` feature so that every build (and
 //! CI, which has no DLSS SDK) compiles and tests them.
 
-use crate::fallback::in_scope;
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
 use solari_scene::shaders::{Backend, compose};
 use wgpu_profiler::GpuProfiler;
 

@@ -6,7 +6,7 @@ use crate::settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
 use solari_scene::shaders::{Backend, compose};
 use wgpu_profiler::GpuProfiler;
 
@@ -61,7 +61,7 @@ pub struct FallbackDenoiser {
 
 impl FallbackDenoiser {
     /// Builds the passes and allocates `width × height` buffers (about 136 bytes per pixel:
-    /// 282 MiB at 1920×1080 for combined lighting, 96 bytes more per pixel for split).
+    /// 269 MiB at 1920×1080 for combined lighting, 96 bytes more per pixel for split).
     pub fn new(
         gpu: &Gpu,
         width: u32,
@@ -345,18 +345,5 @@ impl Denoiser for FallbackDenoiser {
         let pixels = self.size.0 as u64 * self.size.1 as u64;
         pixels * PIXEL_BYTES
             + (self.signals.len().saturating_sub(1) as u64) * pixels * 2 * HISTORY_BYTES
-    }
-}
-
-// Runs `f` inside a named profiler scope (directly without a profiler).
-pub(crate) fn in_scope<R>(
-    profiler: Option<&GpuProfiler>,
-    name: &str,
-    encoder: &mut wgpu::CommandEncoder,
-    f: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
-) -> R {
-    match profiler {
-        Some(p) => f(&mut p.scope(name, encoder)),
-        None => f(encoder),
     }
 }

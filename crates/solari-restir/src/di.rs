@@ -6,7 +6,7 @@ use bytemuck::Zeroable;
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::shaders::{Backend, compose};
 use wgpu_profiler::GpuProfiler;
@@ -336,15 +336,10 @@ impl RestirDi {
             lights,
         ];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
-        let run = |encoder: &mut wgpu::CommandEncoder, label: &str, pipeline| match profiler {
-            Some(p) => record(
-                &mut p.scope(label, encoder),
-                label,
-                pipeline,
-                &groups,
-                workgroups,
-            ),
-            None => record(encoder, label, pipeline, &groups, workgroups),
+        let run = |encoder: &mut wgpu::CommandEncoder, label: &str, pipeline| {
+            in_scope(profiler, label, encoder, |e| {
+                record(e, label, pipeline, &groups, workgroups)
+            })
         };
         if light_count == 0 {
             run(encoder, PASS_LABELS[2], &self.emission);

@@ -482,6 +482,20 @@ impl Gpu {
     }
 }
 
+/// Runs `f` on `encoder` inside the profiler scope `label` (directly without a profiler), so
+/// a pass records the same way whether timestamps are on or off.
+pub fn in_scope<R>(
+    profiler: Option<&wgpu_profiler::GpuProfiler>,
+    label: &str,
+    encoder: &mut wgpu::CommandEncoder,
+    f: impl FnOnce(&mut wgpu::CommandEncoder) -> R,
+) -> R {
+    match profiler {
+        Some(p) => f(&mut p.scope(label, encoder)),
+        None => f(encoder),
+    }
+}
+
 /// A device for a GPU test, or `None` (test skipped with a note) when no adapter exists and
 /// `SOLARI_REQUIRE_GPU` is not `1`. With `SOLARI_REQUIRE_GPU=1` a missing adapter panics, so
 /// CI can never pass with its GPU tests silently skipped.

@@ -8,7 +8,7 @@ use bytemuck::Zeroable;
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry};
+use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::shaders::{Backend, compose};
 use wgpu_profiler::GpuProfiler;
@@ -145,19 +145,6 @@ fn record(
 enum Dispatch<'a> {
     Direct(u32, u32),
     Indirect(&'a wgpu::Buffer),
-}
-
-// Runs `f` inside a named profiler scope (directly without a profiler).
-fn in_scope(
-    profiler: Option<&GpuProfiler>,
-    label: &str,
-    encoder: &mut wgpu::CommandEncoder,
-    f: impl FnOnce(&mut wgpu::CommandEncoder),
-) {
-    match profiler {
-        Some(p) => f(&mut p.scope(label, encoder)),
-        None => f(encoder),
-    }
 }
 
 impl WorldCache {
