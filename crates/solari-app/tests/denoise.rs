@@ -5,73 +5,19 @@
 
 use glam::{Mat4, Vec3, Vec4};
 use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
-use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
 use solari_denoise::DenoiserKind;
-use solari_lights::{LightList, LightTileSettings, Selection};
-use solari_restir::RestirDiSettings;
-use solari_scene::gpu::{Gpu, test_gpu};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
-use solari_scene::shaders::Backend;
+use solari_scene::gpu::test_gpu;
 use solari_scene::{Scene, default_scene};
 
-const SIZE: u32 = 64;
+mod common;
+
+use common::{SIZE, reference_direct, rgb, rmse, upload};
 
 fn settings(denoiser: DenoiserKind) -> RealtimeSettings {
     RealtimeSettings {
-        tiles: LightTileSettings {
-            tiles: 16,
-            samples_per_tile: 256,
-        },
-        di: RestirDiSettings {
-            spatial_radius: 3.0,
-            ..Default::default()
-        },
         denoiser: Some(denoiser),
-        ..Default::default()
+        ..common::settings()
     }
-}
-
-fn upload(gpu: &Gpu, backend: Backend, scene: &Scene) -> GpuScene {
-    GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload")
-}
-
-fn reference_direct(gpu: &Gpu, backend: Backend, scene: &Scene, spp: u32) -> Vec<[f32; 3]> {
-    let gpu_scene = upload(gpu, backend, scene);
-    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("reference pipeline");
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces: 1,
-        selection: Selection::Power,
-        pixel_centre: true,
-    };
-    let camera = scene.camera(None).expect("camera");
-    renderer
-        .render(
-            gpu,
-            &gpu_scene,
-            &LightList::build(scene),
-            &camera,
-            SIZE,
-            SIZE,
-            &settings,
-            |_| {},
-        )
-        .expect("reference")
-        .pixels
-}
-
-fn rgb(p: &[[f32; 4]]) -> Vec<[f32; 3]> {
-    p.iter().map(|p| [p[0], p[1], p[2]]).collect()
-}
-
-fn rmse(a: &[[f32; 3]], b: &[[f32; 3]]) -> f64 {
-    let sum: f64 = a
-        .iter()
-        .zip(b)
-        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
-        .sum();
-    (sum / (a.len() * 3) as f64).sqrt()
 }
 
 fn total(a: &[[f32; 3]]) -> f64 {

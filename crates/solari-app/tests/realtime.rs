@@ -6,81 +6,16 @@
 
 use glam::Vec3;
 use solari_app::realtime::{CameraPath, RealtimeRenderer, RealtimeSettings};
-use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
-use solari_lights::{LightList, LightTileSettings, Selection};
+use solari_lights::LightTileSettings;
 use solari_restir::RestirDiSettings;
 use solari_scene::gpu::{Gpu, test_gpu};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::gpu_scene::GpuScene;
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, DirectionalLight, Scene, default_scene};
 
-const SIZE: u32 = 64;
+mod common;
 
-// Small tiles keep lavapipe quick; the sampling is the same as with Solari's 128 × 1024. The
-// spatial radius shrinks with the image: Solari's 30 px are meant for 900-1080 lines, and on
-// 64 they would reach half the image, where neighbours' target functions differ so much that
-// reuse stops paying (measured: no gain at 30 px, the ideal √2 at 3 px).
-fn settings() -> RealtimeSettings {
-    RealtimeSettings {
-        tiles: LightTileSettings {
-            tiles: 16,
-            samples_per_tile: 256,
-        },
-        di: RestirDiSettings {
-            spatial_radius: 3.0,
-            ..Default::default()
-        },
-        ..Default::default()
-    }
-}
-
-fn upload(gpu: &Gpu, backend: Backend, scene: &Scene) -> GpuScene {
-    GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload")
-}
-
-/// The reference tracer's direct-only image at pixel centres (what the G-buffer sees).
-fn reference_direct(gpu: &Gpu, backend: Backend, scene: &Scene, spp: u32) -> Vec<[f32; 3]> {
-    let gpu_scene = upload(gpu, backend, scene);
-    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("reference pipeline");
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces: 1,
-        selection: Selection::Power,
-        pixel_centre: true,
-    };
-    let camera = scene.camera(None).expect("camera");
-    renderer
-        .render(
-            gpu,
-            &gpu_scene,
-            &LightList::build(scene),
-            &camera,
-            SIZE,
-            SIZE,
-            &settings,
-            |_| {},
-        )
-        .expect("reference render")
-        .pixels
-}
-
-fn luminance(c: [f32; 3]) -> f64 {
-    0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
-}
-
-fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
-    let sum: f64 = image
-        .iter()
-        .zip(reference)
-        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
-        .sum();
-    (sum / (image.len() * 3) as f64).sqrt()
-}
-
-fn rgb(pixels: &[[f32; 4]]) -> Vec<[f32; 3]> {
-    pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
-}
+use common::{SIZE, luminance, reference_direct, rgb, rmse, settings, upload};
 
 /// An open floor with a block under a soft sun, seen from above: directional light, hard
 /// and soft shadow edges, no emitters in view.

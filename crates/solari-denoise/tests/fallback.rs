@@ -184,6 +184,18 @@ fn firefly_suppression_moves_energy_in_time_without_losing_it() {
         },
         frames,
     );
+    let feedback = firefly_run(
+        &mut h,
+        FallbackSettings {
+            history_feedback: true,
+            ..Default::default()
+        },
+        frames,
+    );
+    println!(
+        "fireflies: defaults with SVGF's history feedback on: output/input {:.4}",
+        feedback.1 / feedback.0
+    );
     println!(
         "fireflies (1% of samples at 100x the rest, {SIZE}x{SIZE}, frames 41-{frames}): output/input \
          without the history fix: {:.4} with the clamp, {:.4} without (clamp bias {:+.2}%); \
@@ -343,7 +355,7 @@ fn fast_reset_follows_a_light_switch() {
 
 #[test]
 fn bad_settings_are_refused_with_the_knob_named() {
-    let cases: [(FallbackSettings, &str); 5] = [
+    let cases: [(FallbackSettings, &str); 6] = [
         (
             FallbackSettings {
                 atrous_iterations: 0,
@@ -364,6 +376,13 @@ fn bad_settings_are_refused_with_the_knob_named() {
                 ..Default::default()
             },
             "firefly_clamp",
+        ),
+        (
+            FallbackSettings {
+                reset_min_history: 8.0,
+                ..Default::default()
+            },
+            "reset_min_history",
         ),
         (
             FallbackSettings {
