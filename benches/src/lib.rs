@@ -17,4 +17,7 @@ pub fn shared_scenes() -> Vec<PathBuf> {
     out
 }
 
+pub mod denoise;
+pub mod font;
 pub mod sweep;
+pub mod table;

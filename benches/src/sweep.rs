@@ -1,5 +1,7 @@
 //! The CSV `solari bench-di` writes, read back for plotting.
 
+use crate::table::Table;
+
 /// One row: a setting and what it cost and scored.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepRow {
@@ -19,44 +21,24 @@ pub struct SweepRow {
 
 /// Parses the CSV; the error names the line and column that failed.
 pub fn parse_sweep(text: &str) -> Result<Vec<SweepRow>, String> {
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().ok_or("empty CSV")?.split(',').collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .ok_or(format!("CSV has no column '{name}'"))
-    };
+    let t = Table::parse(text)?;
     let (scene, cand, tiles, spt, ms, rmse) = (
-        col("scene")?,
-        col("candidates")?,
-        col("tiles")?,
-        col("samples_per_tile")?,
-        col("lighting_ms")?,
-        col("rmse")?,
+        t.column("scene")?,
+        t.column("candidates")?,
+        t.column("tiles")?,
+        t.column("samples_per_tile")?,
+        t.column("lighting_ms")?,
+        t.column("rmse")?,
     );
-    lines
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty())
-        .map(|(i, l)| {
-            let f: Vec<&str> = l.split(',').collect();
-            let get = |c: usize| {
-                f.get(c)
-                    .copied()
-                    .ok_or(format!("line {}: too few columns", i + 2))
-            };
-            let num = |c: usize| -> Result<f64, String> {
-                get(c)?
-                    .parse::<f64>()
-                    .map_err(|_| format!("line {}: column {} is not a number", i + 2, header[c]))
-            };
+    (0..t.len())
+        .map(|i| {
             Ok(SweepRow {
-                scene: get(scene)?.to_string(),
-                candidates: num(cand)? as u32,
-                tiles: num(tiles)? as u32,
-                samples_per_tile: num(spt)? as u32,
-                lighting_ms: num(ms)?,
-                rmse: num(rmse)?,
+                scene: t.text(i, scene)?.to_string(),
+                candidates: t.num(i, cand)? as u32,
+                tiles: t.num(i, tiles)? as u32,
+                samples_per_tile: t.num(i, spt)? as u32,
+                lighting_ms: t.num(i, ms)?,
+                rmse: t.num(i, rmse)?,
             })
         })
         .collect()

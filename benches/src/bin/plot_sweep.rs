@@ -3,13 +3,11 @@
 //!
 //! `cargo run -p solari-benches --bin plot-sweep -- SWEEP.csv OUT.png [--font FONT.ttf]`
 //!
-//! Text needs a TrueType font (plotters draws glyphs with ab_glyph and bundles none); the
-//! default is DejaVu Sans where Debian installs it.
+//! Text needs a TrueType font (see `solari_benches::font`).
 
 use plotters::prelude::*;
+use solari_benches::font;
 use solari_benches::sweep::{SweepRow, parse_sweep};
-
-const DEFAULT_FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
 fn main() {
     if let Err(e) = run() {
@@ -25,13 +23,7 @@ fn run() -> Result<(), String> {
         [c, o, ..] => (c, o),
         _ => return Err(usage.into()),
     };
-    let font = match args.iter().position(|a| a == "--font") {
-        Some(i) => args.get(i + 1).ok_or(usage)?.clone(),
-        None => DEFAULT_FONT.to_string(),
-    };
-    let bytes = std::fs::read(&font).map_err(|e| format!("font {font}: {e} (pass --font)"))?;
-    plotters::style::register_font("sans-serif", FontStyle::Normal, Box::leak(bytes.into()))
-        .map_err(|_| format!("{font} is not a TrueType font"))?;
+    font::register_from_args(&args, usage)?;
     let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
     let rows: Vec<SweepRow> = parse_sweep(&text)?
         .into_iter()

@@ -32,6 +32,9 @@ pub enum Command {
     /// World-cache upkeep times, live cells and memory, and cache-only GI's error against a
     /// full-bounce reference, over cell sizes and update budgets (CSV rows).
     BenchCache(BenchCacheArgs),
+    /// The fallback denoiser frame by frame on a static view: GPU ms, error of the raw, the
+    /// accumulated and the denoised frame against a direct-only reference, and flicker (CSV).
+    BenchDenoise(BenchDenoiseArgs),
 }
 
 /// A loaded scene on the device, ready to render.
@@ -266,6 +269,31 @@ pub struct BenchDiArgs {
     /// --pixel-centre`) for the error columns.
     #[arg(long)]
     pub reference: Option<PathBuf>,
+    /// Also write the CSV here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct BenchDenoiseArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080")]
+    pub size: String,
+    /// Frames per setting (static camera); every frame is measured.
+    #[arg(long, default_value_t = 64)]
+    pub frames: u32,
+    /// À-trous iteration counts to sweep (comma separated, 1–8).
+    #[arg(long, default_value = "5")]
+    pub iterations: String,
+    /// Most frames the denoiser's temporal average spans.
+    #[arg(long, default_value_t = 32.0)]
+    pub max_history: f32,
+    /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
+    /// --pixel-centre`) at --size.
+    #[arg(long)]
+    pub reference: PathBuf,
     /// Also write the CSV here.
     #[arg(long)]
     pub csv: Option<PathBuf>,

@@ -7,11 +7,14 @@
 //! - `solari compare TEST REFERENCE [--heatmap OUT.png] [--mask-emitters SCENE] [--json]`
 //! - `solari bench-rays [SCENE | --heightfield N] [--json]`
 //! - `solari bench-di [SCENE] --candidates 1,8,32 --tiles 32x256,128x1024 --reference REF.exr`
+//! - `solari bench-cache [SCENE] --cell-sizes 0.1,0.25 --budgets 40000 --reference REF.exr`
+//! - `solari bench-denoise [SCENE] --frames 64 --iterations 1,3,5 --reference REF.exr`
 //!
 //! With no SCENE the built-in Cornell box is used.
 
 mod bench;
 mod bench_cache;
+mod bench_denoise;
 mod bench_di;
 mod bench_io;
 mod cli;
@@ -32,6 +35,7 @@ fn main() {
         cli::Command::Compare(a) => compare::run(&a),
         cli::Command::BenchDi(a) => bench_di::run(&a),
         cli::Command::BenchCache(a) => bench_cache::run(&a),
+        cli::Command::BenchDenoise(a) => bench_denoise::run(&a),
     };
     if let Err(e) = result {
         eprintln!("error: {e}");

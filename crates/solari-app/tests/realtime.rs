@@ -131,7 +131,7 @@ impl Batches {
 fn check_convergence(name: &str, scene: &Scene) {
     let Some(gpu) = test_gpu() else { return };
     let backend = gpu.backend(Default::default()).expect("backend");
-    let reference = reference_direct(&gpu, backend, scene, 1024);
+    let reference = reference_direct(&gpu, backend, scene, SIZE, 1024);
     let mut batches = Batches::new(32);
     run_static(&gpu, backend, scene, settings(), 512, |frame, pixels| {
         assert!(
@@ -186,8 +186,8 @@ fn direct_light_converges_to_the_reference_under_a_soft_sun() {
 fn single_frame_errors(scene: &Scene) -> Option<[f64; 4]> {
     let gpu = test_gpu()?;
     let backend = gpu.backend(Default::default()).expect("backend");
-    let reference = reference_direct(&gpu, backend, scene, 1024);
-    let one_path = rmse(&reference_direct(&gpu, backend, scene, 1), &reference);
+    let reference = reference_direct(&gpu, backend, scene, SIZE, 1024);
+    let one_path = rmse(&reference_direct(&gpu, backend, scene, SIZE, 1), &reference);
     let plain_settings = RealtimeSettings {
         di: RestirDiSettings {
             initial_candidates: 1,

@@ -35,8 +35,8 @@ fn rust_mirrors_match_naga_layouts() {
             ),
             ("fast_alpha", offset_of!(GpuDenoiseParams, fast_alpha)),
             (
-                "spatial_variance_below",
-                offset_of!(GpuDenoiseParams, spatial_variance_below),
+                "spatial_variance_frames",
+                offset_of!(GpuDenoiseParams, spatial_variance_frames),
             ),
         ],
     );

@@ -36,8 +36,15 @@ pub fn upload(gpu: &Gpu, backend: Backend, scene: &Scene) -> GpuScene {
     GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload")
 }
 
-/// The reference tracer's direct-only image at pixel centres (what the G-buffer sees).
-pub fn reference_direct(gpu: &Gpu, backend: Backend, scene: &Scene, spp: u32) -> Vec<[f32; 3]> {
+/// The reference tracer's direct-only image at pixel centres (what the G-buffer sees),
+/// `size × size`.
+pub fn reference_direct(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+) -> Vec<[f32; 3]> {
     let gpu_scene = upload(gpu, backend, scene);
     let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .expect("reference pipeline");
@@ -54,8 +61,8 @@ pub fn reference_direct(gpu: &Gpu, backend: Backend, scene: &Scene, spp: u32) ->
             &gpu_scene,
             &LightList::build(scene),
             &camera,
-            SIZE,
-            SIZE,
+            size,
+            size,
             &settings,
             |_| {},
         )

@@ -1,0 +1,113 @@
+//! `solari bench-denoise`: the fallback denoiser's cost, error and frame-to-frame change on a
+//! static view, frame by frame. For each à-trous iteration count it runs ReSTIR DI (no GI)
+//! with the fallback denoiser and writes one CSV row per frame: the denoiser's GPU ms, the
+//! RMSE of the raw frame, of the mean of all raw frames so far (plain accumulation) and of
+//! the denoised frame against a direct-only reference, the denoised image's energy against
+//! the reference's, and the RMS change from the previous frame (raw and denoised), which on
+//! a static view is pure flicker. `cargo run -p solari-benches --bin plot-denoise` draws it.
+
+use crate::bench_io::{emit_csv, errors, frame_bar, load_reference, parse_list};
+use crate::cli::{BenchDenoiseArgs, Prepared, parse_size};
+use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
+use solari_denoise::fallback::PASS_LABELS;
+use solari_denoise::{DenoiserKind, FallbackSettings};
+
+/// The CSV header; one row per (iterations, frame).
+const HEADER: &str = "scene,width,height,tracer,adapter,iterations,frame,denoise_ms,\
+                      rmse_raw,rmse_raw_mean,rmse_denoised,energy_denoised,\
+                      change_raw,change_denoised";
+
+/// A frame's linear RGB, row by row.
+type Image = Vec<[f32; 3]>;
+
+/// Drops alpha.
+fn rgb(px: &[[f32; 4]]) -> Image {
+    px.iter().map(|p| [p[0], p[1], p[2]]).collect()
+}
+
+/// Sum of all channels (f64, non-finite values count as zero so one bad pixel cannot hide
+/// the rest; the denoiser's own tests check finiteness).
+fn energy(px: &[[f32; 3]]) -> f64 {
+    px.iter()
+        .flatten()
+        .map(|v| if v.is_finite() { *v as f64 } else { 0.0 })
+        .sum()
+}
+
+pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
+    let (w, h) = parse_size(&args.size)?;
+    let iterations: Vec<u32> = parse_list(&args.iterations, "--iterations")?;
+    if args.frames == 0 {
+        return Err("--frames must be at least 1".into());
+    }
+    let reference =
+        load_reference(Some(&args.reference), w, h)?.ok_or("--reference is required")?;
+    let reference_energy = energy(&reference).max(f64::MIN_POSITIVE);
+    let Prepared {
+        name,
+        scene,
+        camera,
+        gpu,
+        backend,
+        gpu_scene,
+        ..
+    } = args.scene.prepare()?;
+    let bar = frame_bar(iterations.len() as u64 * args.frames as u64, false)?;
+    let mut lines = vec![HEADER.to_string()];
+    for &it in &iterations {
+        let denoise = FallbackSettings {
+            atrous_iterations: it,
+            max_history: args.max_history,
+            ..Default::default()
+        };
+        denoise
+            .validate()
+            .map_err(|e| format!("--iterations {it}: {e}"))?;
+        let settings = RealtimeSettings {
+            timestamps: true,
+            denoiser: Some(DenoiserKind::Fallback),
+            denoise,
+            ..Default::default()
+        };
+        let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
+            .map_err(|e| e.to_string())?;
+        let mut raw_sum = vec![[0.0f64; 3]; (w * h) as usize];
+        // (raw, denoised) of the previous frame.
+        let mut previous: Option<(Image, Image)> = None;
+        for frame in 1..=args.frames {
+            let report = renderer
+                .render(&gpu, &scene, &gpu_scene, &camera)
+                .map_err(|e| e.to_string())?;
+            let denoise_ms: f64 = PASS_LABELS.iter().filter_map(|p| report.gpu_ms(p)).sum();
+            let raw = rgb(&renderer.read_noisy(&gpu).map_err(|e| e.to_string())?);
+            let denoised = rgb(&renderer.read_output(&gpu).map_err(|e| e.to_string())?);
+            for (s, p) in raw_sum.iter_mut().zip(&raw) {
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
+            }
+            let mean: Image = raw_sum
+                .iter()
+                .map(|s| s.map(|v| (v / frame as f64) as f32))
+                .collect();
+            let (change_raw, change_denoised) = match &previous {
+                Some((r, d)) => (errors(&raw, r).0, errors(&denoised, d).0),
+                None => (f64::NAN, f64::NAN),
+            };
+            lines.push(format!(
+                "{name},{w},{h},{},{},{it},{frame},{denoise_ms:.4},{:.6},{:.6},{:.6},{:.5},\
+                 {change_raw:.6},{change_denoised:.6}",
+                backend.name(),
+                gpu.info.name.replace(',', " "),
+                errors(&raw, &reference).0,
+                errors(&mean, &reference).0,
+                errors(&denoised, &reference).0,
+                energy(&denoised) / reference_energy,
+            ));
+            previous = Some((raw, denoised));
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    emit_csv(&lines, args.csv.as_ref())
+}
