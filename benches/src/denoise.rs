@@ -15,7 +15,7 @@ pub struct DenoiseRow {
     pub iterations: u32,
     /// Frame number, from 1.
     pub frame: u32,
-    /// The denoiser's GPU ms this frame.
+    /// The denoiser's mean GPU ms per frame in the setting's timing run (no read-backs).
     pub denoise_ms: f64,
     /// RMSE of the raw frame.
     pub rmse_raw: f64,

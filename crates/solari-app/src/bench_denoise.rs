@@ -1,6 +1,8 @@
 //! `solari bench-denoise`: the fallback denoiser's cost, error and frame-to-frame change on a
 //! static view, frame by frame. For each à-trous iteration count it runs ReSTIR DI (no GI)
-//! with the fallback denoiser and writes one CSV row per frame: the denoiser's GPU ms, the
+//! with the fallback denoiser and writes one CSV row per frame: the denoiser's mean GPU ms
+//! (from a separate run without read-backs: reading every frame back idles the GPU long
+//! enough to drop its clocks, which made the same passes read 5× slower on the H200), the
 //! RMSE of the raw frame, of the mean of all raw frames so far (plain accumulation) and of
 //! the denoised frame against a direct-only reference, the denoised image's energy against
 //! the reference's, and the RMS change from the previous frame (raw and denoised), which on
@@ -16,6 +18,9 @@ use solari_denoise::{DenoiserKind, FallbackSettings};
 const HEADER: &str = "scene,width,height,tracer,adapter,iterations,frame,denoise_ms,\
                       rmse_raw,rmse_raw_mean,rmse_denoised,energy_denoised,\
                       change_raw,change_denoised";
+
+/// Untimed leading frames of the timing run.
+const TIMING_WARMUP: u32 = 8;
 
 /// A frame's linear RGB, row by row.
 type Image = Vec<[f32; 3]>;
@@ -52,7 +57,8 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
         gpu_scene,
         ..
     } = args.scene.prepare()?;
-    let bar = frame_bar(iterations.len() as u64 * args.frames as u64, false)?;
+    let per_setting = (TIMING_WARMUP + args.timed_frames + args.frames) as u64;
+    let bar = frame_bar(iterations.len() as u64 * per_setting, false)?;
     let mut lines = vec![HEADER.to_string()];
     for &it in &iterations {
         let denoise = FallbackSettings {
@@ -69,16 +75,33 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
             denoise,
             ..Default::default()
         };
-        let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
-            .map_err(|e| e.to_string())?;
+        let new_renderer = || {
+            RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
+                .map_err(|e| e.to_string())
+        };
+        let mut renderer = new_renderer()?;
+        let mut ms = 0.0;
+        for frame in 0..TIMING_WARMUP + args.timed_frames {
+            let report = renderer
+                .render(&gpu, &scene, &gpu_scene, &camera)
+                .map_err(|e| e.to_string())?;
+            if frame >= TIMING_WARMUP {
+                ms += PASS_LABELS
+                    .iter()
+                    .filter_map(|p| report.gpu_ms(p))
+                    .sum::<f64>();
+            }
+            bar.inc(1);
+        }
+        let denoise_ms = ms / args.timed_frames.max(1) as f64;
+        let mut renderer = new_renderer()?;
         let mut raw_sum = vec![[0.0f64; 3]; (w * h) as usize];
         // (raw, denoised) of the previous frame.
         let mut previous: Option<(Image, Image)> = None;
         for frame in 1..=args.frames {
-            let report = renderer
+            renderer
                 .render(&gpu, &scene, &gpu_scene, &camera)
                 .map_err(|e| e.to_string())?;
-            let denoise_ms: f64 = PASS_LABELS.iter().filter_map(|p| report.gpu_ms(p)).sum();
             let raw = rgb(&renderer.read_noisy(&gpu).map_err(|e| e.to_string())?);
             let denoised = rgb(&renderer.read_output(&gpu).map_err(|e| e.to_string())?);
             for (s, p) in raw_sum.iter_mut().zip(&raw) {

@@ -9,13 +9,10 @@ use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{Scene, load_gltf};
-use std::path::{Path, PathBuf};
 
-fn shared(rel: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared")
-        .join(rel)
-}
+mod common;
+
+use common::shared;
 
 fn backends(gpu: &Gpu) -> Vec<Backend> {
     Backend::ALL

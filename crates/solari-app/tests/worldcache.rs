@@ -15,13 +15,10 @@ use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{Scene, default_scene, load_gltf};
 use solari_worldcache::{GpuCacheCell, WorldCacheSettings};
-use std::path::PathBuf;
 
-fn shared(rel: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared")
-        .join(rel)
-}
+mod common;
+
+use common::shared;
 
 fn settings(capacity: u32) -> RealtimeSettings {
     RealtimeSettings {

@@ -44,12 +44,14 @@
 //!    frames, relative) plus 10%, the colour history rescaled with it and its length held at
 //!    [`FallbackSettings::reset_length`]. A light dropping to 10% is followed within 10% in
 //!    43 frames instead of over 100 (tests, ±50% per-pixel noise).
-//! 6. **Variance**: from the temporal luminance moments, blended in from a 5×5
-//!    neighbourhood estimate over the first 2 × [`FallbackSettings::spatial_variance_frames`]
-//!    frames of a history (SVGF switches at 4 frames; the switch made the image pop).
+//! 6. **Variance**: from the temporal luminance moments, blended in (geometrically) from a
+//!    5×5 neighbourhood estimate over the first 2 ×
+//!    [`FallbackSettings::spatial_variance_frames`] frames of a history (SVGF switches at 4
+//!    frames; the switch made the image pop).
 //! 7. **À-trous**: [`FallbackSettings::atrous_iterations`] passes of a 5×5 B3 kernel with
-//!    steps 1, 2, 4, …, weighted by tangent-plane distance, shading-normal angle and
-//!    luminance difference in units of the local standard deviation; variance is filtered
+//!    steps 1, 2, 4, …, weighted by tangent-plane distance, shading-normal angle (also
+//!    against the specular lobe's width, [`FallbackSettings::phi_lobe`], for the specular
+//!    share of the pixel) and luminance difference in units of the local standard deviation; variance is filtered
 //!    alongside (weights squared). Optionally ([`FallbackSettings::history_feedback`], off
 //!    by default) the first pass's result is fed back as the colour history, as SVGF does.
 //!

@@ -38,6 +38,7 @@ fn rust_mirrors_match_naga_layouts() {
                 "spatial_variance_frames",
                 offset_of!(GpuDenoiseParams, spatial_variance_frames),
             ),
+            ("phi_lobe", offset_of!(GpuDenoiseParams, phi_lobe)),
         ],
     );
     check(
