@@ -13,14 +13,18 @@ use crate::cli::{BenchDenoiseArgs, Prepared, parse_size};
 use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_denoise::fallback::PASS_LABELS;
 use solari_denoise::{DenoiserKind, FallbackSettings};
+use std::time::{Duration, Instant};
 
 /// The CSV header; one row per (iterations, frame).
 const HEADER: &str = "scene,width,height,tracer,adapter,iterations,frame,denoise_ms,\
                       rmse_raw,rmse_raw_mean,rmse_denoised,energy_denoised,\
                       change_raw,change_denoised";
 
-/// Untimed leading frames of the timing run.
+/// Untimed leading frames of the timing run, at least.
 const TIMING_WARMUP: u32 = 8;
+
+/// Untimed lead of the timing run, at least.
+const TIMING_WARMUP_TIME: Duration = Duration::from_secs(1);
 
 /// A frame's linear RGB, row by row.
 type Image = Vec<[f32; 3]>;
@@ -57,7 +61,7 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
         gpu_scene,
         ..
     } = args.scene.prepare()?;
-    let per_setting = (TIMING_WARMUP + args.timed_frames + args.frames) as u64;
+    let per_setting = (args.timed_frames + args.frames) as u64;
     let bar = frame_bar(iterations.len() as u64 * per_setting, false)?;
     let mut lines = vec![HEADER.to_string()];
     for &it in &iterations {
@@ -80,17 +84,25 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
                 .map_err(|e| e.to_string())
         };
         let mut renderer = new_renderer()?;
+        // Warm up for a while as well as a few frames: the GPU's clocks take time to rise
+        // after the read-back-bound error run.
+        let start = Instant::now();
+        let mut warm = 0;
+        while warm < TIMING_WARMUP || start.elapsed() < TIMING_WARMUP_TIME {
+            renderer
+                .render(&gpu, &scene, &gpu_scene, &camera)
+                .map_err(|e| e.to_string())?;
+            warm += 1;
+        }
         let mut ms = 0.0;
-        for frame in 0..TIMING_WARMUP + args.timed_frames {
+        for _ in 0..args.timed_frames {
             let report = renderer
                 .render(&gpu, &scene, &gpu_scene, &camera)
                 .map_err(|e| e.to_string())?;
-            if frame >= TIMING_WARMUP {
-                ms += PASS_LABELS
-                    .iter()
-                    .filter_map(|p| report.gpu_ms(p))
-                    .sum::<f64>();
-            }
+            ms += PASS_LABELS
+                .iter()
+                .filter_map(|p| report.gpu_ms(p))
+                .sum::<f64>();
             bar.inc(1);
         }
         let denoise_ms = ms / args.timed_frames.max(1) as f64;

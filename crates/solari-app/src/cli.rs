@@ -287,8 +287,8 @@ pub struct BenchDenoiseArgs {
     /// À-trous iteration counts to sweep (comma separated, 1–8).
     #[arg(long, default_value = "5")]
     pub iterations: String,
-    /// Frames of the timing run per setting (after 8 untimed), rendered back to back
-    /// without read-backs.
+    /// Frames of the timing run per setting (after at least 8 untimed frames and 1 s),
+    /// rendered back to back without read-backs.
     #[arg(long, default_value_t = 64)]
     pub timed_frames: u32,
     /// Most frames the denoiser's temporal average spans.

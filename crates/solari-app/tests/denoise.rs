@@ -79,8 +79,8 @@ fn denoised_di_is_closer_to_the_reference_and_converges() {
         energy * 100.0
     );
     // One frame: the 4th and the 16th. The first (spatial filter alone, on variance raised
-    // for a one-frame history) blurs the 64 px box's shadows and gains little here; the next
-    // test checks it at 128 px.
+    // for a one-frame history) gains less at 64 px, where the filter's ±62 px reach the
+    // whole image; the next test checks it at 128 px.
     let (_, raw4, den4) = rows[1];
     let (_, raw16, den16) = rows[2];
     assert!(den4 < 0.6 * raw4, "frame 4: {den4} vs raw {raw4}");
@@ -122,7 +122,7 @@ fn the_first_denoised_frame_is_much_closer_to_the_reference() {
         &reference,
     );
     println!("Cornell DI {size}x{size}, frame 1: RMSE raw {raw:.4}, denoised {den:.4}");
-    // Measured 0.0040 against 0.0077 (`solari bench-denoise --size 128x128`).
+    // Measured 0.0036 against 0.0075.
     assert!(den < 0.6 * raw, "frame 1: {den} vs raw {raw}");
 }
 

@@ -45,9 +45,10 @@
 //!    [`FallbackSettings::reset_length`]. A light dropping to 10% is followed within 10% in
 //!    43 frames instead of over 100 (tests, ±50% per-pixel noise).
 //! 6. **Variance**: from the temporal luminance moments, blended in (geometrically) from a
-//!    5×5 neighbourhood estimate over the first 2 ×
-//!    [`FallbackSettings::spatial_variance_frames`] frames of a history (SVGF switches at 4
-//!    frames; the switch made the image pop).
+//!    spatial estimate over the first 2 × [`FallbackSettings::spatial_variance_frames`]
+//!    frames of a history (SVGF switches at 4 frames; the switch made the image pop). The
+//!    spatial estimate is the calmest of the 5×5 window's four 3×3 corners, so a window
+//!    across a hard shadow edge measures noise rather than the edge's contrast.
 //! 7. **À-trous**: [`FallbackSettings::atrous_iterations`] passes of a 5×5 B3 kernel with
 //!    steps 1, 2, 4, …, weighted by tangent-plane distance, shading-normal angle (also
 //!    against the specular lobe's width, [`FallbackSettings::phi_lobe`], for the specular
@@ -60,15 +61,17 @@
 //! - ReSTIR DI, Cornell box: the long-run mean keeps the raw mean's energy (−0.16%); its
 //!   RMSE to the reference grows from 0.0016 to 0.0027 (the spatial blur at edges).
 //! - Firefly clamp alone: −1.05% on input with 1% of samples 100× brighter.
-//! - The history fix is biased on such heavy tails (+10% with the defaults, +27% without the
+//! - The history fix is biased on such heavy tails (+9% with the defaults, +27% without the
 //!   clamp): it reads a burst of fireflies as a change in lighting.
 //!
 //! ## Limits
 //!
 //! - The first frame after a disocclusion gets the spatial filter alone, with its luminance
-//!   guide loosened by the raised young-history variance. At 128 px it halves the Cornell
-//!   box's error (RMSE 0.0040 against 0.0077 raw); at 64 px the default footprint (±62 px)
-//!   spans the whole image and blurs its shadows (0.0075 against 0.0077).
+//!   guide loosened by the raised young-history variance. The Cornell box's frame 1 at
+//!   128 px: RMSE 0.0036 against 0.0075 raw; at 64 px, where the default footprint (±62 px)
+//!   spans the whole image, 0.0057 against 0.0077. Hard, noise-free sun shadows lose a few
+//!   pixels of sharpness on young histories (sun_boxes at 1080p is closer to the reference
+//!   raw than denoised for the first frames: see `benches/RESULTS.md`).
 //! - Moving objects: the same-surface test compares world positions, so a moving surface
 //!   loses its history every frame and shows the spatial filter's result alone (noisier, but
 //!   no ghost trail).
