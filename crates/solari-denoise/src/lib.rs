@@ -45,10 +45,12 @@
 //!    [`FallbackSettings::reset_length`]. A light dropping to 10% is followed within 10% in
 //!    43 frames instead of over 100 (tests, ±50% per-pixel noise).
 //! 6. **Variance**: from the temporal luminance moments, blended in (geometrically) from a
-//!    spatial estimate over the first 2 × [`FallbackSettings::spatial_variance_frames`]
-//!    frames of a history (SVGF switches at 4 frames; the switch made the image pop). The
-//!    spatial estimate is the calmest of the 5×5 window's four 3×3 corners, so a window
-//!    across a hard shadow edge measures noise rather than the edge's contrast.
+//!    5×5 neighbourhood estimate over the first 2 ×
+//!    [`FallbackSettings::spatial_variance_frames`] frames of a history (SVGF switches at 4
+//!    frames; the switch made the image pop). Tried and dropped: the calmest of the window's
+//!    four 3×3 corners, meant to keep hard shadow edges; at 1080p on the H200 it made the
+//!    first frame worse in the Cornell box (RMSE 0.00073 → 0.00094) and in many_lights
+//!    (0.071 → 0.110, energy −5% → −10%) for a small gain on sun_boxes (0.026 → 0.020).
 //! 7. **À-trous**: [`FallbackSettings::atrous_iterations`] passes of a 5×5 B3 kernel with
 //!    steps 1, 2, 4, …, weighted by tangent-plane distance, shading-normal angle (also
 //!    against the specular lobe's width, [`FallbackSettings::phi_lobe`], for the specular
@@ -68,8 +70,8 @@
 //!
 //! - The first frame after a disocclusion gets the spatial filter alone, with its luminance
 //!   guide loosened by the raised young-history variance. The Cornell box's frame 1 at
-//!   128 px: RMSE 0.0036 against 0.0075 raw; at 64 px, where the default footprint (±62 px)
-//!   spans the whole image, 0.0057 against 0.0077. Hard, noise-free sun shadows lose a few
+//!   128 px: RMSE 0.0040 against 0.0075 raw; at 64 px, where the default footprint (±62 px)
+//!   spans the whole image, 0.0075 against 0.0077. Hard, noise-free sun shadows lose a few
 //!   pixels of sharpness on young histories (sun_boxes at 1080p is closer to the reference
 //!   raw than denoised for the first frames: see `benches/RESULTS.md`).
 //! - Moving objects: the same-surface test compares world positions, so a moving surface
