@@ -92,7 +92,9 @@ fn run() -> Result<(), String> {
         .titled(
             &format!(
                 "{} {}×{}: fallback denoiser against frame count (static view)",
-                first.scene, first.width, first.height
+                scene_name(&first.scene),
+                first.width,
+                first.height
             ),
             ("sans-serif", 24),
         )
@@ -102,19 +104,27 @@ fn run() -> Result<(), String> {
         &panels[0],
         &error,
         frames,
-        false,
-        "RMSE against the direct-only reference",
+        true,
+        "RMSE against the direct-only reference (log)",
     )?;
     panel(
         &panels[1],
         &change,
         frames,
         true,
-        "RMS change from the previous frame",
+        "RMS change from the previous frame (log)",
     )?;
     root.present().map_err(|e| e.to_string())?;
     eprintln!("wrote {out}");
     Ok(())
+}
+
+/// The file stem of a scene path (the CSV holds the path as given on the command line).
+fn scene_name(scene: &str) -> &str {
+    std::path::Path::new(scene)
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or(scene)
 }
 
 /// One chart of `lines` over frames 1..`frames` (log x; log y when `log_y`).
@@ -127,7 +137,8 @@ fn panel(
 ) -> Result<(), String> {
     let values = lines.iter().flat_map(|l| l.points.iter().map(|p| p.1));
     let max = values.clone().fold(0.0, f64::max) * 1.15;
-    let min = values.fold(f64::INFINITY, f64::min) * 0.8;
+    // Room below the lowest line for the legend.
+    let min = values.fold(f64::INFINITY, f64::min) * 0.25;
     if !max.is_finite() || max <= 0.0 {
         return Err("nothing to plot: every value is missing or zero".into());
     }
@@ -163,6 +174,10 @@ where
         .configure_mesh()
         .x_desc("frame")
         .y_desc(y_desc)
+        .y_labels(12)
+        .x_label_formatter(&|v| format!("{v:.0}"))
+        .y_label_formatter(&|v| format!("{v:.2e}"))
+        .light_line_style(RGBColor(238, 238, 238))
         .label_style(("sans-serif", 14))
         .draw()
         .map_err(|e| e.to_string())?;
@@ -179,7 +194,7 @@ where
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(SeriesLabelPosition::LowerLeft)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .label_font(("sans-serif", 14))
