@@ -17,7 +17,8 @@ pub enum Lighting<'a> {
     /// signals filters each with its own albedo and history, so sharp reflections are not
     /// blurred by the diffuse filter's width.
     Split {
-        /// Emission plus diffuse light.
+        /// Emission plus diffuse light; on background pixels (no surface) the background
+        /// radiance, which is passed through.
         diffuse: &'a wgpu::Buffer,
         /// Specular light.
         specular: &'a wgpu::Buffer,

@@ -1,108 +1,18 @@
 //! The fallback denoiser on lavapipe, fed synthetic lighting over a real G-buffer: a Cornell
 //! box whose every surface has the same grey albedo and no emission, so that constant
 //! radiance is constant demodulated light and the denoiser's output mean can be compared
-//! with the input's exactly. Checks: firefly suppression keeps energy, non-finite input is
-//! rejected and not spread, a reset forgets history, settings are validated; plus the
-//! DLSS-RR input copy pass and (in `dlss-mock` builds) the runtime fallback from DLSS-RR.
+//! with the input's exactly (`common`). Checks: firefly suppression keeps energy, non-finite
+//! input is rejected and not spread, a reset forgets history, settings are validated; and
+//! the fallback from DLSS-RR with its reason.
 //! Figures are printed for the issue notes (`cargo test -- --nocapture`).
 
-use glam::Vec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_denoise::{
-    Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackDenoiser, FallbackSettings,
-    Lighting, create,
-};
-use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, test_gpu};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
-use solari_scene::{Scene, default_scene};
+use solari_denoise::{DenoiserKind, DlssAvailability, FallbackDenoiser, FallbackSettings, create};
 
-const SIZE: u32 = 48;
+mod common;
 
-fn grey_box() -> Scene {
-    let mut scene = default_scene::cornell_box();
-    for m in &mut scene.materials {
-        m.base_color = glam::Vec4::new(0.5, 0.5, 0.5, 1.0);
-        m.metallic = 0.0;
-        m.emissive = Vec3::ZERO;
-    }
-    scene
-}
-
-/// A G-buffer of the grey box and a lighting buffer the test fills each frame.
-struct Harness {
-    gpu: Gpu,
-    scene: Scene,
-    gpu_scene: GpuScene,
-    gbuffer: GBuffer,
-    lighting: wgpu::Buffer,
-}
-
-impl Harness {
-    fn new() -> Option<Self> {
-        let gpu = test_gpu()?;
-        let backend = gpu
-            .backend(solari_scene::gpu::TracerChoice::Auto)
-            .expect("backend");
-        let scene = grey_box();
-        let gpu_scene =
-            GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("upload");
-        let gbuffer = GBuffer::new(&gpu, backend, SIZE, SIZE).expect("gbuffer");
-        let lighting = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("test lighting"),
-            size: (SIZE * SIZE * 16) as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        Some(Self {
-            gpu,
-            scene,
-            gpu_scene,
-            gbuffer,
-            lighting,
-        })
-    }
-
-    /// One frame: G-buffer, then `denoiser` on `input`; returns the output.
-    fn frame(
-        &mut self,
-        denoiser: &mut dyn Denoiser,
-        input: &[[f32; 4]],
-        reset: bool,
-    ) -> Vec<[f32; 4]> {
-        let camera = self.scene.camera(None).expect("camera");
-        self.gbuffer
-            .prepare(&self.gpu, &self.scene, &camera)
-            .expect("prepare");
-        self.gpu
-            .queue
-            .write_buffer(&self.lighting, 0, bytemuck::cast_slice(input));
-        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        self.gbuffer.encode(&mut encoder, &self.gpu_scene);
-        let inputs = DenoiserInputs {
-            lighting: Lighting::Combined(&self.lighting),
-            gbuffer: &self.gbuffer,
-            hit_distance: None,
-            reset,
-        };
-        let after = denoiser
-            .encode(&self.gpu, &mut encoder, None, &inputs)
-            .expect("encode");
-        self.gpu
-            .queue
-            .submit(std::iter::once(encoder.finish()).chain(after));
-        let bytes = self
-            .gpu
-            .read_buffer(denoiser.output(), (SIZE * SIZE * 16) as u64)
-            .expect("read");
-        bytemuck::cast_slice(&bytes).to_vec()
-    }
-}
-
-fn luminance(c: [f32; 4]) -> f64 {
-    0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
-}
+use common::{Harness, SIZE, luminance};
 
 // Runs `frames` frames of iid input: `base` with probability 1 − p, else `firefly`. Returns
 // (mean input luminance, mean output luminance over frames after `warmup`, mean per-pixel
@@ -409,16 +319,12 @@ fn bad_settings_are_refused_with_the_knob_named() {
 #[test]
 fn explicit_dlss_request_falls_back_with_a_reason() {
     let Some(h) = Harness::new() else { return };
-    let (_, availability) = (
-        (),
-        if cfg!(feature = "dlss") {
-            // The mock build: DLSS-RR is compiled in but never supported.
-            let (_, a) = solari_denoise::create_gpu().expect("gpu");
-            a
-        } else {
-            DlssAvailability::NotBuilt
-        },
-    );
+    let availability = if cfg!(feature = "dlss") {
+        // The mock build: DLSS-RR is compiled in but never supported.
+        solari_denoise::create_gpu().expect("gpu").1
+    } else {
+        DlssAvailability::NotBuilt
+    };
     let created = create(
         &h.gpu,
         Some(DenoiserKind::DlssRr),
