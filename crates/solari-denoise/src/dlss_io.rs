@@ -77,9 +77,12 @@ impl DlssTextures {
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
                 format,
+                // Copies both ways: read-back for tests and tools, and upload so the output
+                // copy can be tested without DLSS writing the texture.
                 usage: wgpu::TextureUsages::STORAGE_BINDING
                     | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::COPY_DST,
                 view_formats: &[],
             });
             let v = t.create_view(&Default::default());
@@ -275,7 +278,8 @@ impl DlssTextures {
         Ok(())
     }
 
-    /// Records the copy of the output texture into [`DlssTextures::output`].
+    /// Records the copy of the output texture into [`DlssTextures::output`] (alpha 1 on
+    /// every pixel: at the output resolution there is no surface mask to write).
     pub fn encode_output(
         &self,
         encoder: &mut wgpu::CommandEncoder,

@@ -28,6 +28,8 @@ pub fn grey_box() -> Scene {
 pub struct Harness {
     /// The device.
     pub gpu: Gpu,
+    /// Added to the camera's position for the next frames (default zero).
+    pub camera_offset: Vec3,
     scene: Scene,
     gpu_scene: GpuScene,
     gbuffer: GBuffer,
@@ -57,12 +59,39 @@ impl Harness {
         let (lighting, specular) = (buffer("test lighting"), buffer("test specular"));
         Some(Self {
             gpu,
+            camera_offset: Vec3::ZERO,
             scene,
             gpu_scene,
             gbuffer,
             lighting,
             specular,
         })
+    }
+
+    /// Writes `input` to the (combined or diffuse) lighting buffer and returns it.
+    pub fn write_lighting(&self, input: &[[f32; 4]]) -> &wgpu::Buffer {
+        self.gpu
+            .queue
+            .write_buffer(&self.lighting, 0, bytemuck::cast_slice(input));
+        &self.lighting
+    }
+
+    /// Starts a frame: an encoder with the G-buffer pass recorded, the camera moved by
+    /// [`Harness::camera_offset`].
+    pub fn gbuffer_encoder(&mut self) -> wgpu::CommandEncoder {
+        let mut camera = self.scene.camera(None).expect("camera");
+        camera.transform = glam::Mat4::from_translation(self.camera_offset) * camera.transform;
+        self.gbuffer
+            .prepare(&self.gpu, &self.scene, &camera)
+            .expect("prepare");
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        self.gbuffer.encode(&mut encoder, &self.gpu_scene);
+        encoder
+    }
+
+    /// The G-buffer.
+    pub fn gbuffer(&self) -> &GBuffer {
+        &self.gbuffer
     }
 
     /// One frame: G-buffer, then `denoiser` on combined lighting `input`; returns the output.
@@ -92,20 +121,13 @@ impl Harness {
         specular: Option<&[[f32; 4]]>,
         reset: bool,
     ) -> Vec<[f32; 4]> {
-        let camera = self.scene.camera(None).expect("camera");
-        self.gbuffer
-            .prepare(&self.gpu, &self.scene, &camera)
-            .expect("prepare");
-        self.gpu
-            .queue
-            .write_buffer(&self.lighting, 0, bytemuck::cast_slice(input));
+        self.write_lighting(input);
         if let Some(s) = specular {
             self.gpu
                 .queue
                 .write_buffer(&self.specular, 0, bytemuck::cast_slice(s));
         }
-        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        self.gbuffer.encode(&mut encoder, &self.gpu_scene);
+        let mut encoder = self.gbuffer_encoder();
         let lighting = match specular {
             Some(_) => Lighting::Split {
                 diffuse: &self.lighting,
