@@ -23,7 +23,8 @@ pub struct GpuHistory {
     /// Short-window mean luminance, mean squared luminance, fast (4-frame) mean luminance,
     /// long mean luminance (this pixel's own samples).
     pub moments: [f32; 4],
-    /// Firefly energy still to be added (rgb), unused.
+    /// Firefly energy still to be added (rgb), and the relative luminance deviation of calm
+    /// frames that the stale-history test measures against (w).
     pub carry: [f32; 4],
 }
 
