@@ -6,9 +6,10 @@
 use glam::{Mat4, Vec3, Vec4};
 use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_denoise::{DenoiserKind, FallbackSettings};
-use solari_scene::gpu::test_gpu;
+use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
+use solari_scene::shaders::Backend;
 use solari_scene::view_pass::{DebugView, ViewPass};
 use solari_scene::{Scene, default_scene, load_gltf};
 
@@ -23,6 +24,18 @@ fn settings(denoiser: DenoiserKind) -> RealtimeSettings {
     }
 }
 
+/// The renderer with the fallback denoiser at `size × size`.
+fn fallback(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    size: u32,
+) -> RealtimeRenderer {
+    let s = settings(DenoiserKind::Fallback);
+    RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size, size, s).expect("renderer")
+}
+
 fn total(a: &[[f32; 3]]) -> f64 {
     a.iter().flatten().map(|v| *v as f64).sum()
 }
@@ -34,16 +47,7 @@ fn denoised_di_is_closer_to_the_reference_and_converges() {
     let scene = default_scene::cornell_box();
     let reference = reference_direct(&gpu, backend, &scene, SIZE, 512);
     let gpu_scene = upload(&gpu, backend, &scene);
-    let mut renderer = RealtimeRenderer::new(
-        &gpu,
-        backend,
-        &scene,
-        &gpu_scene,
-        SIZE,
-        SIZE,
-        settings(DenoiserKind::Fallback),
-    )
-    .expect("renderer");
+    let mut renderer = fallback(&gpu, backend, &scene, &gpu_scene, SIZE);
     let camera = scene.camera(None).expect("camera");
     let frames = 200;
     let n = (SIZE * SIZE) as usize;
@@ -102,16 +106,7 @@ fn the_first_denoised_frame_is_much_closer_to_the_reference() {
     let size = 2 * SIZE;
     let reference = reference_direct(&gpu, backend, &scene, size, 256);
     let gpu_scene = upload(&gpu, backend, &scene);
-    let mut renderer = RealtimeRenderer::new(
-        &gpu,
-        backend,
-        &scene,
-        &gpu_scene,
-        size,
-        size,
-        settings(DenoiserKind::Fallback),
-    )
-    .expect("renderer");
+    let mut renderer = fallback(&gpu, backend, &scene, &gpu_scene, size);
     let camera = scene.camera(None).expect("camera");
     renderer
         .render(&gpu, &scene, &gpu_scene, &camera)
@@ -201,16 +196,7 @@ fn moving_object_leaves_no_ghost_trail() {
     let (mut scene, block) = blue_block_scene();
     let start = scene.instances[block].transform;
     let mut gpu_scene = upload(&gpu, backend, &scene);
-    let mut renderer = RealtimeRenderer::new(
-        &gpu,
-        backend,
-        &scene,
-        &gpu_scene,
-        SIZE,
-        SIZE,
-        settings(DenoiserKind::Fallback),
-    )
-    .expect("renderer");
+    let mut renderer = fallback(&gpu, backend, &scene, &gpu_scene, SIZE);
     let camera = scene.camera(None).expect("camera");
     // Where the block is, from the primary-ray instance view (the raw frame cannot tell: the
     // block's shadowed faces are too dark to look blue under noise).

@@ -105,24 +105,33 @@ pub fn create(
     }
 }
 
+// Builds DLSS-RR where `dlss` says it can run; otherwise says why not.
+#[cfg(feature = "dlss")]
 fn try_dlss(
     gpu: &Gpu,
     dlss: &DlssAvailability,
     output_size: (u32, u32),
 ) -> Result<Box<dyn Denoiser>, String> {
-    match dlss {
-        #[cfg(feature = "dlss")]
-        DlssAvailability::Ready(sdk) => {
-            let denoiser = crate::dlss::DlssRrDenoiser::new(gpu, sdk, output_size)
-                .map_err(|e| e.to_string())?;
-            denoiser.requirements().check(gpu)?;
-            Ok(Box::new(denoiser))
-        }
-        other => {
-            let _ = (gpu, output_size);
-            Err(other
-                .unavailable_reason()
-                .unwrap_or_else(|| "unknown".into()))
-        }
-    }
+    let DlssAvailability::Ready(sdk) = dlss else {
+        return Err(why_unavailable(dlss));
+    };
+    let denoiser =
+        crate::dlss::DlssRrDenoiser::new(gpu, sdk, output_size).map_err(|e| e.to_string())?;
+    denoiser.requirements().check(gpu)?;
+    Ok(Box::new(denoiser))
+}
+
+// Without the `dlss` feature DLSS-RR is never available.
+#[cfg(not(feature = "dlss"))]
+fn try_dlss(
+    _gpu: &Gpu,
+    dlss: &DlssAvailability,
+    _output_size: (u32, u32),
+) -> Result<Box<dyn Denoiser>, String> {
+    Err(why_unavailable(dlss))
+}
+
+fn why_unavailable(dlss: &DlssAvailability) -> String {
+    dlss.unavailable_reason()
+        .unwrap_or_else(|| "unknown".into())
 }

@@ -2,13 +2,12 @@
 //! note, and the Rust mirrors have the sizes and offsets naga gives their WGSL twins.
 
 use solari_denoise::{ENTRY_POINTS, GpuDenoiseParams, GpuHistory, GpuPassParams, MODULES, modules};
-use solari_scene::shaders::{StructLayout, check_crate_shaders, check_layout};
-use std::collections::HashMap;
+use solari_scene::shaders::CheckedShaders;
 use std::mem::offset_of;
 
-fn layouts() -> HashMap<String, StructLayout> {
+fn layouts() -> CheckedShaders {
     let own: Vec<_> = [MODULES, ENTRY_POINTS].concat();
-    check_crate_shaders(&own, ENTRY_POINTS, &modules()).unwrap_or_else(|e| panic!("{e}"))
+    CheckedShaders::new(&own, ENTRY_POINTS, &modules())
 }
 
 #[test]
@@ -19,10 +18,7 @@ fn entry_points_compose_and_validate() {
 #[test]
 fn rust_mirrors_match_naga_layouts() {
     let l = layouts();
-    let check = |wgsl: &str, size: usize, fields: &[(&str, usize)]| {
-        check_layout(&l, wgsl, size, fields).unwrap_or_else(|e| panic!("{e}"))
-    };
-    check(
+    l.mirror(
         "DenoiseParams",
         size_of::<GpuDenoiseParams>(),
         &[
@@ -41,7 +37,7 @@ fn rust_mirrors_match_naga_layouts() {
             ("phi_lobe", offset_of!(GpuDenoiseParams, phi_lobe)),
         ],
     );
-    check(
+    l.mirror(
         "PassParams",
         size_of::<GpuPassParams>(),
         &[
@@ -50,7 +46,7 @@ fn rust_mirrors_match_naga_layouts() {
             ("accumulate", offset_of!(GpuPassParams, accumulate)),
         ],
     );
-    check(
+    l.mirror(
         "History",
         size_of::<GpuHistory>(),
         &[

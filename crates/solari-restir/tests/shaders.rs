@@ -4,14 +4,13 @@
 
 use solari_restir::{ENTRY_POINTS, GpuDiParams, GpuReservoir, MODULES, modules};
 use solari_scene::gbuffer::GpuFrameViews;
-use solari_scene::shaders::{StructLayout, check_crate_shaders, check_layout};
-use std::collections::HashMap;
+use solari_scene::shaders::CheckedShaders;
 use std::mem::offset_of;
 
-fn layouts() -> HashMap<String, StructLayout> {
+fn layouts() -> CheckedShaders {
     let reader = include_str!("../../solari-scene/shaders/gbuffer_read.wesl");
     let own: Vec<_> = [MODULES, ENTRY_POINTS, &[("gbuffer_read", reader)]].concat();
-    check_crate_shaders(&own, ENTRY_POINTS, &modules()).unwrap_or_else(|e| panic!("{e}"))
+    CheckedShaders::new(&own, ENTRY_POINTS, &modules())
 }
 
 #[test]
@@ -22,10 +21,7 @@ fn entry_points_compose_and_validate_for_both_backends() {
 #[test]
 fn rust_mirrors_match_naga_layouts() {
     let l = layouts();
-    let check = |wgsl: &str, size: usize, fields: &[(&str, usize)]| {
-        check_layout(&l, wgsl, size, fields).unwrap_or_else(|e| panic!("{e}"))
-    };
-    check(
+    l.mirror(
         "Reservoir",
         size_of::<GpuReservoir>(),
         &[
@@ -34,7 +30,7 @@ fn rust_mirrors_match_naga_layouts() {
             ("weight", offset_of!(GpuReservoir, weight)),
         ],
     );
-    check(
+    l.mirror(
         "DiParams",
         size_of::<GpuDiParams>(),
         &[
@@ -48,7 +44,7 @@ fn rust_mirrors_match_naga_layouts() {
             ),
         ],
     );
-    check(
+    l.mirror(
         "FrameViews",
         size_of::<GpuFrameViews>(),
         &[
@@ -56,7 +52,7 @@ fn rust_mirrors_match_naga_layouts() {
             ("history_valid", offset_of!(GpuFrameViews, history_valid)),
         ],
     );
-    check(
+    l.mirror(
         "GpuView",
         size_of::<solari_scene::gpu_types::GpuView>(),
         &[("znear", offset_of!(solari_scene::gpu_types::GpuView, znear))],

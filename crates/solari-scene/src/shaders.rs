@@ -219,3 +219,21 @@ pub fn check_layout(
     }
     Ok(())
 }
+
+/// A crate's checked shader layouts, for its tests: [`check_crate_shaders`] and
+/// [`check_layout`] with panics that name the problem, so each crate's shader test is a list
+/// of mirrors.
+pub struct CheckedShaders(std::collections::HashMap<String, StructLayout>);
+
+impl CheckedShaders {
+    /// Runs [`check_crate_shaders`]; panics with its error.
+    pub fn new(own: &[(&str, &str)], entries: &[(&str, &str)], modules: &[(&str, &str)]) -> Self {
+        Self(check_crate_shaders(own, entries, modules).unwrap_or_else(|e| panic!("{e}")))
+    }
+
+    /// Panics unless the Rust mirror (`size` bytes, the named member offsets) matches the WGSL
+    /// struct `wgsl` ([`check_layout`]).
+    pub fn mirror(&self, wgsl: &str, size: usize, fields: &[(&str, usize)]) {
+        check_layout(&self.0, wgsl, size, fields).unwrap_or_else(|e| panic!("{e}"))
+    }
+}

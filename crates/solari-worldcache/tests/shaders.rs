@@ -2,16 +2,15 @@
 //! carries its `// bound:` note, and the Rust mirrors have the sizes and offsets naga gives
 //! their WGSL twins.
 
-use solari_scene::shaders::{StructLayout, check_crate_shaders, check_layout};
+use solari_scene::shaders::CheckedShaders;
 use solari_worldcache::{
     ENTRY_POINTS, GpuCacheCell, GpuCacheParams, GpuNewSample, MODULES, modules,
 };
-use std::collections::HashMap;
 use std::mem::offset_of;
 
-fn layouts() -> HashMap<String, StructLayout> {
+fn layouts() -> CheckedShaders {
     let own: Vec<_> = [MODULES, ENTRY_POINTS].concat();
-    check_crate_shaders(&own, ENTRY_POINTS, &modules()).unwrap_or_else(|e| panic!("{e}"))
+    CheckedShaders::new(&own, ENTRY_POINTS, &modules())
 }
 
 #[test]
@@ -22,10 +21,7 @@ fn entry_points_compose_and_validate_for_both_backends() {
 #[test]
 fn rust_mirrors_match_naga_layouts() {
     let l = layouts();
-    let check = |wgsl: &str, size: usize, fields: &[(&str, usize)]| {
-        check_layout(&l, wgsl, size, fields).unwrap_or_else(|e| panic!("{e}"))
-    };
-    check(
+    l.mirror(
         "WorldCacheParams",
         size_of::<GpuCacheParams>(),
         &[
@@ -40,7 +36,7 @@ fn rust_mirrors_match_naga_layouts() {
             ("height", offset_of!(GpuCacheParams, height)),
         ],
     );
-    check(
+    l.mirror(
         "CacheCell",
         size_of::<GpuCacheCell>(),
         &[
@@ -49,7 +45,7 @@ fn rust_mirrors_match_naga_layouts() {
             ("indirect", offset_of!(GpuCacheCell, indirect)),
         ],
     );
-    check(
+    l.mirror(
         "NewSample",
         size_of::<GpuNewSample>(),
         &[
