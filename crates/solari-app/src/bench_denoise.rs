@@ -43,11 +43,26 @@ fn energy(px: &[[f32; 3]]) -> f64 {
         .sum()
 }
 
+/// The fallback denoiser's settings for `iterations` à-trous passes.
+fn denoise_settings(args: &BenchDenoiseArgs, iterations: u32) -> FallbackSettings {
+    FallbackSettings {
+        atrous_iterations: iterations,
+        max_history: args.max_history,
+        ..Default::default()
+    }
+}
+
 pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
     let (w, h) = parse_size(&args.size)?;
     let iterations: Vec<u32> = parse_list(&args.iterations, "--iterations")?;
     if args.frames == 0 {
         return Err("--frames must be at least 1".into());
+    }
+    // Refuse bad settings before the scene loads.
+    for &it in &iterations {
+        denoise_settings(args, it)
+            .validate()
+            .map_err(|e| format!("--iterations {it}, --max-history {}: {e}", args.max_history))?;
     }
     let reference =
         load_reference(Some(&args.reference), w, h)?.ok_or("--reference is required")?;
@@ -65,14 +80,7 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
     let bar = frame_bar(iterations.len() as u64 * per_setting, false)?;
     let mut lines = vec![HEADER.to_string()];
     for &it in &iterations {
-        let denoise = FallbackSettings {
-            atrous_iterations: it,
-            max_history: args.max_history,
-            ..Default::default()
-        };
-        denoise
-            .validate()
-            .map_err(|e| format!("--iterations {it}: {e}"))?;
+        let denoise = denoise_settings(args, it);
         let settings = RealtimeSettings {
             timestamps: true,
             denoiser: Some(DenoiserKind::Fallback),

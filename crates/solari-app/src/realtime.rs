@@ -469,7 +469,8 @@ impl RealtimeRenderer {
     }
 
     /// The last frame's linear radiance (denoised, when a denoiser is on), row by row from
-    /// the top left (w: 1 on surfaces, 0 on background), at [`RealtimeRenderer::size`].
+    /// the top left (w: 1 on surfaces, 0 on background; 1 everywhere after DLSS-RR, whose
+    /// upscaled output has no surface mask), at [`RealtimeRenderer::size`].
     pub fn read_output(&self, gpu: &Gpu) -> Result<Vec<[f32; 4]>, GpuError> {
         match &self.denoiser {
             Some(d) if self.denoising() => {
