@@ -6,19 +6,18 @@
 
 use glam::{Mat4, Vec3};
 use solari_app::realtime::{CameraPath, GiMode, RealtimeRenderer, RealtimeSettings};
-use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
-use solari_lights::{LightList, LightTileSettings, Selection};
+use solari_lights::LightTileSettings;
 use solari_restir::RestirDiSettings;
 use solari_scene::Camera;
 use solari_scene::gpu::{Gpu, test_gpu};
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
 use solari_scene::{Scene, default_scene, load_gltf};
 use solari_worldcache::{GpuCacheCell, WorldCacheSettings};
 
 mod common;
 
-use common::shared;
+use common::{reference, shared};
 
 fn settings(capacity: u32) -> RealtimeSettings {
     RealtimeSettings {
@@ -153,41 +152,6 @@ fn cache_converges_to_the_analytic_furnaces() {
     }
 }
 
-/// The reference tracer's full-bounce image at pixel centres (what the G-buffer sees).
-fn reference_full(
-    gpu: &Gpu,
-    backend: Backend,
-    scene: &Scene,
-    size: u32,
-    spp: u32,
-) -> Vec<[f32; 3]> {
-    let gpu_scene =
-        GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload");
-    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("reference pipeline");
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces: u32::MAX,
-        selection: Selection::Power,
-        pixel_centre: true,
-    };
-    let camera = scene.camera(None).expect("camera");
-    let list = LightList::build(scene);
-    renderer
-        .render(
-            gpu,
-            &gpu_scene,
-            &list,
-            &camera,
-            size,
-            size,
-            &settings,
-            |_| {},
-        )
-        .expect("reference render")
-        .pixels
-}
-
 fn rmse(image: &[[f64; 3]], reference: &[[f32; 3]]) -> f64 {
     let sum: f64 = image
         .iter()
@@ -233,7 +197,8 @@ fn cache_gi_is_closer_to_the_full_reference_than_direct_light_alone() {
     let size = 48;
     let scene = default_scene::cornell_box();
     let backend = gpu.backend(Default::default()).unwrap();
-    let reference = reference_full(&gpu, backend, &scene, size, 512);
+    // Full bounces: Russian roulette alone ends the paths.
+    let reference = reference(&gpu, backend, &scene, size, 512, u32::MAX);
     let mut errors = Vec::new();
     for gi in [GiMode::Off, GiMode::WorldCache] {
         let (_, mut s) = setup(

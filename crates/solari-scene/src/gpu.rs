@@ -289,6 +289,60 @@ impl Gpu {
         Ok(data)
     }
 
+    /// Copies mip 0 of a 2D `texture` (which needs `COPY_SRC`) back to the CPU, `aspect`
+    /// only, rows tightly packed (the copy's 256-byte row padding removed). Blocks.
+    pub fn read_texture(
+        &self,
+        texture: &wgpu::Texture,
+        aspect: wgpu::TextureAspect,
+    ) -> Result<Vec<u8>, GpuError> {
+        let texel = texture
+            .format()
+            .block_copy_size(Some(aspect))
+            .ok_or_else(|| {
+                GpuError::Readback(format!(
+                    "{:?} has no single copy size for {aspect:?}",
+                    texture.format()
+                ))
+            })?;
+        let (w, h) = (texture.width(), texture.height());
+        let row = (w * texel).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari/texture_readback"),
+            size: row as u64 * h as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.queue.submit([encoder.finish()]);
+        let padded = self.read_buffer(&buffer, row as u64 * h as u64)?;
+        Ok(padded
+            .chunks(row as usize)
+            .flat_map(|r| r[..(w * texel) as usize].iter().copied())
+            .collect())
+    }
+
     /// A layout of whole-buffer bindings 0, 1, … of the given types, visible to compute.
     pub fn buffer_layout(
         &self,

@@ -243,7 +243,7 @@ fn motion_vectors_reproject_moving_instances_and_cameras() {
     let mut gs = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).unwrap();
     let mut gb = GBuffer::new(&gpu, backend, w, h).unwrap();
     render(&gpu, &mut gb, &gs, &scene, &camera0);
-    let first_depth = read_depth(&gpu, &gb.current().depth, w, h);
+    let first_depth = read_depth(&gpu, &gb.current().depth);
 
     // Frame 2: the tall block (instance 7) moves and the camera steps sideways.
     let moved = 7;
@@ -256,7 +256,7 @@ fn motion_vectors_reproject_moving_instances_and_cameras() {
     render(&gpu, &mut gb, &gs, &scene, &camera1);
     assert!(gb.history_valid());
     // Swap, not copy: last frame's depth is now the previous target, untouched.
-    assert_eq!(read_depth(&gpu, &gb.previous().depth, w, h), first_depth);
+    assert_eq!(read_depth(&gpu, &gb.previous().depth), first_depth);
 
     let pixels = probe.run(&gpu, &gs, &gb, &camera1);
     let vp0 = view_projection(&camera0, w, h);
@@ -300,44 +300,11 @@ fn motion_vectors_reproject_moving_instances_and_cameras() {
     );
 }
 
-fn read_depth(gpu: &Gpu, texture: &wgpu::Texture, w: u32, h: u32) -> Vec<f32> {
-    let row = (w * 4).next_multiple_of(256);
-    let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("depth readback"),
-        size: (row * h) as u64,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d::ZERO,
-            aspect: wgpu::TextureAspect::DepthOnly,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(h),
-            },
-        },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-    );
-    gpu.queue.submit([encoder.finish()]);
+fn read_depth(gpu: &Gpu, texture: &wgpu::Texture) -> Vec<f32> {
     let bytes = gpu
-        .read_buffer(&buffer, (row * h) as u64)
+        .read_texture(texture, wgpu::TextureAspect::DepthOnly)
         .expect("read depth");
-    bytes
-        .chunks(row as usize)
-        .flat_map(|r| bytemuck::cast_slice::<u8, f32>(&r[..(w * 4) as usize]).to_vec())
-        .collect()
+    bytemuck::cast_slice(&bytes).to_vec()
 }
 
 #[test]

@@ -52,12 +52,25 @@ pub fn reference_direct(
     size: u32,
     spp: u32,
 ) -> Vec<[f32; 3]> {
+    reference(gpu, backend, scene, size, spp, 1)
+}
+
+/// The reference tracer's image at pixel centres with paths of at most `max_bounces`
+/// scattering events (`u32::MAX`: Russian roulette alone ends them), `size × size`.
+pub fn reference(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+    max_bounces: u32,
+) -> Vec<[f32; 3]> {
     let gpu_scene = upload(gpu, backend, scene);
     let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .expect("reference pipeline");
     let settings = ReferenceSettings {
         spp,
-        max_bounces: 1,
+        max_bounces,
         selection: Selection::Power,
         pixel_centre: true,
     };
