@@ -102,18 +102,30 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
                 .map_err(|e| e.to_string())?;
             warm += 1;
         }
-        let mut ms = 0.0;
+        let (mut ms, mut timed) = (0.0, 0);
         for _ in 0..args.timed_frames {
             let report = renderer
                 .render(&gpu, &scene, &gpu_scene, &camera)
                 .map_err(|e| e.to_string())?;
-            ms += PASS_LABELS
+            let times: Vec<f64> = PASS_LABELS
                 .iter()
                 .filter_map(|p| report.gpu_ms(p))
-                .sum::<f64>();
+                .collect();
+            if times.len() == PASS_LABELS.len() {
+                ms += times.iter().sum::<f64>();
+                timed += 1;
+            }
             bar.inc(1);
         }
-        let denoise_ms = ms / args.timed_frames.max(1) as f64;
+        // NaN when nothing was timed (--timed-frames 0, or no timestamp queries).
+        let denoise_ms = if timed > 0 {
+            ms / timed as f64
+        } else {
+            f64::NAN
+        };
+        if timed == 0 && args.timed_frames > 0 {
+            log::warn!("{}: no GPU timestamps; denoise_ms is NaN", gpu.info.name);
+        }
         let mut renderer = new_renderer()?;
         let mut raw_sum = vec![[0.0f64; 3]; (w * h) as usize];
         // (raw, denoised) of the previous frame.
