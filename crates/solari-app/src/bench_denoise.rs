@@ -48,6 +48,7 @@ fn denoise_settings(args: &BenchDenoiseArgs, iterations: u32) -> FallbackSetting
     FallbackSettings {
         atrous_iterations: iterations,
         max_history: args.max_history,
+        phi_lobe: args.phi_lobe,
         ..Default::default()
     }
 }
@@ -62,7 +63,7 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
     for &it in &iterations {
         denoise_settings(args, it)
             .validate()
-            .map_err(|e| format!("--iterations {it}, --max-history {}: {e}", args.max_history))?;
+            .map_err(|e| format!("--iterations {it}: {e}"))?;
     }
     let reference =
         load_reference(Some(&args.reference), w, h)?.ok_or("--reference is required")?;

@@ -294,6 +294,9 @@ pub struct BenchDenoiseArgs {
     /// Most frames the denoiser's temporal average spans.
     #[arg(long, default_value_t = 32.0)]
     pub max_history: f32,
+    /// Specular-lobe edge-stopping (0: off), to measure what it buys.
+    #[arg(long, default_value_t = 8.0)]
+    pub phi_lobe: f32,
     /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
     /// --pixel-centre`) at --size.
     #[arg(long)]

@@ -12,7 +12,7 @@ use solari_scene::{Scene, load_gltf};
 
 mod common;
 
-use common::shared;
+use common::{reference_image, shared};
 
 fn backends(gpu: &Gpu) -> Vec<Backend> {
     Backend::ALL
@@ -29,29 +29,13 @@ fn render(
     spp: u32,
     max_bounces: u32,
 ) -> ReferenceImage {
-    let gpu_scene =
-        GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload");
-    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("pipeline");
-    let camera = scene.camera(None).expect("camera");
     let settings = ReferenceSettings {
         spp,
         max_bounces,
         selection: Selection::Power,
         pixel_centre: false,
     };
-    let image = renderer
-        .render(
-            gpu,
-            &gpu_scene,
-            &LightList::build(scene),
-            &camera,
-            size,
-            size,
-            &settings,
-            |_| {},
-        )
-        .expect("render");
+    let image = reference_image(gpu, backend, scene, size, &settings);
     assert_eq!(image.capped_paths, 0, "paths hit the safety cap");
     assert_eq!(image.rejected_samples, 0, "non-finite samples");
     assert!(image.pixels.iter().flatten().all(|c| c.is_finite()));

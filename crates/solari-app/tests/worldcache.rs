@@ -6,8 +6,6 @@
 
 use glam::{Mat4, Vec3};
 use solari_app::realtime::{CameraPath, GiMode, RealtimeRenderer, RealtimeSettings};
-use solari_lights::LightTileSettings;
-use solari_restir::RestirDiSettings;
 use solari_scene::Camera;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
@@ -19,22 +17,15 @@ mod common;
 
 use common::{reference, shared};
 
+/// The renderer tests' small settings with world-cache GI in a `capacity`-slot table.
 fn settings(capacity: u32) -> RealtimeSettings {
     RealtimeSettings {
-        tiles: LightTileSettings {
-            tiles: 16,
-            samples_per_tile: 256,
-        },
-        di: RestirDiSettings {
-            spatial_radius: 3.0,
-            ..Default::default()
-        },
         gi: GiMode::WorldCache,
         cache: WorldCacheSettings {
             capacity,
             ..Default::default()
         },
-        ..Default::default()
+        ..common::settings()
     }
 }
 

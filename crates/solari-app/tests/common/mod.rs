@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use solari_app::realtime::RealtimeSettings;
-use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
+use solari_app::reference::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, LightTileSettings, Selection};
 use solari_restir::RestirDiSettings;
 use solari_scene::Scene;
@@ -65,15 +65,26 @@ pub fn reference(
     spp: u32,
     max_bounces: u32,
 ) -> Vec<[f32; 3]> {
-    let gpu_scene = upload(gpu, backend, scene);
-    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("reference pipeline");
     let settings = ReferenceSettings {
         spp,
         max_bounces,
         selection: Selection::Power,
         pixel_centre: true,
     };
+    reference_image(gpu, backend, scene, size, &settings).pixels
+}
+
+/// The reference tracer's `size × size` image of `scene` from its first camera.
+pub fn reference_image(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    settings: &ReferenceSettings,
+) -> ReferenceImage {
+    let gpu_scene = upload(gpu, backend, scene);
+    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("reference pipeline");
     let camera = scene.camera(None).expect("camera");
     renderer
         .render(
@@ -83,11 +94,10 @@ pub fn reference(
             &camera,
             size,
             size,
-            &settings,
+            settings,
             |_| {},
         )
         .expect("reference render")
-        .pixels
 }
 
 pub fn luminance(c: [f32; 3]) -> f64 {
