@@ -15,7 +15,7 @@ use solari_scene::{Scene, default_scene, load_gltf};
 
 mod common;
 
-use common::{SIZE, reference_direct, rgb, rmse, shared, upload};
+use common::{SIZE, reference_direct, rgb, rmse, upload};
 
 fn settings(denoiser: DenoiserKind) -> RealtimeSettings {
     RealtimeSettings {
@@ -134,7 +134,7 @@ fn a_sharp_glossy_highlight_keeps_its_peak_on_the_first_frame() {
     let backend = gpu.backend(Default::default()).expect("backend");
     // The sun on a gold sphere (metallic, roughness 0.25): the brightest pixels of the frame,
     // nearly noise-free, a few pixels wide.
-    let scene = load_gltf(shared("scenes/sun_boxes/sun_boxes.gltf")).expect("scene");
+    let scene = load_gltf(solari_testdata::scene("sun_boxes")).expect("scene");
     let gpu_scene = upload(&gpu, backend, &scene);
     let camera = scene.camera(None).expect("camera");
     let size = 2 * SIZE;

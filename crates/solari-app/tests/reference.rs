@@ -1,4 +1,4 @@
-//! The reference path tracer against analytic furnaces and the shared Cornell box reference
+//! The reference path tracer against analytic furnaces and the bundled Cornell box reference
 //! (GPU: lavapipe in CI). Tolerances come from the sample count: every check allows four
 //! standard errors estimated from the render itself, plus the stated reference accuracy.
 
@@ -12,7 +12,7 @@ use solari_scene::{Scene, load_gltf};
 
 mod common;
 
-use common::{reference_image, shared};
+use common::reference_image;
 
 fn backends(gpu: &Gpu) -> Vec<Backend> {
     Backend::ALL
@@ -54,7 +54,7 @@ fn mean_se(values: impl Iterator<Item = f64>) -> (f64, f64) {
 #[test]
 fn uniform_furnace_is_one_everywhere() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = load_gltf(shared("scenes/furnace_uniform/furnace_uniform.gltf")).expect("scene");
+    let scene = load_gltf(solari_testdata::scene("furnace_uniform")).expect("scene");
     for backend in backends(&gpu) {
         for (bounces, expected) in [(u32::MAX, 1.0), (1, 0.36)] {
             let img = render(&gpu, backend, &scene, 48, 64, bounces);
@@ -71,7 +71,7 @@ fn uniform_furnace_is_one_everywhere() {
 #[test]
 fn sphere_furnace_matches_its_closed_form() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = load_gltf(shared("scenes/furnace_sphere/furnace_sphere.gltf")).expect("scene");
+    let scene = load_gltf(solari_testdata::scene("furnace_sphere")).expect("scene");
     let size = 48u32;
     // The inner sphere subtends asin(1.5 / 4.5) = 19.47° around the view axis (yfov 60°).
     let angle = |i: usize| {
@@ -127,12 +127,12 @@ fn rmse_and_bias(img: &ReferenceImage, reference: &[[f32; 3]]) -> (f64, f64) {
 }
 
 #[test]
-fn cornell_box_converges_to_the_shared_reference() {
+fn cornell_box_converges_to_the_bundled_reference() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = load_gltf(shared("scenes/cornell_box/cornell_box.gltf")).expect("scene");
-    let (w, h, full) = read_linear(&shared("references/cornell_box.exr")).expect("reference");
+    let scene = load_gltf(solari_testdata::scene("cornell_box")).expect("scene");
+    let (w, h, full) = read_linear(&solari_testdata::reference("cornell_box.exr")).expect("reference");
     assert_eq!((w, h), (256, 256));
-    let (_, _, direct) = read_linear(&shared("references/cornell_box_direct.exr")).expect("direct");
+    let (_, _, direct) = read_linear(&solari_testdata::reference("cornell_box_direct.exr")).expect("direct");
     let reference_mean = full.iter().map(|p| p[1] as f64).sum::<f64>() / full.len() as f64;
     let backend = backends(&gpu)[0];
     let low = render(&gpu, backend, &scene, 256, 16, u32::MAX);
@@ -174,7 +174,7 @@ fn both_backends_agree_statistically() {
         eprintln!("only one tracing backend on this adapter; nothing to compare");
         return;
     }
-    let scene = load_gltf(shared("scenes/cornell_box/cornell_box.gltf")).expect("scene");
+    let scene = load_gltf(solari_testdata::scene("cornell_box")).expect("scene");
     let a = render(&gpu, Backend::RayQuery, &scene, 64, 64, u32::MAX);
     let b = render(&gpu, Backend::Software, &scene, 64, 64, u32::MAX);
     // Same seeds and same geometry: most paths are identical, so compare image means and the

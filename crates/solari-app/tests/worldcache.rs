@@ -15,7 +15,7 @@ use solari_worldcache::{GpuCacheCell, WorldCacheSettings};
 
 mod common;
 
-use common::{reference, shared};
+use common::reference;
 
 /// The renderer tests' small settings with world-cache GI in a `capacity`-slot table.
 fn settings(capacity: u32) -> RealtimeSettings {
@@ -112,7 +112,7 @@ fn cache_converges_to_the_analytic_furnaces() {
         ),
     ];
     for (name, regions) in cases {
-        let scene = load_gltf(shared(&format!("scenes/{name}/{name}.gltf"))).expect("scene");
+        let scene = load_gltf(solari_testdata::scene(name)).expect("scene");
         // A table about 40× the live cells. At 1 << 15 (10% full) a linear probing run once
         // exceeded its 8 steps in the last frame (one overflow, in one of several CI runs):
         // the check below is that no cell is lost, so the table must be roomy.
@@ -402,7 +402,7 @@ fn bad_cache_settings_are_refused_with_a_message() {
 #[test]
 fn ten_thousand_frames_in_the_white_furnace_stay_finite_and_bounded() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = load_gltf(shared("scenes/furnace_uniform/furnace_uniform.gltf")).expect("scene");
+    let scene = load_gltf(solari_testdata::scene("furnace_uniform")).expect("scene");
     let (_, mut s) = setup(&gpu, &scene, 16, settings(1 << 14));
     let start = scene.camera(None).unwrap();
     let mut means = Vec::new();

@@ -8,13 +8,49 @@ use std::path::PathBuf;
 /// can find the problem without a debugger.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
-    /// The file could not be read at all.
-    #[error("{file}: cannot read: {source}")]
-    Io {
-        /// The file that was being read.
+    /// The file is not a regular file, is over the import size limit, or could not be read.
+    #[error("{file}: cannot read: {reason}")]
+    Unreadable {
+        /// The file.
         file: PathBuf,
-        /// The underlying I/O error.
-        source: std::io::Error,
+        /// Why (a directory, a device, over the limit, an OS error).
+        reason: String,
+    },
+    /// The file needs something this importer does not do (a required extension).
+    #[error("{file}: unsupported: {reason}")]
+    Unsupported {
+        /// The glTF file.
+        file: PathBuf,
+        /// What is needed.
+        reason: String,
+    },
+    /// The imported scene breaks a rule rendering relies on ([`crate::Scene::validate`]):
+    /// coordinates beyond f32's useful range, an unusable camera.
+    #[error("{file}: {reason}")]
+    Invalid {
+        /// The glTF file.
+        file: PathBuf,
+        /// The rule broken, naming the element.
+        reason: String,
+    },
+    /// A material's values are unusable (NaN or negative emission).
+    #[error("{file}: material {material}: {reason}")]
+    BadMaterial {
+        /// The glTF file.
+        file: PathBuf,
+        /// The material's index in the glTF document.
+        material: usize,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// The `gltf` crate panicked on input that no check of ours caught: a bug to report (the
+    /// import is abandoned, the program goes on).
+    #[error("{file}: the glTF reader failed on this file (an importer bug; please report it): {message}")]
+    ImporterPanic {
+        /// The glTF file.
+        file: PathBuf,
+        /// The panic's message.
+        message: String,
     },
     /// The glTF JSON or GLB container is malformed.
     #[error("{file}: not a valid glTF file: {source}")]
@@ -24,7 +60,8 @@ pub enum SceneError {
         /// The parser's error.
         source: gltf::Error,
     },
-    /// A buffer's data is missing (a file that does not exist, or no GLB blob).
+    /// A buffer's data is missing (a file that does not exist or lies outside the asset's
+    /// folder, or no GLB blob).
     #[error("{file}: buffer {index}: data missing: {reason}")]
     MissingBuffer {
         /// The glTF file.

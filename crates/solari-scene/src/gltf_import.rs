@@ -1,19 +1,29 @@
 //! glTF 2.0 import into the [`Scene`] model.
 //!
-//! Buffers, accessors and images are checked before they are read, so a malformed file gives a
-//! [`SceneError`] naming the file and element instead of a panic deep inside a reader.
+//! The file is treated as untrusted. Buffers, accessors and images are checked before they
+//! are read, URIs resolve only inside the asset's folder, and every read and decoded image
+//! has a size limit ([`ImportLimits`]), so a malformed or hostile file gives a [`SceneError`]
+//! naming the file and element instead of a panic, a hang or exhausted memory.
+//!
+//! The `gltf` crate (1.4.1) panics on some malformed input. Every such site we know of is
+//! checked before the crate is called (`gltf_check`); as a last resort the import runs under
+//! `catch_unwind`, so a panic we do not know of yet becomes [`SceneError::ImporterPanic`]
+//! (the fuzz harness counts those as findings).
 
+use crate::asset_io::{AssetFolder, ImportLimits, read_file_limited};
 use crate::error::SceneError;
 use crate::geometry;
+use crate::gltf_check::{Usage, check_extent, check_image, check_layout, check_root};
 use crate::model::*;
-use crate::texture::decode_texture;
-use base64::Engine as _;
+use crate::texture::{decode_image, texture_from_level0};
+use crate::validate::clamp_radiance;
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use gltf::mesh::Mode;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-/// Options for [`load_gltf`].
+/// Options for [`load_gltf_with`] and [`import_slice`].
 #[derive(Clone, Debug)]
 pub struct ImportOptions {
     /// Angular diameter given to every directional light, in radians (default: the sun's 0.53°).
@@ -21,6 +31,11 @@ pub struct ImportOptions {
     /// Read `render_setup.json` beside the file (camera and environment for assets without
     /// them). Default true.
     pub read_render_setup: bool,
+    /// Size limits on files read and images decoded.
+    pub limits: ImportLimits,
+    /// The folder that the file's URIs may reach (default: the file's own folder). Widen it
+    /// for asset packs whose models share a texture folder beside them (`../textures/`).
+    pub asset_root: Option<PathBuf>,
 }
 
 impl Default for ImportOptions {
@@ -28,6 +43,8 @@ impl Default for ImportOptions {
         Self {
             sun_angular_diameter: SUN_ANGULAR_DIAMETER,
             read_render_setup: true,
+            limits: ImportLimits::default(),
+            asset_root: None,
         }
     }
 }
@@ -43,9 +60,11 @@ pub fn load_gltf_with(
     options: &ImportOptions,
 ) -> Result<Scene, SceneError> {
     let path = path.as_ref();
-    let bytes = std::fs::read(path).map_err(|source| SceneError::Io {
-        file: path.into(),
-        source,
+    let bytes = read_file_limited(path, options.limits.max_file_bytes).map_err(|reason| {
+        SceneError::Unreadable {
+            file: path.into(),
+            reason,
+        }
     })?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let mut scene = import_slice(&bytes, &base, path, options)?;
@@ -58,36 +77,89 @@ pub fn load_gltf_with(
     Ok(scene)
 }
 
-/// Imports glTF from memory. `base` resolves relative URIs; `file` names the source in errors.
+/// Imports glTF or GLB from memory. `base` resolves relative URIs (which may not leave
+/// `options.asset_root`, by default `base` itself); `file` names the source in errors.
 pub fn import_slice(
     bytes: &[u8],
     base: &Path,
     file: &Path,
     options: &ImportOptions,
 ) -> Result<Scene, SceneError> {
+    let guarded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        import_unguarded(bytes, base, file, options)
+    }));
+    match guarded {
+        Ok(result) => result,
+        Err(payload) => {
+            let message = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(SceneError::ImporterPanic {
+                file: file.into(),
+                message,
+            })
+        }
+    }
+}
+
+fn import_unguarded(
+    bytes: &[u8],
+    base: &Path,
+    file: &Path,
+    options: &ImportOptions,
+) -> Result<Scene, SceneError> {
     let file = file.to_path_buf();
-    let gltf = gltf::Gltf::from_slice(bytes).map_err(|source| SceneError::Gltf {
+    let gltf_err = |source| SceneError::Gltf {
         file: file.clone(),
         source,
+    };
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(gltf_err)?;
+    check_root(raw.document.as_json()).map_err(|reason| SceneError::Unsupported {
+        file: file.clone(),
+        reason,
     })?;
-    let buffers = load_buffers(&gltf, base, &file)?;
+    let blob = raw.blob;
+    let document = gltf::Document::from_json(raw.document.into_json()).map_err(gltf_err)?;
+    let folder = AssetFolder {
+        base: base.to_path_buf(),
+        root: options.asset_root.clone().unwrap_or_else(|| base.to_path_buf()),
+        max_file_bytes: options.limits.max_file_bytes,
+    };
+    let buffers = load_buffers(&document, blob, &folder, &file)?;
     let mut importer = Importer {
         file,
-        base: base.to_path_buf(),
+        folder,
         buffers,
         scene: Scene::default(),
         mesh_cache: HashMap::new(),
         material_cache: HashMap::new(),
+        image_cache: HashMap::new(),
         texture_cache: HashMap::new(),
+        image_bytes: 0,
+        images_json: document.as_json().images.clone(),
         options: options.clone(),
     };
-    importer.import(&gltf.document)?;
+    importer.import(&document)?;
+    importer
+        .scene
+        .validate()
+        .map_err(|reason| SceneError::Invalid {
+            file: importer.file.clone(),
+            reason,
+        })?;
     Ok(importer.scene)
 }
 
-fn load_buffers(gltf: &gltf::Gltf, base: &Path, file: &Path) -> Result<Vec<Vec<u8>>, SceneError> {
+fn load_buffers(
+    document: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
+    folder: &AssetFolder,
+    file: &Path,
+) -> Result<Vec<Vec<u8>>, SceneError> {
     let mut out = Vec::new();
-    for buffer in gltf.document.buffers() {
+    for buffer in document.buffers() {
         let index = buffer.index();
         let missing = |reason: String| SceneError::MissingBuffer {
             file: file.into(),
@@ -95,11 +167,10 @@ fn load_buffers(gltf: &gltf::Gltf, base: &Path, file: &Path) -> Result<Vec<Vec<u
             reason,
         };
         let data = match buffer.source() {
-            gltf::buffer::Source::Bin => gltf
-                .blob
-                .clone()
-                .ok_or_else(|| missing("no GLB binary chunk".into()))?,
-            gltf::buffer::Source::Uri(uri) => read_uri(uri, base).map_err(missing)?,
+            gltf::buffer::Source::Bin => blob
+                .take()
+                .ok_or_else(|| missing("no GLB binary chunk (or a second buffer claims it)".into()))?,
+            gltf::buffer::Source::Uri(uri) => folder.read_uri(uri).map_err(missing)?,
         };
         if data.len() < buffer.length() {
             return Err(SceneError::TruncatedBuffer {
@@ -114,50 +185,24 @@ fn load_buffers(gltf: &gltf::Gltf, base: &Path, file: &Path) -> Result<Vec<Vec<u
     Ok(out)
 }
 
-/// Reads a `data:` URI or a file relative to `base`.
-fn read_uri(uri: &str, base: &Path) -> Result<Vec<u8>, String> {
-    if let Some(rest) = uri.strip_prefix("data:") {
-        let (_, payload) = rest
-            .split_once(";base64,")
-            .ok_or("data URI is not base64")?;
-        return base64::engine::general_purpose::STANDARD
-            .decode(payload)
-            .map_err(|e| format!("bad base64 in data URI: {e}"));
-    }
-    let path = base.join(percent_decode(uri));
-    std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-fn percent_decode(s: &str) -> String {
-    let bytes = s.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%'
-            && i + 2 < bytes.len()
-            && let Ok(v) = u8::from_str_radix(&s[i + 1..i + 3], 16)
-        {
-            out.push(v);
-            i += 3;
-            continue;
-        }
-        out.push(bytes[i]);
-        i += 1;
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
-
 struct Importer {
     file: PathBuf,
-    base: PathBuf,
+    folder: AssetFolder,
     buffers: Vec<Vec<u8>>,
     scene: Scene,
     /// (gltf mesh, primitive) → our mesh index (None when the primitive was skipped).
     mesh_cache: HashMap<(usize, usize), Option<u32>>,
     /// gltf material index (None = default material) → our material index.
     material_cache: HashMap<Option<usize>, u32>,
-    /// (gltf texture index, colour space) → our texture index.
-    texture_cache: HashMap<(usize, ColorSpace), u32>,
+    /// glTF image index → decoded level 0, so an image used by several textures is decoded
+    /// once.
+    image_cache: HashMap<usize, Arc<MipLevel>>,
+    /// (glTF image index, colour space, repeat) → our texture index.
+    texture_cache: HashMap<(usize, ColorSpace, bool), u32>,
+    /// Decoded level-0 bytes so far, against `limits.max_total_image_bytes`.
+    image_bytes: u64,
+    /// The images' JSON, checked before the `gltf` crate's `Image::source` unwraps it.
+    images_json: Vec<gltf::json::Image>,
     options: ImportOptions,
 }
 
@@ -202,9 +247,11 @@ impl Importer {
         depth: usize,
         visited: &mut [bool],
     ) -> Result<(), SceneError> {
-        let bad = |reason: String| SceneError::BadNode {
-            file: self.file.clone(),
-            node: node.index(),
+        let file = self.file.clone();
+        let index = node.index();
+        let bad = move |reason: String| SceneError::BadNode {
+            file: file.clone(),
+            node: index,
             reason,
         };
         if depth > MAX_NODE_DEPTH || visited[node.index()] {
@@ -239,7 +286,7 @@ impl Importer {
         }
         if let Some(cam) = node.camera() {
             if let gltf::camera::Projection::Perspective(p) = cam.projection() {
-                self.scene.cameras.push(Camera {
+                let camera = Camera {
                     name: cam
                         .name()
                         .or(node.name())
@@ -249,7 +296,9 @@ impl Importer {
                     yfov: p.yfov(),
                     aspect: p.aspect_ratio(),
                     znear: p.znear(),
-                });
+                };
+                camera.validate().map_err(&bad)?;
+                self.scene.cameras.push(camera);
             } else {
                 self.scene
                     .warnings
@@ -258,7 +307,7 @@ impl Importer {
             }
         }
         if let Some(light) = node.light() {
-            self.light(&light, world, &name);
+            self.light(&light, world, &name).map_err(&bad)?;
         }
         for child in node.children() {
             self.visit(&child, world, depth + 1, visited)?;
@@ -266,21 +315,29 @@ impl Importer {
         Ok(())
     }
 
-    fn light(&mut self, light: &gltf::khr_lights_punctual::Light, world: Mat4, node_name: &str) {
+    fn light(
+        &mut self,
+        light: &gltf::khr_lights_punctual::Light,
+        world: Mat4,
+        node_name: &str,
+    ) -> Result<(), String> {
         use gltf::khr_lights_punctual::Kind;
-        let color = Vec3::from(light.color()) * light.intensity();
+        let mut color = Vec3::from(light.color()) * light.intensity();
         let name = light.name().unwrap_or(node_name).to_string();
         let forward = (-world.z_axis.truncate())
             .try_normalize()
             .unwrap_or(Vec3::NEG_Z);
-        let color = if color.is_finite() && color.min_element() >= 0.0 {
-            color
-        } else {
-            self.scene.warnings.notes.push(format!(
-                "light {name}: non-finite or negative intensity, set to zero"
+        if !(color.is_finite() && color.min_element() >= 0.0) {
+            return Err(format!(
+                "light {name}: colour × intensity {color} must be finite and non-negative"
             ));
-            Vec3::ZERO
-        };
+        }
+        if clamp_radiance(&mut color) {
+            self.scene.warnings.notes.push(format!(
+                "light {name}: intensity clamped to {:e} per channel",
+                crate::validate::MAX_RADIANCE
+            ));
+        }
         match light.kind() {
             Kind::Directional => self.scene.directional_lights.push(DirectionalLight {
                 name,
@@ -306,51 +363,20 @@ impl Importer {
                 range: light.range(),
             }),
         }
+        Ok(())
     }
 
-    fn check_accessor(&self, acc: &gltf::Accessor) -> Result<(), SceneError> {
-        let bad = |reason: String| SceneError::BadAccessor {
-            file: self.file.clone(),
-            accessor: acc.index(),
-            reason,
-        };
-        if acc.sparse().is_some() {
-            return Err(bad("sparse accessors are not supported".into()));
-        }
-        let Some(view) = acc.view() else {
-            return Err(bad("has no buffer view".into()));
-        };
-        let data_len = self.buffers[view.buffer().index()].len();
-        let view_end = view.offset().checked_add(view.length());
-        if view_end.is_none_or(|e| e > data_len) {
-            return Err(bad(format!(
-                "buffer view {} (offset {}, length {}) reaches past its buffer of {} bytes",
-                view.index(),
-                view.offset(),
-                view.length(),
-                data_len
-            )));
-        }
-        if acc.count() == 0 {
-            return Ok(());
-        }
-        let elem = acc.size();
-        let stride = view.stride().unwrap_or(elem);
-        let end = (acc.count() - 1)
-            .checked_mul(stride)
-            .and_then(|x| x.checked_add(acc.offset()))
-            .and_then(|x| x.checked_add(elem));
-        if end.is_none_or(|e| e > view.length()) {
-            return Err(bad(format!(
-                "{} elements of {} bytes (stride {stride}) at offset {} do not fit buffer view {} of {} bytes",
-                acc.count(),
-                elem,
-                acc.offset(),
-                view.index(),
-                view.length()
-            )));
-        }
-        Ok(())
+    fn check_accessor(&self, acc: &gltf::Accessor, usage: Usage) -> Result<(), SceneError> {
+        let buffer_len = acc
+            .view()
+            .map_or(0, |v| self.buffers[v.buffer().index()].len());
+        check_extent(acc, buffer_len)
+            .and_then(|()| check_layout(acc, usage))
+            .map_err(|reason| SceneError::BadAccessor {
+                file: self.file.clone(),
+                accessor: acc.index(),
+                reason,
+            })
     }
 
     fn mesh(
@@ -389,17 +415,40 @@ impl Importer {
                 return Ok(None);
             }
         }
-        for (_, acc) in prim.attributes() {
-            self.check_accessor(&acc)?;
+        use gltf::Semantic;
+        // Only the attributes read below are checked: others (colours, skins) are ignored.
+        for (semantic, acc) in prim.attributes() {
+            let usage = match semantic {
+                Semantic::Positions => Usage::Position,
+                Semantic::Normals => Usage::Normal,
+                Semantic::Tangents => Usage::Tangent,
+                Semantic::TexCoords(0) => Usage::TexCoord,
+                _ => continue,
+            };
+            self.check_accessor(&acc, usage)?;
         }
         if let Some(acc) = prim.indices() {
-            self.check_accessor(&acc)?;
+            self.check_accessor(&acc, Usage::Indices)?;
+        }
+        let Some(position_accessor) = prim.get(&Semantic::Positions) else {
+            return Err(bad("has no POSITION attribute".into()));
+        };
+        // An empty accessor gives the readers an underflow (count - 1); it holds no triangle.
+        let empty = |s: &Semantic| prim.get(s).is_some_and(|a| a.count() == 0);
+        if position_accessor.count() == 0 || prim.indices().is_some_and(|a| a.count() == 0) {
+            self.scene.warnings.skipped_primitives += 1;
+            return Ok(None);
+        }
+        for s in [Semantic::Normals, Semantic::Tangents, Semantic::TexCoords(0)] {
+            if empty(&s) {
+                return Err(bad(format!("{s:?} is empty but POSITION is not")));
+            }
         }
         let buffers = &self.buffers;
         let reader = prim.reader(|b| Some(&buffers[b.index()]));
         let positions: Vec<Vec3> = reader
             .read_positions()
-            .ok_or_else(|| bad("has no POSITION attribute".into()))?
+            .ok_or_else(|| bad("POSITION cannot be read".into()))?
             .map(Vec3::from)
             .collect();
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
@@ -520,12 +569,21 @@ impl Importer {
         let pbr = m.pbr_metallic_roughness();
         let strength = m.emissive_strength().unwrap_or(1.0);
         let mut emissive = Vec3::from(m.emissive_factor()) * strength;
-        if !emissive.is_finite() || emissive.min_element() < 0.0 {
+        if !(emissive.is_finite() && emissive.min_element() >= 0.0) {
+            return Err(SceneError::BadMaterial {
+                file: self.file.clone(),
+                material: m.index().unwrap_or(usize::MAX),
+                reason: format!(
+                    "emission (emissiveFactor × emissiveStrength) {emissive} must be finite and non-negative"
+                ),
+            });
+        }
+        if clamp_radiance(&mut emissive) {
             self.scene.warnings.notes.push(format!(
-                "material {}: non-finite or negative emission {emissive:?} set to zero",
-                m.name().unwrap_or("?")
+                "material {}: emission clamped to {:e} per channel",
+                m.name().unwrap_or("?"),
+                crate::validate::MAX_RADIANCE
             ));
-            emissive = Vec3::ZERO;
         }
         let ior = m
             .ior()
@@ -606,40 +664,62 @@ impl Importer {
     }
 
     fn texture(&mut self, t: &gltf::texture::Texture, cs: ColorSpace) -> Result<u32, SceneError> {
-        if let Some(&i) = self.texture_cache.get(&(t.index(), cs)) {
+        use gltf::texture::WrappingMode;
+        let image = t.source();
+        let sampler = t.sampler();
+        let repeat = sampler.wrap_s() != WrappingMode::ClampToEdge
+            || sampler.wrap_t() != WrappingMode::ClampToEdge;
+        let key = (image.index(), cs, repeat);
+        if let Some(&i) = self.texture_cache.get(&key) {
             return Ok(i);
         }
-        let image = t.source();
+        let (level0, name) = self.decoded_image(&image)?;
+        let texture = texture_from_level0((*level0).clone(), &name, cs, repeat);
+        self.scene.textures.push(texture);
+        let index = (self.scene.textures.len() - 1) as u32;
+        self.texture_cache.insert(key, index);
+        Ok(index)
+    }
+
+    /// Level 0 of `image`, decoded on first use.
+    fn decoded_image(&mut self, image: &gltf::Image) -> Result<(Arc<MipLevel>, String), SceneError> {
         let bad = |reason: String| SceneError::BadImage {
             file: self.file.clone(),
             image: image.index(),
             reason,
         };
-        let (bytes, name) = match image.source() {
+        let json = &self.images_json[image.index()];
+        check_image(json).map_err(&bad)?;
+        let name = image
+            .name()
+            .map(str::to_string)
+            .or_else(|| json.uri.clone())
+            .unwrap_or_else(|| format!("image {}", image.index()));
+        if let Some(level0) = self.image_cache.get(&image.index()) {
+            return Ok((level0.clone(), name));
+        }
+        let bytes = match image.source() {
             gltf::image::Source::View { view, .. } => {
                 let data = &self.buffers[view.buffer().index()];
                 let range = view.offset()..view.offset().saturating_add(view.length());
-                let slice = data
-                    .get(range)
-                    .ok_or_else(|| bad("buffer view reaches past its buffer".into()))?;
-                (
-                    slice.to_vec(),
-                    image.name().unwrap_or("embedded").to_string(),
-                )
+                data.get(range)
+                    .ok_or_else(|| bad("buffer view reaches past its buffer".into()))?
+                    .to_vec()
             }
-            gltf::image::Source::Uri { uri, .. } => {
-                (read_uri(uri, &self.base).map_err(&bad)?, uri.to_string())
-            }
+            gltf::image::Source::Uri { uri, .. } => self.folder.read_uri(uri).map_err(&bad)?,
         };
-        use gltf::texture::WrappingMode;
-        let sampler = t.sampler();
-        let repeat = sampler.wrap_s() != WrappingMode::ClampToEdge
-            || sampler.wrap_t() != WrappingMode::ClampToEdge;
-        let texture = decode_texture(&bytes, &name, cs, repeat).map_err(bad)?;
-        self.scene.textures.push(texture);
-        let index = (self.scene.textures.len() - 1) as u32;
-        self.texture_cache.insert((t.index(), cs), index);
-        Ok(index)
+        let limits = &self.options.limits;
+        let level0 = decode_image(&bytes, &name, limits).map_err(&bad)?;
+        self.image_bytes += level0.rgba8.len() as u64;
+        if self.image_bytes > limits.max_total_image_bytes {
+            return Err(bad(format!(
+                "decoded images reach {} bytes, over the limit of {} for one scene",
+                self.image_bytes, limits.max_total_image_bytes
+            )));
+        }
+        let level0 = Arc::new(level0);
+        self.image_cache.insert(image.index(), level0.clone());
+        Ok((level0, name))
     }
 }
 
@@ -679,12 +759,5 @@ mod tests {
         assert_eq!(strip_to_list(&[0, 1, 2, 3]), vec![0, 1, 2, 2, 1, 3]);
         assert_eq!(fan_to_list(&[0, 1, 2, 3]), vec![0, 1, 2, 0, 2, 3]);
         assert!(strip_to_list(&[0, 1]).is_empty());
-    }
-
-    #[test]
-    fn percent_decoding() {
-        assert_eq!(percent_decode("a%20b.png"), "a b.png");
-        assert_eq!(percent_decode("100%"), "100%");
-        assert_eq!(percent_decode("%zz"), "%zz");
     }
 }

@@ -13,12 +13,14 @@
 //! println!("{:?}", scene.stats());
 //! ```
 
+pub mod asset_io;
 pub mod brdf;
 pub mod bvh;
 pub mod default_scene;
 pub mod error;
 pub mod gbuffer;
 pub mod geometry;
+pub mod gltf_check;
 pub mod gltf_import;
 pub mod gpu;
 pub mod gpu_scene;
@@ -29,12 +31,16 @@ pub mod render_setup;
 pub mod rng;
 pub mod shaders;
 pub mod texture;
+pub mod textured_scene;
 pub mod trace_cpu;
 pub mod trace_pass;
+pub mod validate;
 pub mod view_pass;
 
 pub use error::{GpuError, SceneError};
+pub use asset_io::ImportLimits;
 pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};
+pub use validate::{MAX_COORDINATE, MAX_RADIANCE};
 pub use model::*;
 
 /// The README's examples, compiled and run as doc tests.

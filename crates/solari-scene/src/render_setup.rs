@@ -16,7 +16,9 @@ pub fn apply(path: &Path, scene: &mut Scene) -> Result<(), SceneError> {
         file: path.into(),
         reason,
     };
-    let text = std::fs::read_to_string(path).map_err(|e| bad(e.to_string()))?;
+    // A camera and a colour need a few hundred bytes; a megabyte is generous.
+    let bytes = crate::asset_io::read_file_limited(path, 1 << 20).map_err(&bad)?;
+    let text = String::from_utf8(bytes).map_err(|_| bad("not UTF-8 text".into()))?;
     let json: serde_json::Value =
         serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
     let vec3 = |v: &serde_json::Value, what: &str| -> Result<Vec3, SceneError> {
@@ -57,12 +59,16 @@ pub fn apply(path: &Path, scene: &mut Scene) -> Result<(), SceneError> {
         let mut c = Camera::look_at("render_setup", eye, target, up, yfov_deg.to_radians());
         c.aspect = cam.get("aspect").and_then(|v| v.as_f64()).map(|a| a as f32);
         c.znear = ((target - eye).length() * 1e-3).max(1e-6);
+        c.validate().map_err(&bad)?;
         scene.cameras.push(c);
     }
     if let Some(env) = json.get("environment_radiance") {
         let e = vec3(env, "environment_radiance")?;
-        if e.min_element() < 0.0 {
-            return Err(bad("environment_radiance must not be negative".into()));
+        if e.min_element() < 0.0 || e.max_element() > crate::validate::MAX_RADIANCE {
+            return Err(bad(format!(
+                "environment_radiance must be within [0, {:e}]",
+                crate::validate::MAX_RADIANCE
+            )));
         }
         scene.environment_radiance = e;
     }

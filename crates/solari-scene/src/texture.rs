@@ -1,8 +1,11 @@
-//! Texture decoding and mip-chain generation.
+//! Texture decoding (with size limits read from the image header before decoding) and
+//! mip-chain generation.
 
+use crate::asset_io::ImportLimits;
 use crate::model::{ColorSpace, MipLevel, Texture};
 
-/// Decodes an encoded image (PNG, JPEG) into RGBA8 with a full mip chain.
+/// Decodes an encoded image (PNG, JPEG) into RGBA8 with a full mip chain, under the default
+/// [`ImportLimits`].
 ///
 /// Mips are box-filtered in linear light for sRGB textures (averaging encoded values would
 /// darken them) and directly for data textures.
@@ -12,25 +15,64 @@ pub fn decode_texture(
     color_space: ColorSpace,
     repeat: bool,
 ) -> Result<Texture, String> {
-    let img = image::load_from_memory(bytes).map_err(|e| format!("cannot decode {name}: {e}"))?;
-    let rgba = img.to_rgba8();
-    let (w, h) = rgba.dimensions();
+    let level0 = decode_image(bytes, name, &ImportLimits::default())?;
+    Ok(texture_from_level0(level0, name, color_space, repeat))
+}
+
+/// Decodes an encoded image into RGBA8 level 0. The header's size is checked against
+/// `limits` before any pixel memory is allocated, and the decoder itself is capped too.
+pub fn decode_image(bytes: &[u8], name: &str, limits: &ImportLimits) -> Result<MipLevel, String> {
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| format!("cannot read {name}: {e}"))
+    };
+    let (w, h) = reader()?
+        .into_dimensions()
+        .map_err(|e| format!("cannot decode {name}: {e}"))?;
     if w == 0 || h == 0 {
         return Err(format!("{name} has zero size"));
     }
-    Ok(Texture {
+    let pixels = w as u64 * h as u64;
+    if w > limits.max_image_side || h > limits.max_image_side || pixels > limits.max_image_pixels
+    {
+        return Err(format!(
+            "{name} is {w}x{h}, over the image limit ({} pixels, {} per side)",
+            limits.max_image_pixels, limits.max_image_side
+        ));
+    }
+    let mut decoder = reader()?;
+    let mut caps = image::Limits::default();
+    caps.max_image_width = Some(w);
+    caps.max_image_height = Some(h);
+    // RGBA of 32-bit floats is the widest a decoder produces, plus its own buffers.
+    caps.max_alloc = Some(pixels * 16 + (64 << 20));
+    decoder.limits(caps);
+    let img = decoder
+        .decode()
+        .map_err(|e| format!("cannot decode {name}: {e}"))?;
+    let rgba = img.to_rgba8();
+    let (w, h) = rgba.dimensions();
+    Ok(MipLevel {
+        width: w,
+        height: h,
+        rgba8: rgba.into_raw(),
+    })
+}
+
+/// A texture with a full mip chain from a decoded level 0.
+pub fn texture_from_level0(
+    level0: MipLevel,
+    name: &str,
+    color_space: ColorSpace,
+    repeat: bool,
+) -> Texture {
+    Texture {
         name: name.to_string(),
         color_space,
-        mips: build_mips(
-            MipLevel {
-                width: w,
-                height: h,
-                rgba8: rgba.into_raw(),
-            },
-            color_space,
-        ),
+        mips: build_mips(level0, color_space),
         repeat,
-    })
+    }
 }
 
 /// Builds the full mip chain down to 1×1 from level 0.

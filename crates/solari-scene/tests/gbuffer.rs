@@ -10,7 +10,6 @@ use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::*;
-use std::path::Path;
 
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -150,11 +149,9 @@ fn render(gpu: &Gpu, gb: &mut GBuffer, gs: &GpuScene, scene: &Scene, camera: &Ca
 }
 
 fn scenes() -> Vec<(&'static str, Scene)> {
-    let helmet = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/damaged_helmet/DamagedHelmet.gltf");
     vec![
         ("cornell_box", default_scene::cornell_box()),
-        ("damaged_helmet", load_gltf(&helmet).expect("shared helmet")),
+        ("textured_spheres", textured_scene::textured_spheres()),
     ]
 }
 

@@ -1,14 +1,10 @@
-//! glTF import: every shared scene loads, and every kind of malformed input gives a typed
+//! glTF import: every bundled test scene loads, and every kind of malformed input gives a typed
 //! error naming the file and element (never a panic).
 
 use base64::Engine as _;
 use serde_json::{Value, json};
 use solari_scene::*;
-use std::path::{Path, PathBuf};
-
-fn shared_scenes() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes")
-}
+use std::path::Path;
 
 /// A minimal valid glTF: one triangle (or what `positions`/`indices` say), as JSON with an
 /// embedded base64 buffer.
@@ -70,38 +66,25 @@ fn import_dir_json(v: &Value, dir: &Path) -> Result<Scene, SceneError> {
 }
 
 #[test]
-fn every_shared_scene_loads() {
-    let dir = shared_scenes();
-    let mut found = 0;
-    for entry in std::fs::read_dir(&dir).expect("../shared/scenes beside the checkout") {
-        let entry = entry.unwrap();
-        if !entry.path().is_dir() {
-            continue;
-        }
-        for f in std::fs::read_dir(entry.path()).unwrap() {
-            let p = f.unwrap().path();
-            if p.extension().is_some_and(|e| e == "gltf" || e == "glb") {
-                let scene = load_gltf(&p).unwrap_or_else(|e| panic!("{e}"));
-                let s = scene.stats();
-                assert!(s.triangles > 0 && s.instances > 0, "{}", p.display());
-                assert!(scene.camera(None).is_some());
-                for m in &scene.meshes {
-                    assert_eq!(m.normals.len(), m.positions.len());
-                    assert_eq!(m.uvs.len(), m.positions.len());
-                    assert_eq!(m.tangents.len(), m.positions.len());
-                    assert!(m.indices.iter().all(|&i| (i as usize) < m.positions.len()));
-                    assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3));
-                }
-                found += 1;
-            }
+fn every_bundled_scene_loads() {
+    for p in solari_testdata::all_scenes() {
+        let scene = load_gltf(&p).unwrap_or_else(|e| panic!("{e}"));
+        let s = scene.stats();
+        assert!(s.triangles > 0 && s.instances > 0, "{}", p.display());
+        assert!(scene.camera(None).is_some());
+        for m in &scene.meshes {
+            assert_eq!(m.normals.len(), m.positions.len());
+            assert_eq!(m.uvs.len(), m.positions.len());
+            assert_eq!(m.tangents.len(), m.positions.len());
+            assert!(m.indices.iter().all(|&i| (i as usize) < m.positions.len()));
+            assert!(m.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-3));
         }
     }
-    assert!(found >= 8, "expected the 8 shared scenes, found {found}");
 }
 
 #[test]
-fn shared_scene_details_are_imported() {
-    let cornell = load_gltf(shared_scenes().join("cornell_box/cornell_box.gltf")).unwrap();
+fn bundled_scene_details_are_imported() {
+    let cornell = load_gltf(solari_testdata::scene("cornell_box")).unwrap();
     let s = cornell.stats();
     assert_eq!(s.triangles, 32);
     assert_eq!(s.emissive_triangles, 2);
@@ -119,26 +102,14 @@ fn shared_scene_details_are_imported() {
     // Looks along +Z: the camera's -Z axis is world +Z.
     assert!((-cam.transform.z_axis.truncate() - glam::Vec3::Z).length() < 1e-5);
 
-    let sun = load_gltf(shared_scenes().join("sun_boxes/sun_boxes.gltf")).unwrap();
+    let sun = load_gltf(solari_testdata::scene("sun_boxes")).unwrap();
     assert_eq!(sun.directional_lights.len(), 1);
     let d = &sun.directional_lights[0];
     assert!((d.direction.length() - 1.0).abs() < 1e-5 && d.irradiance.max_element() > 0.0);
     assert!((d.angular_diameter - SUN_ANGULAR_DIAMETER).abs() < 1e-7);
 
-    let helmet = load_gltf(shared_scenes().join("damaged_helmet/DamagedHelmet.gltf")).unwrap();
-    assert!(helmet.textures.len() >= 4);
-    let m = &helmet.materials[0];
-    let srgb = |t: Option<u32>| helmet.textures[t.unwrap() as usize].color_space;
-    assert_eq!(srgb(m.base_color_texture), ColorSpace::Srgb);
-    assert_eq!(srgb(m.emissive_texture), ColorSpace::Srgb);
-    assert_eq!(srgb(m.normal_texture), ColorSpace::Linear);
-    assert_eq!(srgb(m.metallic_roughness_texture), ColorSpace::Linear);
-    assert_eq!(helmet.environment_radiance, glam::Vec3::ONE);
-    assert_eq!(helmet.camera(None).unwrap().name, "render_setup");
-
-    let strength =
-        load_gltf(shared_scenes().join("emissive_strength_test/EmissiveStrengthTest.gltf"))
-            .unwrap();
+    let strength = load_gltf(solari_testdata::scene("emissive_strength_test")).unwrap();
+    assert_eq!(strength.camera(None).unwrap().name, "render_setup");
     let max_emission = strength
         .materials
         .iter()
@@ -149,6 +120,53 @@ fn shared_scene_details_are_imported() {
         (max_emission - 14.4).abs() < 1e-3,
         "emissive strength applied: {max_emission}"
     );
+}
+
+/// A 4×4 PNG as a data URI.
+fn png_uri(rgba: [u8; 4]) -> String {
+    let mut png = Vec::new();
+    image::write_buffer_with_format(
+        &mut std::io::Cursor::new(&mut png),
+        &rgba.repeat(16),
+        4,
+        4,
+        image::ExtendedColorType::Rgba8,
+        image::ImageFormat::Png,
+    )
+    .unwrap();
+    format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(&png)
+    )
+}
+
+#[test]
+fn texture_slots_get_their_colour_spaces() {
+    let mut v = doc(&TRI, &[0, 1, 2]);
+    v["meshes"][0]["primitives"][0]["material"] = json!(0);
+    v["materials"] = json!([{
+        "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},
+                                 "metallicRoughnessTexture": {"index": 1}},
+        "normalTexture": {"index": 2},
+        "emissiveTexture": {"index": 3},
+        "emissiveFactor": [1.0, 1.0, 1.0]
+    }]);
+    v["textures"] = json!([{"source": 0}, {"source": 1}, {"source": 2}, {"source": 0}]);
+    v["images"] = json!([
+        {"uri": png_uri([200, 100, 50, 255])},
+        {"uri": png_uri([0, 128, 255, 255])},
+        {"uri": png_uri([128, 128, 255, 255])}
+    ]);
+    let s = import_json(&v).unwrap();
+    let m = &s.materials[0];
+    let space = |t: Option<u32>| s.textures[t.unwrap() as usize].color_space;
+    assert_eq!(space(m.base_color_texture), ColorSpace::Srgb);
+    assert_eq!(space(m.emissive_texture), ColorSpace::Srgb);
+    assert_eq!(space(m.normal_texture), ColorSpace::Linear);
+    assert_eq!(space(m.metallic_roughness_texture), ColorSpace::Linear);
+    // The base colour and emission share image 0 and a colour space: one texture.
+    assert_eq!(m.base_color_texture, m.emissive_texture);
+    assert_eq!(s.textures.len(), 3);
 }
 
 #[test]
@@ -367,18 +385,33 @@ fn points_and_lines_are_skipped_strips_converted() {
 }
 
 #[test]
-fn absurd_light_values_are_neutralised() {
+fn absurd_emission_is_clamped_and_broken_emission_refused() {
     let mut v = doc(&TRI, &[0, 1, 2]);
     v["meshes"][0]["primitives"][0]["material"] = json!(0);
     v["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
-    v["materials"] = json!([{"emissiveFactor": [1.0, 1.0, 1.0],
-        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e30}}}]);
+    v["materials"] = json!([{"emissiveFactor": [1.0, 0.5, 0.0],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e38}}}]);
+    // Huge but finite: clamped per channel to MAX_RADIANCE, with a warning.
     let s = import_json(&v).unwrap();
-    // Huge but finite emission is kept as is (the renderer must cope); non-finite is zeroed.
-    assert_eq!(s.materials[0].emissive.x, 1e30);
-    v["materials"][0]["emissiveFactor"] = json!([1e30, 1.0, 1.0]);
-    let s = import_json(&v).unwrap();
-    assert!(s.materials[0].emissive.is_finite());
+    assert_eq!(
+        s.materials[0].emissive,
+        glam::Vec3::new(MAX_RADIANCE, MAX_RADIANCE, 0.0)
+    );
+    assert!(
+        s.warnings.lines().iter().any(|l| l.contains("emission clamped")),
+        "{:?}",
+        s.warnings.lines()
+    );
+    // NaN (1e30 × 1e30 overflows to infinity) or negative: the file is broken.
+    for (factor, strength) in [([1e30, 1.0, 1.0], 1e30), ([1.0, -0.5, 1.0], 1.0)] {
+        v["materials"][0]["emissiveFactor"] = json!(factor);
+        v["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] =
+            json!(strength);
+        let msg = expect_err(&v, |e| {
+            matches!(e, SceneError::BadMaterial { material: 0, .. })
+        });
+        assert!(msg.contains("finite and non-negative"), "{msg}");
+    }
 }
 
 #[test]
@@ -400,7 +433,7 @@ fn cameras_are_selected_by_name_or_index() {
 #[test]
 fn unreadable_file_is_an_io_error() {
     let e = load_gltf("/nonexistent/scene.gltf").unwrap_err();
-    assert!(matches!(e, SceneError::Io { .. }));
+    assert!(matches!(e, SceneError::Unreadable { .. }));
     assert!(e.to_string().contains("/nonexistent/scene.gltf"));
 }
 

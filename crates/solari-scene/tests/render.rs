@@ -1,4 +1,4 @@
-//! Both backends render the same primary-ray images of every shared scene and the built-in
+//! Both backends render the same primary-ray images of every bundled test scene and the built-in
 //! scene: instance ids per pixel must match except along silhouette ties, and albedo must
 //! match where the instance does.
 
@@ -8,7 +8,6 @@ use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::{DebugView, ViewPass};
 use solari_scene::*;
-use std::path::Path;
 
 #[test]
 fn backends_render_the_same_images() {
@@ -21,14 +20,12 @@ fn backends_render_the_same_images() {
         );
         return;
     }
-    let mut scenes = vec![default_scene::cornell_box()];
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
-    for e in std::fs::read_dir(dir).unwrap().flatten() {
-        for f in std::fs::read_dir(e.path()).into_iter().flatten().flatten() {
-            if f.path().extension().is_some_and(|x| x == "gltf") {
-                scenes.push(load_gltf(f.path()).unwrap());
-            }
-        }
+    let mut scenes = vec![
+        default_scene::cornell_box(),
+        textured_scene::textured_spheres(),
+    ];
+    for path in solari_testdata::all_scenes() {
+        scenes.push(load_gltf(path).unwrap());
     }
     let (w, h) = (96, 96);
     let options = GpuSceneOptions {

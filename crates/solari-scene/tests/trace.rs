@@ -1,5 +1,5 @@
 //! Both tracing backends agree with the CPU reference on thousands of random and adversarial
-//! rays over every shared scene and the built-in scene (GPU: lavapipe in CI).
+//! rays over every bundled test scene and the built-in scene (GPU: lavapipe in CI).
 //!
 //! `t` must agree to 1e-4 relative, scaled by 1/|cos θ| between the ray and the triangle
 //! normal (the condition number of a ray-plane intersection: at grazing angles a rounding of
@@ -26,7 +26,6 @@ use solari_scene::trace_cpu::{
 };
 use solari_scene::trace_pass::TraceRaysPass;
 use solari_scene::*;
-use std::path::Path;
 
 fn scenes() -> Vec<(String, Scene)> {
     let mut out = vec![("built-in".to_string(), default_scene::cornell_box())];
@@ -45,23 +44,15 @@ fn scenes() -> Vec<(String, Scene)> {
     block.transform = glam::Mat4::IDENTITY;
     single.instances = vec![block];
     out.push(("single untransformed instance".to_string(), single));
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
-    let mut paths: Vec<_> = std::fs::read_dir(&dir)
-        .expect("shared scenes")
-        .flatten()
-        .map(|e| e.path())
-        .collect();
-    paths.sort();
-    for p in paths {
-        for f in std::fs::read_dir(&p).into_iter().flatten().flatten() {
-            let f = f.path();
-            if f.extension().is_some_and(|e| e == "gltf") {
-                out.push((
-                    p.file_name().unwrap().to_string_lossy().into(),
-                    load_gltf(&f).unwrap(),
-                ));
-            }
-        }
+    out.push((
+        "textured spheres".to_string(),
+        textured_scene::textured_spheres(),
+    ));
+    for name in solari_testdata::SCENES {
+        out.push((
+            name.to_string(),
+            load_gltf(solari_testdata::scene(name)).unwrap(),
+        ));
     }
     out
 }

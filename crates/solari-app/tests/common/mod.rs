@@ -11,13 +11,6 @@ use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::shaders::Backend;
 
-/// A file under the shared test data beside the checkout (`../shared`).
-pub fn shared(rel: &str) -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared")
-        .join(rel)
-}
-
 /// Image side of the renderer tests.
 pub const SIZE: u32 = 64;
 

@@ -6,13 +6,10 @@ use solari_lights::MODULES;
 use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::{DirectionalLight, Scene};
-use std::path::Path;
 
-/// The built-in Cornell box, the shared many_lights scene (400 lights), and the box with two
+/// The built-in Cornell box, the bundled many_lights scene (400 lights), and the box with two
 /// sun disks (soft and delta) and its emitter made double-sided.
 pub fn scenes() -> Vec<(String, Scene)> {
-    let shared = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/scenes/many_lights/many_lights.gltf");
     let mut sunny = solari_scene::default_scene::cornell_box();
     for (d, diameter) in [
         (Vec3::new(0.3, -1.0, 0.2), 0.0093),
@@ -35,7 +32,8 @@ pub fn scenes() -> Vec<(String, Scene)> {
         ),
         (
             "many_lights".into(),
-            solari_scene::load_gltf(&shared).expect("shared many_lights scene"),
+            solari_scene::load_gltf(solari_testdata::scene("many_lights"))
+                .expect("bundled many_lights scene"),
         ),
         ("cornell_box+suns".into(), sunny),
     ]

@@ -1,0 +1,93 @@
+//! Paths to the test scenes and reference images that live in this repository, so that the
+//! workspace's tests pass on a clone with nothing beside it.
+//!
+//! The files sit in this crate's folder (`scenes/`, `references/`), each scene with the
+//! README and, for third-party assets, the licence it came with; see this crate's README for
+//! what is here and why. Tests reach them through these functions, never through
+//! `../shared` (which only the project's own machines have; benchmarks may still read it).
+//!
+//! ```
+//! let path = solari_testdata::scene("cornell_box");
+//! assert!(path.ends_with("cornell_box/cornell_box.gltf") && path.is_file());
+//! ```
+
+use std::path::{Path, PathBuf};
+
+/// Every bundled scene, by folder name.
+pub const SCENES: [&str; 8] = [
+    "cornell_box",
+    "emissive_strength_test",
+    "furnace_sphere",
+    "furnace_uniform",
+    "interior",
+    "many_lights",
+    "metal_rough_spheres",
+    "sun_boxes",
+];
+
+/// This crate's folder.
+pub fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The folder of the bundled scene `name` (one of [`SCENES`]).
+pub fn scene_dir(name: &str) -> PathBuf {
+    root().join("scenes").join(name)
+}
+
+/// The `.gltf` file of the bundled scene `name` (one of [`SCENES`]).
+///
+/// # Panics
+/// If `name` is not a bundled scene or its folder holds no `.gltf`: a test asking for data
+/// that does not exist is a bug in the test.
+pub fn scene(name: &str) -> PathBuf {
+    let dir = scene_dir(name);
+    let entries = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("no bundled scene {name:?} ({}: {e})", dir.display()));
+    let mut found: Vec<PathBuf> = entries
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "gltf"))
+        .collect();
+    found.sort();
+    found
+        .into_iter()
+        .next()
+        .unwrap_or_else(|| panic!("{} holds no .gltf", dir.display()))
+}
+
+/// Every bundled scene's `.gltf`, in [`SCENES`] order.
+pub fn all_scenes() -> Vec<PathBuf> {
+    SCENES.iter().map(|s| scene(s)).collect()
+}
+
+/// A bundled reference image (`cornell_box.exr`, `cornell_box_direct.exr`).
+///
+/// # Panics
+/// If the file does not exist.
+pub fn reference(file: &str) -> PathBuf {
+    let p = root().join("references").join(file);
+    assert!(p.is_file(), "no bundled reference {file:?}");
+    p
+}
+
+/// A file of the reproducer folder (`repro/`): inputs that once crashed or exhausted the
+/// importer (see its README).
+///
+/// # Panics
+/// If the file does not exist.
+pub fn repro(file: &str) -> PathBuf {
+    let p = root().join("repro").join(file);
+    assert!(p.is_file(), "no reproducer {file:?}");
+    p
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn every_listed_file_exists() {
+        assert_eq!(super::all_scenes().len(), super::SCENES.len());
+        super::reference("cornell_box.exr");
+        super::reference("cornell_box_direct.exr");
+    }
+}
