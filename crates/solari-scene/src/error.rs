@@ -201,6 +201,9 @@ pub enum GpuError {
         /// The compiler's message.
         message: String,
     },
+    /// The scene breaks a rule rendering relies on ([`crate::Scene::validate`]).
+    #[error("the scene cannot be rendered: {0}")]
+    BadScene(String),
     /// A wgpu validation error was captured by an error scope.
     #[error("wgpu validation error: {0}")]
     Validation(String),

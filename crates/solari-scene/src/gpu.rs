@@ -1,6 +1,7 @@
 //! GPU context creation and the small helpers every pass and test shares: buffer creation,
 //! readback and validation error scopes.
 
+use std::sync::{Arc, Mutex};
 use crate::error::GpuError;
 use crate::shaders::Backend;
 
@@ -100,6 +101,9 @@ pub struct Gpu {
     pub info: wgpu::AdapterInfo,
     /// Features enabled on the device.
     pub features: wgpu::Features,
+    /// wgpu errors raised outside any error scope, recorded instead of panicking (wgpu's
+    /// default); [`Gpu::check_errors`] turns them into an error.
+    uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
 impl Gpu {
@@ -177,6 +181,18 @@ impl Gpu {
     ) -> Self {
         let info = adapter.get_info();
         let features = device.features();
+        let uncaptured = Arc::new(Mutex::new(Vec::new()));
+        let sink = uncaptured.clone();
+        // wgpu panics on an error outside an error scope; an over-limit request from user
+        // input (a huge image size) must become an error message instead.
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            log::error!("wgpu: {e}");
+            if let Ok(mut v) = sink.lock()
+                && v.len() < 64
+            {
+                v.push(e.to_string());
+            }
+        }));
         Self {
             instance,
             adapter,
@@ -184,6 +200,17 @@ impl Gpu {
             queue,
             info,
             features,
+            uncaptured,
+        }
+    }
+
+    /// The first wgpu error raised outside an error scope since the last call, as
+    /// [`GpuError::Validation`] (all of them are cleared).
+    pub fn check_errors(&self) -> Result<(), GpuError> {
+        let mut v = self.uncaptured.lock().map_err(|e| GpuError::Validation(e.to_string()))?;
+        match v.drain(..).next() {
+            Some(first) => Err(GpuError::Validation(first)),
+            None => Ok(()),
         }
     }
 

@@ -180,6 +180,8 @@ impl GpuScene {
         if backend == Backend::RayQuery && !gpu.has_ray_query() {
             return Err(GpuError::NoRayQuery(gpu.info.name.clone()));
         }
+        // Scenes built in code get the checks that import applies to files.
+        scene.validate().map_err(GpuError::BadScene)?;
         let mut vertices = Vec::new();
         let mut indices: Vec<u32> = Vec::new();
         let mut mesh_offsets = Vec::new();

@@ -18,6 +18,7 @@ pub mod brdf;
 pub mod bvh;
 pub mod default_scene;
 pub mod error;
+pub mod finite_check;
 pub mod gbuffer;
 pub mod geometry;
 pub mod gltf_check;

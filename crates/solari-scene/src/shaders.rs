@@ -45,6 +45,7 @@ pub const MODULES: &[(&str, &str)] = &[
     ("packing", include_str!("../shaders/packing.wesl")),
     ("gbuffer", include_str!("../shaders/gbuffer.wesl")),
     ("gbuffer_read", include_str!("../shaders/gbuffer_read.wesl")),
+    ("finite_check", include_str!("../shaders/finite_check.wesl")),
 ];
 
 /// The entry-point files of `solari-scene`, by module name.
@@ -56,6 +57,18 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     (
         "gbuffer_raster",
         include_str!("../shaders/gbuffer_raster.wesl"),
+    ),
+    (
+        "finite_check_buffer",
+        include_str!("../shaders/finite_check_buffer.wesl"),
+    ),
+    (
+        "finite_check_texture",
+        include_str!("../shaders/finite_check_texture.wesl"),
+    ),
+    (
+        "finite_check_depth",
+        include_str!("../shaders/finite_check_depth.wesl"),
     ),
 ];
 

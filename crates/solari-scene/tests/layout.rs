@@ -128,4 +128,10 @@ fn rust_mirrors_match_naga_layouts() {
     );
     check!(l, GpuTriangle, "BvhTriangle", [v0, e1, e2]);
     check!(l, obvhs::cwbvh::node::CwBvhNode, "BvhNode", []);
+    check!(
+        l,
+        solari_scene::finite_check::GpuCheckParams,
+        "CheckParams",
+        [count, rows, stride_words, float_mask, non_negative_mask, slot]
+    );
 }
