@@ -3,8 +3,8 @@
 //! Workload (the tray_racing peer's): one primary ray per pixel plus one cosine-distributed
 //! hemisphere ray from every primary hit, both closest-hit. Also primary rays alone.
 
-use crate::cli::{BenchArgs, parse_size};
 use glam::Vec3;
+use solari_app::cli::BenchArgs;
 use solari_scene::bvh::{BvhQuality, SoftwareBvh};
 use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
@@ -123,11 +123,11 @@ fn measure(
 }
 
 pub fn run(args: &BenchArgs) -> Result<(), String> {
-    let (w, h) = parse_size(&args.size)?;
+    let (w, h) = args.size;
     let (name, scene) = match args.heightfield {
         Some(n) => {
             eprintln!("generating the {n}x{n} heightfield...");
-            (format!("heightfield{n}"), heightfield_scene(n))
+            (format!("heightfield{n}"), heightfield_scene(n as usize))
         }
         None => args.scene.load()?,
     };
@@ -151,9 +151,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                 .map_err(|e| e.to_string())?,
         ],
     };
-    let camera = scene
-        .camera(args.scene.camera.as_deref())
-        .ok_or("no such camera")?;
+    let camera = args.scene.pick_camera(&name, &scene)?;
     let tris = scene.stats().triangles;
     if !args.json {
         println!(
@@ -166,17 +164,15 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
     for backend in backends {
-        let presets: Vec<&str> = if backend == Backend::Software {
-            args.presets.split(',').collect()
+        // Ray queries build their own structure: one row, whatever the presets.
+        let presets: Vec<Option<BvhQuality>> = if backend == Backend::Software {
+            args.presets()?.into_iter().map(Some).collect()
         } else {
-            vec!["-"]
+            vec![None]
         };
         for preset in presets {
-            let quality = if preset == "-" {
-                BvhQuality::Medium
-            } else {
-                BvhQuality::parse(preset).ok_or_else(|| format!("unknown preset {preset}"))?
-            };
+            let quality = preset.unwrap_or(BvhQuality::Medium);
+            let preset = preset.map_or("-", BvhQuality::name);
             let (build_s, build_rate) = if backend == Backend::Software {
                 let t = Instant::now();
                 let bvh = SoftwareBvh::build(&scene, quality);

@@ -3,8 +3,8 @@
 //! upkeep pass and for the GI pass, live cells, overflows, memory, and RMSE / relative MSE of
 //! one frame and of the mean of the timed frames against a full-bounce reference.
 
-use crate::bench_io::{emit_csv, errors, frame_bar, load_reference, parse_list};
-use crate::cli::{BenchCacheArgs, Prepared, parse_size};
+use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
+use solari_app::cli::{BenchCacheArgs, Prepared};
 use solari_app::realtime::{GiMode, RealtimeRenderer, RealtimeSettings};
 use solari_worldcache::{PASS_LABELS, WorldCacheSettings};
 
@@ -20,12 +20,8 @@ const TIMED: [&str; 7] = [
 ];
 
 pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
-    let (w, h) = parse_size(&args.size)?;
-    let cell_sizes: Vec<f32> = parse_list(&args.cell_sizes, "--cell-sizes")?;
-    let budgets: Vec<u32> = parse_list(&args.budgets, "--budgets")?;
-    if args.frames <= args.warmup {
-        return Err("--frames must exceed --warmup".into());
-    }
+    let (w, h) = args.size;
+    let (cell_sizes, budgets) = args.sweep()?;
     let reference = load_reference(args.reference.as_ref(), w, h)?;
     let Prepared {
         name,
@@ -41,7 +37,7 @@ pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
     for c in &cell_sizes {
         configs.extend(budgets.iter().map(|b| Some((*c, *b))));
     }
-    let bar = frame_bar((configs.len() as u32 * args.frames) as u64, false)?;
+    let bar = frame_bar(configs.len() as u64 * args.frames as u64, false)?;
     let header = "scene,width,height,tracer,adapter,gi,cell_size,budget,capacity,timed_frames,\
                   decay_ms,compact_ms,update_ms,blend_ms,gi_ms,di_initial_temporal_ms,\
                   di_spatial_shade_ms,cache_ms,live_cells,overflows,cache_mib,\

@@ -8,11 +8,11 @@
 //! the reference's, and the RMS change from the previous frame (raw and denoised), which on
 //! a static view is pure flicker. `cargo run -p solari-benches --bin plot-denoise` draws it.
 
-use crate::bench_io::{emit_csv, errors, frame_bar, load_reference, parse_list};
-use crate::cli::{BenchDenoiseArgs, Prepared, parse_size};
+use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
+use solari_app::cli::{BenchDenoiseArgs, Prepared};
 use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
+use solari_denoise::DenoiserKind;
 use solari_denoise::fallback::PASS_LABELS;
-use solari_denoise::{DenoiserKind, FallbackSettings};
 use std::time::{Duration, Instant};
 
 /// The CSV header; one row per (iterations, frame).
@@ -43,28 +43,10 @@ fn energy(px: &[[f32; 3]]) -> f64 {
         .sum()
 }
 
-/// The fallback denoiser's settings for `iterations` à-trous passes.
-fn denoise_settings(args: &BenchDenoiseArgs, iterations: u32) -> FallbackSettings {
-    FallbackSettings {
-        atrous_iterations: iterations,
-        max_history: args.max_history,
-        phi_lobe: args.phi_lobe,
-        ..Default::default()
-    }
-}
-
 pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
-    let (w, h) = parse_size(&args.size)?;
-    let iterations: Vec<u32> = parse_list(&args.iterations, "--iterations")?;
-    if args.frames == 0 {
-        return Err("--frames must be at least 1".into());
-    }
-    // Refuse bad settings before the scene loads.
-    for &it in &iterations {
-        denoise_settings(args, it)
-            .validate()
-            .map_err(|e| format!("--iterations {it}: {e}"))?;
-    }
+    let (w, h) = args.size;
+    // Checked before the scene loads (`BenchDenoiseArgs::check`).
+    let sweep = args.sweep()?;
     let reference =
         load_reference(Some(&args.reference), w, h)?.ok_or("--reference is required")?;
     let reference_energy = energy(&reference).max(f64::MIN_POSITIVE);
@@ -77,11 +59,11 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
         gpu_scene,
         ..
     } = args.scene.prepare()?;
-    let per_setting = (args.timed_frames + args.frames) as u64;
-    let bar = frame_bar(iterations.len() as u64 * per_setting, false)?;
+    let per_setting = args.timed_frames as u64 + args.frames as u64;
+    let bar = frame_bar(sweep.len() as u64 * per_setting, false)?;
     let mut lines = vec![HEADER.to_string()];
-    for &it in &iterations {
-        let denoise = denoise_settings(args, it);
+    for denoise in sweep {
+        let it = denoise.atrous_iterations;
         let settings = RealtimeSettings {
             timestamps: true,
             denoiser: Some(DenoiserKind::Fallback),

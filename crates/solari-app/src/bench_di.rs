@@ -2,8 +2,8 @@
 //! candidates and light-tile settings that records run time against error (a CSV row per
 //! setting; `cargo run -p solari-benches --bin plot-sweep` draws it).
 
-use crate::bench_io::{emit_csv, errors, frame_bar, load_reference, parse_list};
-use crate::cli::{BenchDiArgs, Prepared, parse_size};
+use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
+use solari_app::cli::{BenchDiArgs, Prepared};
 use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_lights::LightTileSettings;
 use solari_restir::RestirDiSettings;
@@ -22,23 +22,8 @@ struct Row {
 }
 
 pub fn run(args: &BenchDiArgs) -> Result<(), String> {
-    let (w, h) = parse_size(&args.size)?;
-    let candidates: Vec<u32> = parse_list(&args.candidates, "--candidates")?;
-    let tiles: Vec<LightTileSettings> = args
-        .tiles
-        .split(',')
-        .map(|t| {
-            parse_size(t.trim())
-                .map(|(tiles, samples_per_tile)| LightTileSettings {
-                    tiles,
-                    samples_per_tile,
-                })
-                .map_err(|_| format!("--tiles: '{t}' is not TILESxSAMPLES"))
-        })
-        .collect::<Result<_, _>>()?;
-    if args.frames <= args.warmup {
-        return Err("--frames must exceed --warmup".into());
-    }
+    let (w, h) = args.size;
+    let (candidates, tiles) = args.sweep()?;
     let reference = load_reference(args.reference.as_ref(), w, h)?;
     let Prepared {
         name,
@@ -53,7 +38,7 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         .iter()
         .flat_map(|t| candidates.iter().map(move |c| (*c, *t)))
         .collect();
-    let bar = frame_bar((configs.len() as u32 * args.frames) as u64, false)?;
+    let bar = frame_bar(configs.len() as u64 * args.frames as u64, false)?;
     let mut rows = Vec::new();
     for (c, t) in configs {
         let settings = RealtimeSettings {

@@ -1,5 +1,5 @@
 //! What the sweep commands (`bench-di`, `bench-cache`) and `render --mode realtime` share:
-//! list parsing, the reference image, error metrics, the frame progress bar, CSV output.
+//! the reference image, error metrics, the frame progress bar, CSV output.
 
 use indicatif::{ProgressBar, ProgressStyle};
 use solari_app::image_io::read_linear;
@@ -19,17 +19,6 @@ pub fn errors(test: &[[f32; 3]], reference: &[[f32; 3]]) -> (f64, f64) {
     }
     let n = (test.len() * 3).max(1) as f64;
     ((se / n).sqrt(), rel / n)
-}
-
-/// A comma-separated list; `what` names the option in errors.
-pub fn parse_list<T: std::str::FromStr>(s: &str, what: &str) -> Result<Vec<T>, String> {
-    s.split(',')
-        .map(|v| {
-            v.trim()
-                .parse()
-                .map_err(|_| format!("{what}: cannot read '{v}'"))
-        })
-        .collect()
 }
 
 /// The reference image at `path`, which must be `w × h`.
@@ -66,10 +55,11 @@ pub fn frame_bar(frames: u64, hidden: bool) -> Result<ProgressBar, String> {
 /// Prints the CSV `lines` and, with `csv`, writes them to that file too.
 pub fn emit_csv(lines: &[String], csv: Option<&PathBuf>) -> Result<(), String> {
     if let Some(p) = csv {
-        let mut f = std::fs::File::create(p).map_err(|e| format!("{}: {e}", p.display()))?;
+        let mut f = solari_app::output::AtomicFile::create(p)?;
         for l in lines {
-            writeln!(f, "{l}").map_err(|e| e.to_string())?;
+            writeln!(f.writer(), "{l}").map_err(|e| e.to_string())?;
         }
+        f.commit()?;
         eprintln!("wrote {}", p.display());
     }
     for l in lines {

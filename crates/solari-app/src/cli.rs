@@ -1,24 +1,41 @@
-//! Command-line arguments, and the scene/device setup every command shares.
+//! Command-line arguments, their up-front checks, and the scene/device setup every command
+//! shares.
+//!
+//! Every value is parsed into its type by clap (see [`crate::cli_values`]), and
+//! [`Cli::check`] then checks what parsing cannot (inputs are readable files, outputs can be
+//! written, knobs are in range together) before any scene is loaded or GPU work starts, so a
+//! mistake costs no render time and leaves no partial output. The fuzz harness drives
+//! `Cli::try_parse_from` and `Cli::check` with hostile arguments.
 
-use clap::{Args, Parser, Subcommand};
-use solari_denoise::DlssAvailability;
+use crate::cli_values::{self as values, ViewArg};
+use crate::output::{ImageOutputs, check_writable};
+use crate::realtime::{CameraPath, FiniteCheck, FrameView, GiMode, RealtimeSettings};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
+use solari_lights::{LightTileSettings, Selection};
+use solari_restir::RestirDiSettings;
+use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
-use solari_scene::{Camera, Scene, default_scene, load_gltf};
-use std::path::PathBuf;
+use solari_scene::{Camera, ImportOptions, Scene, default_scene, load_gltf_with};
+use solari_worldcache::WorldCacheSettings;
+use std::path::{Path, PathBuf};
 
 /// Real-time ray-traced lighting components: headless tools.
-#[derive(Parser)]
+#[derive(Parser, Debug)]
 #[command(name = "solari", version, about)]
 pub struct Cli {
+    /// The command.
     #[command(subcommand)]
     pub command: Command,
 }
 
-#[derive(Subcommand)]
+/// The commands.
+#[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Render headless: a debug view of primary rays, or the reference path tracer.
+    /// Render headless: a debug view of primary rays, the reference path tracer, or the
+    /// real-time renderer.
     Render(RenderArgs),
     /// Print the adapter, the chosen tracing backend, scene statistics and import warnings.
     Info(InfoArgs),
@@ -35,6 +52,27 @@ pub enum Command {
     /// The fallback denoiser frame by frame on a static view: GPU ms, error of the raw, the
     /// accumulated and the denoised frame against a direct-only reference, and flicker (CSV).
     BenchDenoise(BenchDenoiseArgs),
+    /// Run the real-time pipeline for many frames with the non-finite detector on every pass,
+    /// optionally toggling lights, and print a JSON summary (non-finite counts per pass,
+    /// overflows, GPU memory, frame-time percentiles).
+    Soak(SoakArgs),
+}
+
+impl Cli {
+    /// Checks what argument parsing cannot, before any work: input files exist and are
+    /// regular files, output paths can be written, settings are in range together.
+    pub fn check(&self) -> Result<(), String> {
+        match &self.command {
+            Command::Render(a) => a.check().map(drop),
+            Command::Info(a) => a.scene.check(),
+            Command::BenchRays(a) => a.check(),
+            Command::Compare(a) => a.check(),
+            Command::BenchDi(a) => a.check(),
+            Command::BenchCache(a) => a.check(),
+            Command::BenchDenoise(a) => a.check(),
+            Command::Soak(a) => a.check().map(drop),
+        }
+    }
 }
 
 /// A loaded scene on the device, ready to render.
@@ -56,277 +94,72 @@ pub struct Prepared {
 }
 
 /// Options shared by every command that loads a scene.
-#[derive(Args, Clone)]
+#[derive(Args, Clone, Debug)]
 pub struct SceneArgs {
     /// A .gltf/.glb file; the built-in Cornell box when absent.
     pub scene: Option<PathBuf>,
     /// Tracing backend: auto, ray-query or software (SOLARI_TRACER overrides).
-    #[arg(long, default_value = "auto")]
-    pub tracer: String,
+    #[arg(long, default_value = "auto", value_parser = values::tracer)]
+    pub tracer: TracerChoice,
     /// Camera by name or index (default: the file's first, else one framing the scene).
     #[arg(long)]
     pub camera: Option<String>,
     /// BVH build quality for the software backend: fastest, fast, medium, slow, very-slow.
-    #[arg(long, default_value = "medium")]
-    pub bvh_quality: String,
+    #[arg(long, default_value = "medium", value_parser = values::bvh_quality)]
+    pub bvh_quality: BvhQuality,
+    /// The folder the scene's buffer and image URIs may reach (default: the scene's own
+    /// folder; URIs never leave it).
+    #[arg(long)]
+    pub asset_root: Option<PathBuf>,
 }
 
-#[derive(Args)]
-pub struct RenderArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// What to render: debug (a primary-ray view, see --view), reference (path traced) or
-    /// realtime (G-buffer, light tiles and ReSTIR DI, run for --frames frames).
-    #[arg(long, default_value = "debug")]
-    pub mode: String,
-    /// Real-time mode: frames to run; the last one is written.
-    #[arg(long, default_value_t = 64)]
-    pub frames: u32,
-    /// Real-time mode: camera path, fixed or orbit (a ±20° swing around the scene's centre).
-    #[arg(long, default_value = "fixed")]
-    pub camera_path: String,
-    /// Real-time mode: initial ReSTIR DI candidates per pixel.
-    #[arg(long, default_value_t = 8)]
-    pub candidates: u32,
-    /// Real-time mode: light tiles as TILESxSAMPLES.
-    #[arg(long, default_value = "128x1024")]
-    pub tiles: String,
-    /// Real-time mode: indirect light, off or cache (albedo × the world cache's indirect
-    /// irradiance, added to ReSTIR DI).
-    #[arg(long, default_value = "off")]
-    pub gi: String,
-    /// Real-time mode: world-cache cell size at the finest level, in scene units.
-    #[arg(long, default_value_t = 0.25)]
-    pub cache_cell_size: f32,
-    /// Real-time mode: world-cache cells updated per frame before updates turn stochastic.
-    #[arg(long, default_value_t = 40_000)]
-    pub cache_budget: u32,
-    /// Real-time mode: world-cache table slots (a power of two, 1024 to 2097152).
-    #[arg(long, default_value_t = 1 << 18)]
-    pub cache_capacity: u32,
-    /// Real-time mode: denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr
-    /// (NVIDIA DLSS Ray Reconstruction; builds with `--features dlss` only). Default: the
-    /// best available (DLSS-RR where it runs, else the fallback).
-    #[arg(long)]
-    pub denoiser: Option<String>,
-    /// Real-time mode, fallback denoiser: à-trous iterations (1–8).
-    #[arg(long, default_value_t = 5)]
-    pub denoise_iterations: u32,
-    /// Real-time mode, fallback denoiser: most frames the temporal average spans.
-    #[arg(long, default_value_t = 32.0)]
-    pub denoise_max_history: f32,
-    /// Real-time mode, fallback denoiser: firefly limit in multiples of the recent mean
-    /// (0: off). Clamped energy is carried into later frames, not removed.
-    #[arg(long, default_value_t = 8.0)]
-    pub firefly_clamp: f32,
-    /// Real-time mode: write each frame's pass report (passes run, GPU ms) as JSON lines.
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// What to show. Debug mode: albedo (default), normal, depth or instance. Real-time
-    /// mode: lit (default) or world-cache (each pixel shows its world-cache cell's
-    /// irradiance, tinted per cell).
-    #[arg(long)]
-    pub view: Option<String>,
-    /// Reference mode: paths per pixel.
-    #[arg(long, default_value_t = 64)]
-    pub spp: u32,
-    /// Reference mode: scattering events per path (1: direct light only). Unlimited by
-    /// default: Russian roulette ends paths, with a reported safety cap of 256.
-    #[arg(long)]
-    pub max_bounces: Option<u32>,
-    /// Reference mode: start every path at its pixel's centre (no antialiasing), to compare
-    /// with renders that point-sample a G-buffer.
-    #[arg(long)]
-    pub pixel_centre: bool,
-    /// Reference mode: light selection for next-event estimation, power or uniform.
-    #[arg(long, default_value = "power")]
-    pub selection: String,
-    /// Reference mode: exposure in stops applied before the PNG's tone curve (ACES fit, sRGB).
-    #[arg(long, default_value_t = 0.0)]
-    pub exposure: f32,
-    /// Reference mode: linear EXR output (default: the PNG path with .exr).
-    #[arg(long)]
-    pub exr: Option<PathBuf>,
-    /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "512x512")]
-    pub size: String,
-    /// Output PNG.
-    #[arg(long, default_value = "solari.png")]
-    pub out: PathBuf,
-    /// Print a JSON summary instead of text.
-    #[arg(long)]
-    pub json: bool,
-}
-
-#[derive(Args)]
-pub struct CompareArgs {
-    /// The test image (EXR, or any format `image` reads; treated as linear).
-    pub test: PathBuf,
-    /// The reference image, same size.
-    pub reference: PathBuf,
-    /// Write the per-pixel FLIP error (HDR-aware variant) as a magma heat map PNG.
-    #[arg(long)]
-    pub heatmap: Option<PathBuf>,
-    /// Also report metrics that ignore directly visible emitters, found by rendering this
-    /// scene's emission at the images' size ("builtin" for the built-in Cornell box).
-    #[arg(long)]
-    pub mask_emitters: Option<PathBuf>,
-    /// Camera of the --mask-emitters scene, by name or index.
-    #[arg(long)]
-    pub camera: Option<String>,
-    /// JSON instead of text.
-    #[arg(long)]
-    pub json: bool,
-}
-
-#[derive(Args)]
-pub struct InfoArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Machine-readable output.
-    #[arg(long)]
-    pub json: bool,
-}
-
-#[derive(Args)]
-pub struct BenchArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Use obvhs's procedural heightfield of N×N vertices instead of a scene (2048: 8.4 M
-    /// triangles) with the seed and camera of tray_racing's benchmark (PERFORMANCE.md).
-    #[arg(long)]
-    pub heightfield: Option<usize>,
-    /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "1920x1080")]
-    pub size: String,
-    /// Timed frames per measurement (after 10 warm-up frames).
-    #[arg(long, default_value_t = 100)]
-    pub frames: u32,
-    /// Build presets to measure (comma separated).
-    #[arg(long, default_value = "medium")]
-    pub presets: String,
-    /// Also measure the traversal under wgpu's full runtime checks and under none, next to the
-    /// shipped bounds-checks-only build (software backend).
-    #[arg(long)]
-    pub compare_checks: bool,
-    /// JSON lines instead of a table.
-    #[arg(long)]
-    pub json: bool,
-}
-
-#[derive(Args)]
-pub struct BenchCacheArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "1920x1080")]
-    pub size: String,
-    /// Frames per setting (static camera).
-    #[arg(long, default_value_t = 300)]
-    pub frames: u32,
-    /// Leading frames per setting left out of timings and the error of the mean (the cache
-    /// needs a few hundred frames to gather its bounces).
-    #[arg(long, default_value_t = 200)]
-    pub warmup: u32,
-    /// Finest cell sizes to sweep (comma separated, scene units).
-    #[arg(long, default_value = "0.25")]
-    pub cell_sizes: String,
-    /// Update budgets to sweep (comma separated, cells per frame).
-    #[arg(long, default_value = "40000")]
-    pub budgets: String,
-    /// Table slots (a power of two).
-    #[arg(long, default_value_t = 1 << 20)]
-    pub capacity: u32,
-    /// Full-bounce reference (EXR from `render --mode reference --pixel-centre`) for the
-    /// error columns.
-    #[arg(long)]
-    pub reference: Option<PathBuf>,
-    /// Also write the rows to this CSV file.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
-}
-
-#[derive(Args)]
-pub struct BenchDiArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "1920x1080")]
-    pub size: String,
-    /// Frames per setting (static camera); the last one is compared with --reference.
-    #[arg(long, default_value_t = 64)]
-    pub frames: u32,
-    /// Leading frames per setting left out of the timings.
-    #[arg(long, default_value_t = 8)]
-    pub warmup: u32,
-    /// Initial candidates to sweep (comma separated).
-    #[arg(long, default_value = "8")]
-    pub candidates: String,
-    /// Light-tile settings to sweep as TILESxSAMPLES (comma separated).
-    #[arg(long, default_value = "128x1024")]
-    pub tiles: String,
-    /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
-    /// --pixel-centre`) for the error columns.
-    #[arg(long)]
-    pub reference: Option<PathBuf>,
-    /// Also write the CSV here.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
-}
-
-#[derive(Args)]
-pub struct BenchDenoiseArgs {
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    /// Image size as WIDTHxHEIGHT.
-    #[arg(long, default_value = "1920x1080")]
-    pub size: String,
-    /// Frames per setting (static camera); every frame is measured.
-    #[arg(long, default_value_t = 64)]
-    pub frames: u32,
-    /// À-trous iteration counts to sweep (comma separated, 1–8).
-    #[arg(long, default_value = "5")]
-    pub iterations: String,
-    /// Frames of the timing run per setting (after at least 8 untimed frames and 1 s),
-    /// rendered back to back without read-backs.
-    #[arg(long, default_value_t = 64)]
-    pub timed_frames: u32,
-    /// Most frames the denoiser's temporal average spans.
-    #[arg(long, default_value_t = 32.0)]
-    pub max_history: f32,
-    /// Specular-lobe edge-stopping (0: off), to measure what it buys.
-    #[arg(long, default_value_t = 8.0)]
-    pub phi_lobe: f32,
-    /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
-    /// --pixel-centre`) at --size.
-    #[arg(long)]
-    pub reference: PathBuf,
-    /// Also write the CSV here.
-    #[arg(long)]
-    pub csv: Option<PathBuf>,
-}
-
-/// Parses `WxH`.
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("--size {s}: expected WIDTHxHEIGHT"))?;
-    let w: u32 = w.parse().map_err(|_| format!("--size {s}: bad width"))?;
-    let h: u32 = h.parse().map_err(|_| format!("--size {s}: bad height"))?;
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("--size {s}: each side must be 1..=16384"));
+/// Checks that `path` names a regular file that can be opened.
+pub fn check_input(path: &Path, what: &str) -> Result<(), String> {
+    let meta = std::fs::metadata(path).map_err(|e| format!("{what} {}: {e}", path.display()))?;
+    if meta.is_dir() {
+        return Err(format!(
+            "{what} {}: is a folder, not a file",
+            path.display()
+        ));
     }
-    Ok((w, h))
+    if !meta.is_file() {
+        return Err(format!(
+            "{what} {}: is not a regular file (device, pipe or socket)",
+            path.display()
+        ));
+    }
+    std::fs::File::open(path)
+        .map(drop)
+        .map_err(|e| format!("{what} {}: {e}", path.display()))
 }
 
 impl SceneArgs {
+    /// Up-front checks: the scene file, the asset root, the tracer override.
+    pub fn check(&self) -> Result<(), String> {
+        if let Some(p) = &self.scene {
+            check_input(p, "SCENE")?;
+        }
+        if let Some(root) = &self.asset_root
+            && !root.is_dir()
+        {
+            return Err(format!("--asset-root {}: not a folder", root.display()));
+        }
+        self.tracer().map(drop)
+    }
+
     /// Loads the scene (or the built-in one).
     pub fn load(&self) -> Result<(String, Scene), String> {
         match &self.scene {
-            Some(p) => Ok((
-                p.display().to_string(),
-                load_gltf(p).map_err(|e| e.to_string())?,
-            )),
+            Some(p) => {
+                let options = ImportOptions {
+                    asset_root: self.asset_root.clone(),
+                    ..Default::default()
+                };
+                Ok((
+                    p.display().to_string(),
+                    load_gltf_with(p, &options).map_err(|e| e.to_string())?,
+                ))
+            }
             None => Ok((
                 "<built-in cornell box>".into(),
                 default_scene::cornell_box(),
@@ -336,14 +169,25 @@ impl SceneArgs {
 
     /// The tracer choice after the `SOLARI_TRACER` override.
     pub fn tracer(&self) -> Result<TracerChoice, String> {
-        TracerChoice::parse(&self.tracer)
-            .ok_or_else(|| {
-                format!(
-                    "--tracer {}: expected auto, ray-query or software",
-                    self.tracer
-                )
-            })?
-            .with_env_override()
+        self.tracer.with_env_override()
+    }
+
+    /// The scene's camera (`--camera`), checked.
+    pub fn pick_camera(&self, name: &str, scene: &Scene) -> Result<Camera, String> {
+        let camera = scene.camera(self.camera.as_deref()).ok_or_else(|| {
+            let names: Vec<&str> = scene.cameras.iter().map(|c| c.name.as_str()).collect();
+            format!(
+                "no camera {:?} in {name} (it has {})",
+                self.camera.as_deref().unwrap_or(""),
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            )
+        })?;
+        camera.validate()?;
+        Ok(camera)
     }
 
     /// Creates the device and resolves the backend.
@@ -367,12 +211,10 @@ impl SceneArgs {
         for warning in scene.warnings.lines() {
             log::warn!("{name}: {warning}");
         }
-        let camera = scene
-            .camera(self.camera.as_deref())
-            .ok_or_else(|| format!("no camera {:?} in {name}", self.camera))?;
+        let camera = self.pick_camera(&name, &scene)?;
         let (gpu, backend, dlss) = self.device_with_dlss()?;
         let options = GpuSceneOptions {
-            bvh_quality: self.quality()?,
+            bvh_quality: self.bvh_quality,
             ..Default::default()
         };
         let gpu_scene =
@@ -387,14 +229,570 @@ impl SceneArgs {
             dlss,
         })
     }
+}
 
-    /// The BVH preset.
-    pub fn quality(&self) -> Result<solari_scene::bvh::BvhQuality, String> {
-        solari_scene::bvh::BvhQuality::parse(&self.bvh_quality).ok_or_else(|| {
-            format!(
-                "--bvh-quality {}: expected fastest, fast, medium, slow or very-slow",
-                self.bvh_quality
-            )
+/// The knobs of the real-time renderer, shared by `render --mode realtime` and `soak`.
+#[derive(Args, Clone, Debug)]
+pub struct RealtimeArgs {
+    /// Camera path, fixed or orbit (a ±20° swing around the scene's centre).
+    #[arg(long, default_value = "fixed", value_parser = values::camera_path)]
+    pub camera_path: CameraPath,
+    /// Initial ReSTIR DI candidates per pixel.
+    #[arg(long, default_value_t = 8)]
+    pub candidates: u32,
+    /// Light tiles as TILESxSAMPLES.
+    #[arg(long, default_value = "128x1024", value_parser = values::tiles)]
+    pub tiles: LightTileSettings,
+    /// Light selection, power or uniform: for tile samples in real time, for next-event
+    /// estimation in the reference tracer.
+    #[arg(long, default_value = "power", value_parser = values::selection)]
+    pub selection: Selection,
+    /// Indirect light, off or cache (albedo × the world cache's indirect irradiance, added
+    /// to ReSTIR DI).
+    #[arg(long, default_value = "off", value_parser = values::gi)]
+    pub gi: GiMode,
+    /// World-cache cell size at the finest level, in scene units.
+    #[arg(long, default_value_t = 0.25, value_parser = values::finite, allow_hyphen_values = true)]
+    pub cache_cell_size: f32,
+    /// World-cache cells updated per frame before updates turn stochastic.
+    #[arg(long, default_value_t = 40_000)]
+    pub cache_budget: u32,
+    /// World-cache table slots (a power of two, 1024 to 2097152).
+    #[arg(long, default_value_t = WorldCacheSettings::default().capacity)]
+    pub cache_capacity: u32,
+    /// Denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr (NVIDIA DLSS
+    /// Ray Reconstruction; builds with `--features dlss` only). Default: the best available
+    /// (DLSS-RR where it runs, else the fallback).
+    #[arg(long, value_parser = values::denoiser)]
+    pub denoiser: Option<DenoiserKind>,
+    /// Fallback denoiser: à-trous iterations (1–8).
+    #[arg(long, default_value_t = 5)]
+    pub denoise_iterations: u32,
+    /// Fallback denoiser: most frames the temporal average spans.
+    #[arg(long, default_value_t = 32.0, value_parser = values::finite, allow_hyphen_values = true)]
+    pub denoise_max_history: f32,
+    /// Fallback denoiser: firefly limit in multiples of the recent mean (0: off). Clamped
+    /// energy is carried into later frames, not removed.
+    #[arg(long, default_value_t = 8.0, value_parser = values::finite, allow_hyphen_values = true)]
+    pub firefly_clamp: f32,
+    /// Count non-finite and negative values in every pass's output, every frame, and stop at
+    /// the first frame that has any, naming the first pass that produced one.
+    #[arg(long)]
+    pub check_finite: bool,
+}
+
+impl RealtimeArgs {
+    /// The renderer's settings, every knob checked (the error names the bad one).
+    pub fn settings(&self, view: FrameView) -> Result<RealtimeSettings, String> {
+        let settings = RealtimeSettings {
+            tiles: self.tiles,
+            di: RestirDiSettings {
+                initial_candidates: self.candidates,
+                ..Default::default()
+            },
+            selection: self.selection,
+            gi: self.gi,
+            cache: WorldCacheSettings {
+                cell_size: self.cache_cell_size,
+                update_budget: self.cache_budget,
+                capacity: self.cache_capacity,
+                ..Default::default()
+            },
+            view,
+            timestamps: true,
+            denoiser: self.denoiser,
+            denoise: FallbackSettings {
+                atrous_iterations: self.denoise_iterations,
+                max_history: self.denoise_max_history,
+                firefly_clamp: self.firefly_clamp,
+                ..Default::default()
+            },
+            finite_check: if self.check_finite {
+                FiniteCheck::Fail
+            } else {
+                FiniteCheck::Off
+            },
+        };
+        settings.validate()?;
+        Ok(settings)
+    }
+}
+
+/// What `render` produces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Mode {
+    /// A primary-ray debug view (see --view).
+    Debug,
+    /// The reference path tracer.
+    Reference,
+    /// The real-time renderer (G-buffer, light tiles, ReSTIR DI, optional cache GI and
+    /// denoiser) for --frames frames.
+    Realtime,
+}
+
+/// `solari render`.
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// What to render.
+    #[arg(long, value_enum, default_value_t = Mode::Debug)]
+    pub mode: Mode,
+    /// Real-time mode: frames to run; the last one is written.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: u32,
+    /// Real-time mode: the renderer's knobs.
+    #[command(flatten)]
+    pub realtime: RealtimeArgs,
+    /// Real-time mode: write each frame's pass report (passes run, GPU ms, non-finite counts)
+    /// as JSON lines.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// What to show. Debug mode: albedo (default), normal, depth or instance. Real-time
+    /// mode: lit (default) or world-cache (each pixel shows its world-cache cell's
+    /// irradiance, tinted per cell).
+    #[arg(long, value_parser = values::view)]
+    pub view: Option<ViewArg>,
+    /// Reference mode: paths per pixel.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=1 << 20))]
+    pub spp: u32,
+    /// Reference mode: scattering events per path (1: direct light only). Unlimited by
+    /// default: Russian roulette ends paths, with a reported safety cap of 256.
+    #[arg(long)]
+    pub max_bounces: Option<u32>,
+    /// Reference mode: start every path at its pixel's centre (no antialiasing), to compare
+    /// with renders that point-sample a G-buffer.
+    #[arg(long)]
+    pub pixel_centre: bool,
+    /// Exposure in stops applied before the PNG's tone curve (ACES fit, sRGB); ±64.
+    #[arg(long, default_value_t = 0.0, value_parser = values::exposure, allow_hyphen_values = true)]
+    pub exposure: f32,
+    /// Also write the linear image here (the same as another `--out FILE.exr`).
+    #[arg(long)]
+    pub exr: Option<PathBuf>,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "512x512", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// Output image; the format follows the extension: .png (tone-mapped) or .exr (linear).
+    /// Repeat for several. Default: solari.png in debug mode, solari.png and solari.exr
+    /// otherwise.
+    #[arg(long)]
+    pub out: Vec<PathBuf>,
+    /// Print a JSON summary instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What [`RenderArgs::check`] settled.
+#[derive(Debug)]
+pub struct RenderPlan {
+    /// The image files to write.
+    pub outputs: ImageOutputs,
+    /// The debug view (debug mode).
+    pub debug_view: solari_scene::view_pass::DebugView,
+    /// The real-time settings (real-time mode).
+    pub realtime: Option<RealtimeSettings>,
+}
+
+impl RenderArgs {
+    /// Up-front checks; the plan holds what they settled.
+    pub fn check(&self) -> Result<RenderPlan, String> {
+        self.scene.check()?;
+        let mut paths = if self.out.is_empty() {
+            match self.mode {
+                Mode::Debug => vec![PathBuf::from("solari.png")],
+                _ => vec![PathBuf::from("solari.png"), PathBuf::from("solari.exr")],
+            }
+        } else {
+            self.out.clone()
+        };
+        paths.extend(self.exr.iter().cloned());
+        if let Some(e) = &self.exr
+            && crate::output::ImageFormat::for_path(e)? != crate::output::ImageFormat::Exr
+        {
+            return Err(format!("--exr {}: must end in .exr", e.display()));
+        }
+        let outputs = ImageOutputs::check(&paths)?;
+        let mut debug_view = solari_scene::view_pass::DebugView::Albedo;
+        let mut frame_view = FrameView::Lit;
+        match (self.mode, self.view) {
+            (_, None) => {}
+            (Mode::Debug, Some(ViewArg::Debug(v))) => debug_view = v,
+            (Mode::Realtime, Some(ViewArg::Frame(v))) => frame_view = v,
+            (mode, Some(_)) => {
+                return Err(format!(
+                    "--view: {} mode shows {}",
+                    format!("{mode:?}").to_lowercase(),
+                    match mode {
+                        Mode::Debug => "albedo, normal, depth or instance",
+                        Mode::Realtime => "lit or world-cache",
+                        Mode::Reference => "only the path-traced image (no --view)",
+                    }
+                ));
+            }
+        }
+        let realtime = match self.mode {
+            Mode::Realtime => {
+                if let Some(r) = &self.report {
+                    check_writable(r, "--report")?;
+                }
+                Some(self.realtime.settings(frame_view)?)
+            }
+            _ => None,
+        };
+        Ok(RenderPlan {
+            outputs,
+            debug_view,
+            realtime,
         })
+    }
+}
+
+/// `solari soak`.
+#[derive(Args, Debug)]
+pub struct SoakArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Frames to run.
+    #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: u64,
+    /// Switch lights every K frames: half of them (every other light) off, then all back
+    /// on; a scene with one light turns it off and on.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub toggle_lights: Option<u32>,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// The renderer's knobs (`--check-finite` is always on in a soak).
+    #[command(flatten)]
+    pub realtime: RealtimeArgs,
+    /// Also write the JSON summary to this file.
+    #[arg(long)]
+    pub summary: Option<PathBuf>,
+    /// Print a progress line to stderr every N frames (0: none).
+    #[arg(long, default_value_t = 1000)]
+    pub progress_every: u64,
+}
+
+impl SoakArgs {
+    /// Up-front checks; returns the renderer settings.
+    pub fn check(&self) -> Result<RealtimeSettings, String> {
+        self.scene.check()?;
+        if let Some(p) = &self.summary {
+            check_writable(p, "--summary")?;
+        }
+        let mut settings = self.realtime.settings(FrameView::Lit)?;
+        // A soak counts every finding to the end instead of stopping at the first.
+        settings.finite_check = FiniteCheck::Count;
+        Ok(settings)
+    }
+}
+
+/// `solari compare`.
+#[derive(Args, Debug)]
+pub struct CompareArgs {
+    /// The test image (EXR, or any format `image` reads; treated as linear).
+    pub test: PathBuf,
+    /// The reference image, same size.
+    pub reference: PathBuf,
+    /// Write the per-pixel FLIP error (HDR-aware variant) as a magma heat map PNG.
+    #[arg(long)]
+    pub heatmap: Option<PathBuf>,
+    /// Also report metrics that ignore directly visible emitters, found by rendering this
+    /// scene's emission at the images' size ("builtin" for the built-in Cornell box).
+    #[arg(long)]
+    pub mask_emitters: Option<PathBuf>,
+    /// Camera of the --mask-emitters scene, by name or index.
+    #[arg(long)]
+    pub camera: Option<String>,
+    /// JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl CompareArgs {
+    /// Up-front checks.
+    pub fn check(&self) -> Result<(), String> {
+        check_input(&self.test, "TEST")?;
+        check_input(&self.reference, "REFERENCE")?;
+        if let Some(h) = &self.heatmap {
+            if crate::output::ImageFormat::for_path(h)? != crate::output::ImageFormat::Png {
+                return Err(format!("--heatmap {}: must end in .png", h.display()));
+            }
+            check_writable(h, "--heatmap")?;
+        }
+        if let Some(m) = &self.mask_emitters
+            && m.as_os_str() != "builtin"
+        {
+            check_input(m, "--mask-emitters")?;
+        }
+        Ok(())
+    }
+}
+
+/// `solari info`.
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Machine-readable output.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `solari bench-rays`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Use obvhs's procedural heightfield of N×N vertices instead of a scene (2048: 8.4 M
+    /// triangles) with the seed and camera of tray_racing's benchmark (PERFORMANCE.md).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=8192))]
+    pub heightfield: Option<u32>,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// Timed frames per measurement (after 10 warm-up frames).
+    #[arg(long, default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: u32,
+    /// Build presets to measure (comma separated).
+    #[arg(long, default_value = "medium")]
+    pub presets: String,
+    /// Also measure the traversal under wgpu's full runtime checks and under none, next to the
+    /// shipped bounds-checks-only build (software backend).
+    #[arg(long)]
+    pub compare_checks: bool,
+    /// JSON lines instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+impl BenchArgs {
+    /// The presets to measure.
+    pub fn presets(&self) -> Result<Vec<BvhQuality>, String> {
+        values::list(&self.presets, "--presets", values::bvh_quality)
+    }
+
+    /// Up-front checks.
+    pub fn check(&self) -> Result<(), String> {
+        self.scene.check()?;
+        self.presets().map(drop)
+    }
+}
+
+/// Sweep options every `bench-*` command shares.
+fn check_sweep(
+    scene: &SceneArgs,
+    frames: u32,
+    warmup: u32,
+    reference: Option<&PathBuf>,
+    csv: Option<&PathBuf>,
+) -> Result<(), String> {
+    scene.check()?;
+    if frames <= warmup {
+        return Err(format!(
+            "--frames ({frames}) must exceed --warmup ({warmup})"
+        ));
+    }
+    if let Some(r) = reference {
+        check_input(r, "--reference")?;
+    }
+    if let Some(c) = csv {
+        check_writable(c, "--csv")?;
+    }
+    Ok(())
+}
+
+/// `solari bench-cache`.
+#[derive(Args, Debug)]
+pub struct BenchCacheArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// Frames per setting (static camera).
+    #[arg(long, default_value_t = 300, value_parser = clap::value_parser!(u32).range(1..=1 << 20))]
+    pub frames: u32,
+    /// Leading frames per setting left out of timings and the error of the mean (the cache
+    /// needs a few hundred frames to gather its bounces).
+    #[arg(long, default_value_t = 200)]
+    pub warmup: u32,
+    /// Finest cell sizes to sweep (comma separated, scene units).
+    #[arg(long, default_value = "0.25")]
+    pub cell_sizes: String,
+    /// Update budgets to sweep (comma separated, cells per frame).
+    #[arg(long, default_value = "40000")]
+    pub budgets: String,
+    /// Table slots (a power of two).
+    #[arg(long, default_value_t = 1 << 20)]
+    pub capacity: u32,
+    /// Full-bounce reference (EXR from `render --mode reference --pixel-centre`) for the
+    /// error columns.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Also write the rows to this CSV file.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+impl BenchCacheArgs {
+    /// The swept (cell size, budget) pairs' lists.
+    pub fn sweep(&self) -> Result<(Vec<f32>, Vec<u32>), String> {
+        let cells = values::list(&self.cell_sizes, "--cell-sizes", values::finite)?;
+        let budgets = values::list(&self.budgets, "--budgets", values::number::<u32>)?;
+        for c in &cells {
+            for b in &budgets {
+                WorldCacheSettings {
+                    cell_size: *c,
+                    update_budget: *b,
+                    capacity: self.capacity,
+                    ..Default::default()
+                }
+                .validate()
+                .map_err(|e| e.to_string())?;
+            }
+        }
+        Ok((cells, budgets))
+    }
+
+    /// Up-front checks.
+    pub fn check(&self) -> Result<(), String> {
+        check_sweep(
+            &self.scene,
+            self.frames,
+            self.warmup,
+            self.reference.as_ref(),
+            self.csv.as_ref(),
+        )?;
+        self.sweep().map(drop)
+    }
+}
+
+/// `solari bench-di`.
+#[derive(Args, Debug)]
+pub struct BenchDiArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// Frames per setting (static camera); the last one is compared with --reference.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=1 << 20))]
+    pub frames: u32,
+    /// Leading frames per setting left out of the timings.
+    #[arg(long, default_value_t = 8)]
+    pub warmup: u32,
+    /// Initial candidates to sweep (comma separated).
+    #[arg(long, default_value = "8")]
+    pub candidates: String,
+    /// Light-tile settings to sweep as TILESxSAMPLES (comma separated).
+    #[arg(long, default_value = "128x1024")]
+    pub tiles: String,
+    /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
+    /// --pixel-centre`) for the error columns.
+    #[arg(long)]
+    pub reference: Option<PathBuf>,
+    /// Also write the CSV here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+impl BenchDiArgs {
+    /// The swept candidate counts and tile settings.
+    pub fn sweep(&self) -> Result<(Vec<u32>, Vec<LightTileSettings>), String> {
+        let candidates = values::list(&self.candidates, "--candidates", values::number::<u32>)?;
+        for c in &candidates {
+            RestirDiSettings {
+                initial_candidates: *c,
+                ..Default::default()
+            }
+            .validate()
+            .map_err(|e| e.to_string())?;
+        }
+        let tiles = values::list(&self.tiles, "--tiles", values::tiles)?;
+        Ok((candidates, tiles))
+    }
+
+    /// Up-front checks.
+    pub fn check(&self) -> Result<(), String> {
+        check_sweep(
+            &self.scene,
+            self.frames,
+            self.warmup,
+            self.reference.as_ref(),
+            self.csv.as_ref(),
+        )?;
+        self.sweep().map(drop)
+    }
+}
+
+/// `solari bench-denoise`.
+#[derive(Args, Debug)]
+pub struct BenchDenoiseArgs {
+    /// The scene.
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Image size as WIDTHxHEIGHT.
+    #[arg(long, default_value = "1920x1080", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// Frames per setting (static camera); every frame is measured.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..=1 << 20))]
+    pub frames: u32,
+    /// À-trous iteration counts to sweep (comma separated, 1–8).
+    #[arg(long, default_value = "5")]
+    pub iterations: String,
+    /// Frames of the timing run per setting (after at least 8 untimed frames and 1 s),
+    /// rendered back to back without read-backs.
+    #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(0..=1 << 20))]
+    pub timed_frames: u32,
+    /// Most frames the denoiser's temporal average spans.
+    #[arg(long, default_value_t = 32.0, value_parser = values::finite, allow_hyphen_values = true)]
+    pub max_history: f32,
+    /// Specular-lobe edge-stopping (0: off), to measure what it buys.
+    #[arg(long, default_value_t = 8.0, value_parser = values::finite, allow_hyphen_values = true)]
+    pub phi_lobe: f32,
+    /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
+    /// --pixel-centre`) at --size.
+    #[arg(long)]
+    pub reference: PathBuf,
+    /// Also write the CSV here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+impl BenchDenoiseArgs {
+    /// The fallback settings of each swept iteration count.
+    pub fn sweep(&self) -> Result<Vec<FallbackSettings>, String> {
+        values::list(&self.iterations, "--iterations", values::number::<u32>)?
+            .into_iter()
+            .map(|atrous_iterations| {
+                let s = FallbackSettings {
+                    atrous_iterations,
+                    max_history: self.max_history,
+                    phi_lobe: self.phi_lobe,
+                    ..Default::default()
+                };
+                s.validate().map_err(|e| e.to_string()).map(|()| s)
+            })
+            .collect()
+    }
+
+    /// Up-front checks.
+    pub fn check(&self) -> Result<(), String> {
+        check_sweep(
+            &self.scene,
+            self.frames,
+            0,
+            Some(&self.reference),
+            self.csv.as_ref(),
+        )?;
+        self.sweep().map(drop)
     }
 }

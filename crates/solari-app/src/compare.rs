@@ -1,8 +1,9 @@
 //! `solari compare`: error metrics of a test image against a reference.
 
-use crate::cli::{CompareArgs, Prepared, SceneArgs};
+use solari_app::cli::{CompareArgs, Prepared, SceneArgs};
 use solari_app::image_io::read_linear;
 use solari_app::metrics::{Metrics, compare, heatmap};
+use solari_app::output::write_atomic;
 use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, Selection};
 use solari_scene::gpu_scene::TraceVariant;
@@ -14,9 +15,10 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
     };
     let scene_args = SceneArgs {
         scene: (path.as_os_str() != "builtin").then(|| path.clone()),
-        tracer: "auto".into(),
+        tracer: solari_scene::gpu::TracerChoice::Auto,
         camera: args.camera.clone(),
-        bvh_quality: "medium".into(),
+        bvh_quality: solari_scene::bvh::BvhQuality::Medium,
+        asset_root: None,
     };
     let Prepared {
         scene,
@@ -72,6 +74,22 @@ fn print(label: &str, m: &Metrics) {
     );
 }
 
+/// Refuses an image with non-finite pixels: every metric over it would be NaN.
+fn finite(path: &std::path::Path, pixels: &[[f32; 3]]) -> Result<(), String> {
+    let bad = pixels
+        .iter()
+        .filter(|p| p.iter().any(|c| !c.is_finite()))
+        .count();
+    if bad == 0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "{}: {bad} non-finite pixel(s); metrics over them would be NaN",
+            path.display()
+        ))
+    }
+}
+
 pub fn run(args: &CompareArgs) -> Result<(), String> {
     let (w, h, test) = read_linear(&args.test)?;
     let (rw, rh, reference) = read_linear(&args.reference)?;
@@ -82,6 +100,8 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
             args.reference.display()
         ));
     }
+    finite(&args.test, &test)?;
+    finite(&args.reference, &reference)?;
     let (all, map) = compare(&test, &reference, w, h, None)?;
     let mask = emitter_mask(args, w, h)?;
     let masked = match &mask {
@@ -89,14 +109,8 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         None => None,
     };
     if let Some(path) = &args.heatmap {
-        image::save_buffer(
-            path,
-            &heatmap(&map, w, h),
-            w,
-            h,
-            image::ExtendedColorType::Rgb8,
-        )
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+        let png = solari_app::image_io::encode_png_rgb8(w, h, &heatmap(&map, w, h))?;
+        write_atomic(path, &png)?;
     }
     if args.json {
         let v = serde_json::json!({"test": args.test, "reference": args.reference,

@@ -2,28 +2,39 @@
 //!
 //! The PNG tone curve is stated so images can be compared: radiance × 2^exposure, then
 //! Narkowicz's fitted ACES curve (`x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14)`), then the
-//! sRGB transfer function. Non-finite pixels are written black in the PNG.
+//! sRGB transfer function. Non-finite pixels are written black in the PNG. Files are written
+//! through [`crate::output`], which checks paths first and writes atomically.
 
 use image::{ImageBuffer, Rgb};
 use std::path::Path;
 
-/// Writes linear radiance as a 32-bit float RGB EXR.
-pub fn write_exr(path: &Path, width: u32, height: u32, pixels: &[[f32; 3]]) -> Result<(), String> {
+/// Encodes linear radiance as a 32-bit float RGB EXR file in memory.
+pub fn encode_exr(width: u32, height: u32, pixels: &[[f32; 3]]) -> Result<Vec<u8>, String> {
     let data: Vec<f32> = pixels.iter().flatten().copied().collect();
     let img: ImageBuffer<Rgb<f32>, Vec<f32>> = ImageBuffer::from_raw(width, height, data)
         .ok_or_else(|| {
             format!(
-                "{}: pixel count does not match {width}x{height}",
-                path.display()
+                "{} pixels do not make a {width}x{height} image",
+                pixels.len()
             )
         })?;
-    img.save(path)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::OpenExr)
+        .map_err(|e| format!("EXR encoding: {e}"))?;
+    Ok(out.into_inner())
 }
 
 /// Reads an EXR (or any format `image` reads) as linear RGB f32.
+///
+/// The file goes through the importer's limits: a regular file of at most 2 GiB whose header
+/// declares at most 2^26 pixels (see [`solari_scene::ImportLimits`]), checked before decoding.
 pub fn read_linear(path: &Path) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
-    let img = image::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let limits = solari_scene::ImportLimits::default();
+    let bytes = solari_scene::asset_io::read_file_limited(path, limits.max_file_bytes)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let name = path.display().to_string();
+    solari_scene::texture::check_image_header(&bytes, &name, &limits)?;
+    let img = image::load_from_memory(&bytes).map_err(|e| format!("{name}: {e}"))?;
     let rgb = img.to_rgb32f();
     let (w, h) = rgb.dimensions();
     let pixels = rgb.pixels().map(|p| p.0).collect();
@@ -62,15 +73,33 @@ pub fn tone_map(pixels: &[[f32; 3]], exposure_ev: f32) -> Vec<u8> {
     out
 }
 
-/// Writes a tone-mapped PNG.
-pub fn write_png(
-    path: &Path,
+/// Encodes a tone-mapped 8-bit sRGB PNG file in memory.
+pub fn encode_png(
     width: u32,
     height: u32,
     pixels: &[[f32; 3]],
     exposure_ev: f32,
-) -> Result<(), String> {
-    let bytes = tone_map(pixels, exposure_ev);
-    image::save_buffer(path, &bytes, width, height, image::ExtendedColorType::Rgb8)
-        .map_err(|e| format!("{}: {e}", path.display()))
+) -> Result<Vec<u8>, String> {
+    encode_png_rgb8(width, height, &tone_map(pixels, exposure_ev))
+}
+
+/// Encodes 8-bit RGB rows as a PNG file in memory.
+pub fn encode_png_rgb8(width: u32, height: u32, rgb8: &[u8]) -> Result<Vec<u8>, String> {
+    if rgb8.len() as u64 != width as u64 * height as u64 * 3 {
+        return Err(format!(
+            "{} bytes do not make a {width}x{height} RGB image",
+            rgb8.len()
+        ));
+    }
+    let mut out = std::io::Cursor::new(Vec::new());
+    image::write_buffer_with_format(
+        &mut out,
+        rgb8,
+        width,
+        height,
+        image::ExtendedColorType::Rgb8,
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| format!("PNG encoding: {e}"))?;
+    Ok(out.into_inner())
 }

@@ -1,15 +1,13 @@
 //! `solari info`.
 
-use crate::cli::InfoArgs;
+use solari_app::cli::InfoArgs;
 
 pub fn run(args: &InfoArgs) -> Result<(), String> {
     let (name, scene) = args.scene.load()?;
     let (gpu, backend) = args.scene.device()?;
     let s = scene.stats();
     let warnings = scene.warnings.lines();
-    let camera = scene
-        .camera(args.scene.camera.as_deref())
-        .ok_or("no such camera")?;
+    let camera = args.scene.pick_camera(&name, &scene)?;
     if args.json {
         let v = serde_json::json!({
             "scene": name,

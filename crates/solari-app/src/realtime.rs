@@ -6,6 +6,10 @@
 //! ReSTIR DI run, and the frame shows emission only (pass `emission_only`); without
 //! [`GiMode::WorldCache`] (and outside [`FrameView::WorldCache`]) the world cache neither
 //! runs nor holds memory.
+//!
+//! With [`RealtimeSettings::finite_check`] on, every pass's output is checked for NaN,
+//! infinite and negative values on the GPU every frame ([`solari_scene::finite_check`]), and
+//! the counts per pass ([`FINITE_SLOTS`]) come with the frame's report.
 
 use glam::{Mat4, Vec3};
 use solari_denoise::{
@@ -13,6 +17,7 @@ use solari_denoise::{
 };
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{DiPasses, PASS_LABELS, RestirDi, RestirDiSettings};
+use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::{Gpu, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
@@ -47,6 +52,32 @@ pub const PASS_NAMES: [&str; 15] = [
 ];
 
 use solari_denoise::fallback::PASS_LABELS as DENOISE;
+
+/// The passes whose outputs the non-finite detector checks, in frame order (a slot counts
+/// what its pass wrote: the G-buffer's emission, motion and depth; the tile samples; the
+/// world cache's cells; ReSTIR DI's reservoirs and image; the image after cache GI (or the
+/// cache view); the denoiser's output).
+pub const FINITE_SLOTS: [&str; 6] = [
+    "gbuffer",
+    "light_tiles",
+    "world_cache",
+    "restir_di",
+    "cache_gi",
+    "denoise",
+];
+
+/// What the renderer does with the non-finite detector.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FiniteCheck {
+    /// No checks (no cost).
+    #[default]
+    Off,
+    /// Count per pass every frame and report ([`FrameReport::finite`]); waits for each frame.
+    Count,
+    /// As `Count`, and a frame with any finding returns [`GpuError::NonFinite`] naming the
+    /// first pass that had one.
+    Fail,
+}
 
 /// Indirect light.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -115,6 +146,26 @@ pub struct RealtimeSettings {
     pub denoiser: Option<DenoiserKind>,
     /// The fallback denoiser's knobs.
     pub denoise: FallbackSettings,
+    /// The non-finite detector (default off: it reads every pass's output once and waits
+    /// for each frame).
+    pub finite_check: FiniteCheck,
+}
+
+impl RealtimeSettings {
+    /// Checks every component's knobs (the message names the bad one).
+    pub fn validate(&self) -> Result<(), String> {
+        self.di.validate().map_err(|e| e.to_string())?;
+        if self.gi == GiMode::WorldCache || self.view == FrameView::WorldCache {
+            self.cache.validate().map_err(|e| e.to_string())?;
+        }
+        if self.denoiser != Some(DenoiserKind::None) {
+            self.denoise.validate().map_err(|e| e.to_string())?;
+        }
+        if self.tiles.sample_count() == 0 {
+            return Err("light tiles need at least one tile and one sample".into());
+        }
+        Ok(())
+    }
 }
 
 impl Default for RealtimeSettings {
@@ -129,6 +180,7 @@ impl Default for RealtimeSettings {
             timestamps: false,
             denoiser: Some(DenoiserKind::None),
             denoise: FallbackSettings::default(),
+            finite_check: FiniteCheck::Off,
         }
     }
 }
@@ -151,6 +203,9 @@ pub struct FrameReport {
     pub frame: u32,
     /// Every pass of [`PASS_NAMES`], in order.
     pub passes: Vec<PassRun>,
+    /// Non-finite and negative counts per slot of [`FINITE_SLOTS`], in order (empty when the
+    /// detector is off).
+    pub finite: Vec<FiniteCount>,
 }
 
 impl FrameReport {
@@ -186,6 +241,7 @@ pub struct RealtimeRenderer {
     denoiser_fallback: Option<String>,
     reset_next: bool,
     frame: u32,
+    checker: Option<FiniteChecker>,
 }
 
 impl RealtimeRenderer {
@@ -264,6 +320,10 @@ impl RealtimeRenderer {
         } else {
             None
         };
+        let checker = match settings.finite_check {
+            FiniteCheck::Off => None,
+            _ => Some(FiniteChecker::new(gpu, &FINITE_SLOTS)?),
+        };
         let profiler = if settings.timestamps {
             Some(
                 GpuProfiler::new(&gpu.device, GpuProfilerSettings::default())
@@ -287,6 +347,7 @@ impl RealtimeRenderer {
             denoiser_fallback: created.fallback_reason,
             reset_next: false,
             frame: 0,
+            checker,
         })
     }
 
@@ -379,18 +440,52 @@ impl RealtimeRenderer {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let mut ran = [false; PASS_NAMES.len()];
         let profiler = self.profiler.as_ref();
+        let denoising = self.denoising();
+        let checker = &mut self.checker;
+        if let Some(c) = checker.as_ref() {
+            c.begin_frame(&mut encoder);
+        }
         in_scope(profiler, PASS_NAMES[0], &mut encoder, |e| {
             self.gbuffer.encode(e, gpu_scene)
         });
         ran[0] = true;
+        if let Some(c) = checker.as_mut() {
+            let t = self.gbuffer.current();
+            c.check_texture(gpu, &mut encoder, 0, &t.emission, 0xf, 0xf)?;
+            c.check_texture(gpu, &mut encoder, 0, &t.motion, 0x3, 0)?;
+            c.check_depth(gpu, &mut encoder, 0, &t.depth)?;
+        }
         if light_count > 0 {
             ran[1] = in_scope(profiler, PASS_NAMES[1], &mut encoder, |e| {
                 self.tiles.encode(e, &self.lights)
             });
+            if let Some(c) = checker.as_mut() {
+                let samples = self.tiles.settings().sample_count();
+                c.check_buffer(
+                    gpu,
+                    &mut encoder,
+                    1,
+                    self.tiles.samples_buffer(),
+                    samples,
+                    solari_lights::SAMPLE_CHECK,
+                )?;
+            }
         }
         if let Some((cache, _)) = &self.cache {
             cache.encode(&mut encoder, profiler, gpu_scene, &self.lights_group);
             ran[2..6].fill(true);
+            if let Some(c) = checker.as_mut() {
+                let slots = cache.settings().capacity as u64;
+                let cells = cache.cells_buffer();
+                c.check_buffer(
+                    gpu,
+                    &mut encoder,
+                    2,
+                    cells,
+                    slots,
+                    solari_worldcache::CELL_CHECK,
+                )?;
+            }
         }
         let passes = self.di.encode(
             &mut encoder,
@@ -407,6 +502,18 @@ impl RealtimeRenderer {
             }
             DiPasses::EmissionOnly => ran[8] = true,
         }
+        let (w, h) = self.di.size();
+        let pixels = w as u64 * h as u64;
+        if let Some(c) = checker.as_mut() {
+            if passes == DiPasses::Full {
+                let reservoirs = self.di.reservoirs();
+                let cap = self.settings.di.confidence_cap;
+                let layout = solari_restir::reservoir_check(cap);
+                c.check_buffer(gpu, &mut encoder, 3, reservoirs, pixels, layout)?;
+            }
+            let rgba = RecordLayout::RGBA_NON_NEGATIVE;
+            c.check_buffer(gpu, &mut encoder, 3, self.di.output(), pixels, rgba)?;
+        }
         if let Some((cache, target)) = &self.cache {
             if self.settings.view == FrameView::WorldCache {
                 cache.encode_view(&mut encoder, profiler, &self.gbuffer, target);
@@ -415,9 +522,13 @@ impl RealtimeRenderer {
                 cache.encode_gi(&mut encoder, profiler, &self.gbuffer, target);
                 ran[9] = true;
             }
+            if let Some(c) = checker.as_mut() {
+                let rgba = RecordLayout::RGBA_NON_NEGATIVE;
+                c.check_buffer(gpu, &mut encoder, 4, self.di.output(), pixels, rgba)?;
+            }
         }
         let mut after = Vec::new();
-        if self.denoising() {
+        if denoising {
             let denoiser = self.denoiser.as_mut().expect("denoising() checked it");
             let inputs = DenoiserInputs {
                 lighting: Lighting::Combined(self.di.output()),
@@ -435,10 +546,26 @@ impl RealtimeRenderer {
         if let Some(p) = &mut self.profiler {
             p.resolve_queries(&mut encoder);
         }
+        // The denoiser's output is checked after the command buffers it returned (DLSS-RR
+        // writes outside `encoder`).
+        let mut last = gpu.device.create_command_encoder(&Default::default());
+        if let Some(c) = checker.as_mut() {
+            if denoising {
+                let d = self.denoiser.as_ref().expect("denoising() checked it");
+                let (ow, oh) = d.output_size();
+                let rgba = RecordLayout::RGBA_NON_NEGATIVE;
+                c.check_buffer(gpu, &mut last, 5, d.output(), ow as u64 * oh as u64, rgba)?;
+            }
+            c.end_frame(&mut last);
+        }
         gpu.scoped(|| {
-            gpu.queue
-                .submit(std::iter::once(encoder.finish()).chain(after))
+            gpu.queue.submit(
+                std::iter::once(encoder.finish())
+                    .chain(after)
+                    .chain(std::iter::once(last.finish())),
+            )
         })?;
+        gpu.check_errors()?;
         let mut times = [None; PASS_NAMES.len()];
         if let Some(p) = &mut self.profiler {
             p.end_frame()
@@ -453,8 +580,23 @@ impl RealtimeRenderer {
                 }
             }
         }
+        let finite = match checker.as_ref() {
+            Some(c) => c.read(gpu)?,
+            None => Vec::new(),
+        };
+        if self.settings.finite_check == FiniteCheck::Fail
+            && let Some(bad) = first_offender(&finite)
+        {
+            return Err(GpuError::NonFinite {
+                frame,
+                pass: bad.name.clone(),
+                non_finite: bad.non_finite,
+                negative: bad.negative,
+            });
+        }
         Ok(FrameReport {
             frame,
+            finite,
             passes: PASS_NAMES
                 .iter()
                 .zip(ran)

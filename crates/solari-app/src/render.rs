@@ -1,17 +1,19 @@
-//! `solari render`: primary-ray debug views, or the reference path tracer (EXR + PNG).
+//! `solari render`: primary-ray debug views, the reference path tracer, or the real-time
+//! renderer; every output's format follows its extension.
 
-use crate::cli::{Prepared, RenderArgs, parse_size};
 use indicatif::{ProgressBar, ProgressStyle};
+use solari_app::cli::{Mode, Prepared, RenderArgs, RenderPlan};
 use solari_app::image_io;
+use solari_app::output::{ImageFormat, write_atomic};
 use solari_app::reference::{ReferenceRenderer, ReferenceSettings, SAFETY_CAP};
-use solari_lights::{LightList, Selection};
+use solari_lights::LightList;
 use solari_scene::gpu_scene::TraceVariant;
 use solari_scene::gpu_types::{GpuView, NO_HIT};
 use solari_scene::view_pass::{DebugView, ViewPass};
 use std::time::Instant;
 
-/// Converts the pass output to 8-bit RGBA for `view`.
-pub fn to_rgba8(pixels: &[[f32; 4]], view: DebugView) -> Vec<u8> {
+/// Converts the pass output to 8-bit RGB for `view`.
+pub fn to_rgb8(pixels: &[[f32; 4]], view: DebugView) -> Vec<u8> {
     let srgb = |l: f32| {
         let l = if l.is_finite() {
             l.clamp(0.0, 1.0)
@@ -37,7 +39,7 @@ pub fn to_rgba8(pixels: &[[f32; 4]], view: DebugView) -> Vec<u8> {
         .map(|p| p[0])
         .filter(|d| d.is_finite() && *d > 0.0)
         .fold(0.0f32, f32::max);
-    let mut out = Vec::with_capacity(pixels.len() * 4);
+    let mut out = Vec::with_capacity(pixels.len() * 3);
     for p in pixels {
         let rgb = match view {
             DebugView::Albedo => [srgb(p[0]), srgb(p[1]), srgb(p[2])],
@@ -69,33 +71,23 @@ pub fn to_rgba8(pixels: &[[f32; 4]], view: DebugView) -> Vec<u8> {
                 }
             }
         };
-        out.extend_from_slice(&[rgb[0], rgb[1], rgb[2], 255]);
+        out.extend_from_slice(&rgb);
     }
     out
 }
 
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    match args.mode.as_str() {
-        "debug" => run_debug(args),
-        "reference" => run_reference(args),
-        "realtime" => crate::realtime_cmd::run(args),
-        other => Err(format!(
-            "--mode {other}: expected debug, reference or realtime"
-        )),
+    let plan = args.check()?;
+    match args.mode {
+        Mode::Debug => run_debug(args, &plan),
+        Mode::Reference => run_reference(args, &plan),
+        Mode::Realtime => crate::realtime_cmd::run(args, &plan),
     }
 }
 
-fn run_reference(args: &RenderArgs) -> Result<(), String> {
+fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     let start = Instant::now();
-    let (w, h) = parse_size(&args.size)?;
-    let selection = match args.selection.as_str() {
-        "power" => Selection::Power,
-        "uniform" => Selection::Uniform,
-        other => return Err(format!("--selection {other}: expected power or uniform")),
-    };
-    if args.spp == 0 {
-        return Err("--spp must be at least 1".into());
-    }
+    let (w, h) = args.size;
     let Prepared {
         name,
         scene,
@@ -114,7 +106,7 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
     let settings = ReferenceSettings {
         spp: args.spp,
         max_bounces: args.max_bounces.unwrap_or(u32::MAX),
-        selection,
+        selection: args.realtime.selection,
         pixel_centre: args.pixel_centre,
     };
     let bar = if args.json {
@@ -139,12 +131,7 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
         )
         .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
-    let exr = args
-        .exr
-        .clone()
-        .unwrap_or_else(|| args.out.with_extension("exr"));
-    image_io::write_exr(&exr, w, h, &image.pixels)?;
-    image_io::write_png(&args.out, w, h, &image.pixels, args.exposure)?;
+    plan.outputs.write(w, h, &image.pixels, args.exposure)?;
     if image.capped_paths > 0 {
         log::warn!(
             "{} paths reached the safety cap of {SAFETY_CAP} bounces",
@@ -158,18 +145,19 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
         );
     }
     let elapsed = start.elapsed().as_secs_f64();
+    let files: Vec<_> = plan.outputs.files.iter().map(|(p, _)| p).collect();
     if args.json {
-        let v = serde_json::json!({"scene": name, "mode": "reference", "png": args.out, "exr": exr,
+        let v = serde_json::json!({"scene": name, "mode": "reference", "files": files,
             "width": w, "height": h, "spp": args.spp, "max_bounces": args.max_bounces,
-            "selection": args.selection, "tracer": backend.name(), "adapter": gpu.info.name,
+            "selection": format!("{:?}", args.realtime.selection).to_lowercase(),
+            "tracer": backend.name(), "adapter": gpu.info.name,
             "render_seconds": image.seconds, "seconds": elapsed,
             "capped_paths": image.capped_paths, "rejected_samples": image.rejected_samples});
         println!("{v}");
     } else {
         println!(
-            "wrote {} and {} ({w}x{h}, {} spp, {} tracer on {}): rendered in {:.2} s, {elapsed:.2} s in all",
-            exr.display(),
-            args.out.display(),
+            "wrote {} ({w}x{h}, {} spp, {} tracer on {}): rendered in {:.2} s, {elapsed:.2} s in all",
+            plan.outputs.describe(),
             args.spp,
             backend.name(),
             gpu.info.name,
@@ -179,16 +167,10 @@ fn run_reference(args: &RenderArgs) -> Result<(), String> {
     Ok(())
 }
 
-fn run_debug(args: &RenderArgs) -> Result<(), String> {
+fn run_debug(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     let start = Instant::now();
-    let view_name = args.view.as_deref().unwrap_or("albedo");
-    let view_kind = DebugView::parse(view_name).ok_or_else(|| {
-        format!(
-            "--view {}: expected albedo, normal, depth or instance",
-            view_name
-        )
-    })?;
-    let (w, h) = parse_size(&args.size)?;
+    let view_kind = plan.debug_view;
+    let (w, h) = args.size;
     let Prepared {
         name,
         scene: _,
@@ -207,19 +189,35 @@ fn run_debug(args: &RenderArgs) -> Result<(), String> {
         .run(&gpu, &gpu_scene, &target)
         .map_err(|e| e.to_string())?;
     let pixels: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
-    let rgba = to_rgba8(pixels, view_kind);
-    image::save_buffer(&args.out, &rgba, w, h, image::ExtendedColorType::Rgba8)
-        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+    for (path, format) in &plan.outputs.files {
+        let encoded = match format {
+            ImageFormat::Png => image_io::encode_png_rgb8(w, h, &to_rgb8(pixels, view_kind))?,
+            // The pass's values themselves (instance ids as their integer values).
+            ImageFormat::Exr => {
+                let linear: Vec<[f32; 3]> = pixels
+                    .iter()
+                    .map(|p| match view_kind {
+                        DebugView::Instance if p[0].to_bits() == NO_HIT => [-1.0; 3],
+                        DebugView::Instance => [p[0].to_bits() as f32; 3],
+                        _ => [p[0], p[1], p[2]].map(|c| if c.is_finite() { c } else { 0.0 }),
+                    })
+                    .collect();
+                image_io::encode_exr(w, h, &linear)?
+            }
+        };
+        write_atomic(path, &encoded)?;
+    }
     let elapsed = start.elapsed().as_secs_f64();
+    let view_name = format!("{view_kind:?}").to_lowercase();
+    let files: Vec<_> = plan.outputs.files.iter().map(|(p, _)| p).collect();
     if args.json {
-        let v = serde_json::json!({"scene": name, "out": args.out, "view": view_name, "width": w, "height": h,
+        let v = serde_json::json!({"scene": name, "files": files, "view": view_name, "width": w, "height": h,
             "tracer": backend.name(), "adapter": gpu.info.name, "camera": camera.name, "seconds": elapsed});
         println!("{v}");
     } else {
         println!(
-            "wrote {} ({w}x{h}, {} view, {} tracer on {}) in {elapsed:.2} s",
-            args.out.display(),
-            view_name,
+            "wrote {} ({w}x{h}, {view_name} view, {} tracer on {}) in {elapsed:.2} s",
+            plan.outputs.describe(),
             backend.name(),
             gpu.info.name
         );

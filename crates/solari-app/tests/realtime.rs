@@ -335,8 +335,8 @@ fn a_thousand_frames_of_moving_camera_and_changing_lights_stay_finite() {
                 }),
                 // No lights at all.
                 2 => s.materials[light].emissive = Vec3::ZERO,
-                // An absurdly bright ceiling light.
-                3 => s.materials[light].emissive = Vec3::splat(1e30),
+                // The brightest ceiling light a scene may have (brighter is refused).
+                3 => s.materials[light].emissive = Vec3::splat(solari_scene::MAX_RADIANCE),
                 // The tall block turned into a second emitter (a new light before the sun).
                 _ => {
                     let tall = s

@@ -458,8 +458,9 @@ fn ten_thousand_frames_in_the_white_furnace_stay_finite_and_bounded() {
 fn absurd_light_keeps_the_cache_finite() {
     let Some(gpu) = test_gpu() else { return };
     let mut scene = default_scene::cornell_box();
+    // The brightest emission a scene may have: import clamps to it, upload refuses more.
     for m in scene.materials.iter_mut().filter(|m| m.is_emissive()) {
-        m.emissive = Vec3::splat(1e30);
+        m.emissive = Vec3::splat(solari_scene::MAX_RADIANCE);
     }
     let (_, mut s) = setup(&gpu, &scene, 32, settings(1 << 14));
     run(&gpu, &scene, &mut s, 60);
@@ -481,5 +482,28 @@ fn absurd_light_keeps_the_cache_finite() {
         out.iter().flatten().all(|x| x.is_finite()),
         "a pixel went non-finite"
     );
-    eprintln!("cornell 32x32 with 1e30 emission: {live} live cells, all finite");
+    eprintln!("cornell 32x32 with emission 1e9: {live} live cells, all finite");
+}
+
+#[test]
+fn the_detector_names_the_pass_that_holds_a_poisoned_value() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let (_, mut s) = setup(&gpu, &scene, 16, settings(1 << 14));
+    run(&gpu, &scene, &mut s, 3);
+    let cache = s.renderer.world_cache().unwrap();
+    let mut cells = cache.read_cells(&gpu).unwrap();
+    let live = cells.iter().position(|(_, life, _)| *life > 0).unwrap();
+    cells[live].2.irradiance[0] = f32::NAN;
+    cells[live].2.indirect[1] = -1.0;
+    cache.write_cells(&gpu, &cells).unwrap();
+    let camera = scene.camera(None).unwrap();
+    let err = s
+        .renderer
+        .render(&gpu, &scene, &s.gpu_scene, &camera)
+        .expect_err("the poisoned cell must be reported");
+    match err {
+        solari_scene::GpuError::NonFinite { pass, .. } => assert_eq!(pass, "world_cache"),
+        other => panic!("{other}"),
+    }
 }

@@ -68,6 +68,17 @@ pub struct PackedLightSample {
     pub inverse_pdf: f32,
 }
 
+/// Which words of a [`PackedLightSample`] the non-finite detector checks: the position (any
+/// sign), and the radiance and inverse pdf (non-negative).
+pub const SAMPLE_CHECK: solari_scene::finite_check::RecordLayout =
+    solari_scene::finite_check::RecordLayout {
+        stride_words: 8,
+        float_mask: 0b1110_1111,
+        non_negative_mask: 0b1110_0000,
+        upper_mask: 0,
+        upper_bound: 0.0,
+    };
+
 impl PackedLightSample {
     /// Packs a resolved sample (the GPU does the same, bit for bit).
     pub fn pack(r: &ResolvedLightSample) -> Self {

@@ -47,6 +47,7 @@ pub struct RestirDi {
 // Per-pixel buffers and the two bind groups that swap the final reservoirs by parity.
 struct PixelBuffers {
     output: wgpu::Buffer,
+    finals: [wgpu::Buffer; 2],
     groups: [wgpu::BindGroup; 2],
 }
 
@@ -214,7 +215,11 @@ impl RestirDi {
                 ],
             )
         });
-        self.buffers = Some(PixelBuffers { output, groups });
+        self.buffers = Some(PixelBuffers {
+            output,
+            finals,
+            groups,
+        });
         self.size = (width, height);
         self.history = false;
         Ok(())
@@ -360,6 +365,16 @@ impl RestirDi {
             .as_ref()
             .expect("resize allocates the buffers")
             .output
+    }
+
+    /// This frame's final reservoirs ([`crate::GpuReservoir`] per pixel, row by row), which
+    /// next frame reuses; layout for the non-finite detector: [`crate::reservoir_check`].
+    pub fn reservoirs(&self) -> &wgpu::Buffer {
+        &self
+            .buffers
+            .as_ref()
+            .expect("resize allocates the buffers")
+            .finals[self.parity]
     }
 
     /// Image size in pixels.

@@ -51,7 +51,7 @@ pub mod reservoir;
 pub mod settings;
 
 pub use di::{DiPasses, PASS_LABELS, RestirDi};
-pub use reservoir::GpuReservoir;
+pub use reservoir::{GpuReservoir, reservoir_check};
 pub use settings::{GpuDiParams, RestirDiSettings};
 
 /// The crate's importable WGSL modules, by module name.

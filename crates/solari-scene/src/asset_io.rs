@@ -185,7 +185,12 @@ mod tests {
 
     #[test]
     fn schemes_are_recognised() {
-        for s in ["file:///etc/passwd", "http://x/y.bin", "C:/x.bin", "a+b.c-d:x"] {
+        for s in [
+            "file:///etc/passwd",
+            "http://x/y.bin",
+            "C:/x.bin",
+            "a+b.c-d:x",
+        ] {
             assert!(has_scheme(s), "{s}");
         }
         for s in ["x.bin", "dir/x.bin", "1abc:x", ":x", "a b:x"] {

@@ -42,6 +42,17 @@ impl BvhQuality {
         }
     }
 
+    /// The name [`BvhQuality::parse`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Fastest => "fastest",
+            Self::Fast => "fast",
+            Self::Medium => "medium",
+            Self::Slow => "slow",
+            Self::VerySlow => "very-slow",
+        }
+    }
+
     /// Parses a preset name (`fastest`, `fast`, `medium`, `slow`, `very-slow`).
     pub fn parse(s: &str) -> Option<Self> {
         Some(match s {

@@ -45,7 +45,9 @@ pub enum SceneError {
     },
     /// The `gltf` crate panicked on input that no check of ours caught: a bug to report (the
     /// import is abandoned, the program goes on).
-    #[error("{file}: the glTF reader failed on this file (an importer bug; please report it): {message}")]
+    #[error(
+        "{file}: the glTF reader failed on this file (an importer bug; please report it): {message}"
+    )]
     ImporterPanic {
         /// The glTF file.
         file: PathBuf,
@@ -204,6 +206,21 @@ pub enum GpuError {
     /// The scene breaks a rule rendering relies on ([`crate::Scene::validate`]).
     #[error("the scene cannot be rendered: {0}")]
     BadScene(String),
+    /// The non-finite detector found NaN, infinite or negative values in a frame
+    /// ([`crate::finite_check`]); `pass` is the first pass, in frame order, that had any.
+    #[error(
+        "frame {frame}: pass {pass} produced {non_finite} non-finite and {negative} negative value(s)"
+    )]
+    NonFinite {
+        /// The frame index.
+        frame: u32,
+        /// The first pass with a finding.
+        pass: String,
+        /// NaN or infinite values in that pass's output.
+        non_finite: u64,
+        /// Negative values where only non-negative ones are valid.
+        negative: u64,
+    },
     /// A wgpu validation error was captured by an error scope.
     #[error("wgpu validation error: {0}")]
     Validation(String),

@@ -1,6 +1,7 @@
-//! The non-finite detector: counts NaN/infinite values, and negative values where a quantity
-//! cannot be negative (radiance, weights, probabilities), in each pass's output, on the GPU,
-//! every frame.
+//! The non-finite detector: counts NaN/infinite values, negative values where a quantity
+//! cannot be negative (radiance, weights, probabilities), and values over a stated bound
+//! (overflows, such as a reservoir's confidence above its cap), in each pass's output, on
+//! the GPU, every frame.
 //!
 //! A renderer registers its passes as *slots* (in frame order) and, after recording a pass,
 //! records a check of each of that pass's outputs into the pass's slot. One compute dispatch
@@ -20,7 +21,7 @@ use std::collections::HashMap;
 
 /// Rust twin of `CheckParams` in `finite_check.wesl`.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct GpuCheckParams {
     /// Records (buffers) or texture width.
     pub count: u32,
@@ -32,16 +33,18 @@ pub struct GpuCheckParams {
     pub float_mask: u32,
     /// Bit i: word/channel i must not be negative either.
     pub non_negative_mask: u32,
-    /// The slot's counter pair.
+    /// The slot's counters.
     pub slot: u32,
-    /// Padding to 32 bytes.
-    pub _pad: [u32; 2],
+    /// Bit i: word/channel i must not exceed `upper_bound` either.
+    pub upper_mask: u32,
+    /// The bound of `upper_mask`'s values.
+    pub upper_bound: f32,
 }
 
 const _: () = assert!(size_of::<GpuCheckParams>() == 32);
 
 /// Which 32-bit words of each record of a buffer to check.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug)]
 pub struct RecordLayout {
     /// Words per record (1 to 32).
     pub stride_words: u32,
@@ -49,6 +52,25 @@ pub struct RecordLayout {
     pub float_mask: u32,
     /// Bit i: word i must not be negative (a subset of `float_mask`).
     pub non_negative_mask: u32,
+    /// Bit i: word i must not exceed `upper_bound` (a subset of `float_mask`); counted as
+    /// overflows, apart from non-finite values.
+    pub upper_mask: u32,
+    /// The bound for `upper_mask`.
+    pub upper_bound: f32,
+}
+
+impl PartialEq for RecordLayout {
+    fn eq(&self, o: &Self) -> bool {
+        self.key() == o.key()
+    }
+}
+
+impl Eq for RecordLayout {}
+
+impl std::hash::Hash for RecordLayout {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.key().hash(state);
+    }
 }
 
 impl RecordLayout {
@@ -57,7 +79,19 @@ impl RecordLayout {
         stride_words: 4,
         float_mask: 0xf,
         non_negative_mask: 0xf,
+        upper_mask: 0,
+        upper_bound: 0.0,
     };
+
+    fn key(&self) -> [u32; 5] {
+        [
+            self.stride_words,
+            self.float_mask,
+            self.non_negative_mask,
+            self.upper_mask,
+            self.upper_bound.to_bits(),
+        ]
+    }
 }
 
 /// Non-finite and negative counts of one slot in one frame.
@@ -69,10 +103,12 @@ pub struct FiniteCount {
     pub non_finite: u64,
     /// Negative values where only non-negative ones are valid.
     pub negative: u64,
+    /// Finite values over their stated bound (overflows; not counted by [`Self::is_clean`]).
+    pub over: u64,
 }
 
 impl FiniteCount {
-    /// Whether anything was found.
+    /// Whether no non-finite or negative value was found.
     pub fn is_clean(&self) -> bool {
         self.non_finite == 0 && self.negative == 0
     }
@@ -160,24 +196,25 @@ impl FiniteChecker {
                     entries: &[common[0], common[1], d],
                 })
         });
-        let pipeline = |module: &wgpu::ShaderModule, layout: &wgpu::BindGroupLayout, label: &str| {
-            let pl = gpu
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("solari_scene/finite_check"),
-                    bind_group_layouts: &[Some(layout)],
-                    immediate_size: 0,
-                });
-            gpu.device
-                .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(&pl),
-                    module,
-                    entry_point: Some("main"),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
-        };
+        let pipeline =
+            |module: &wgpu::ShaderModule, layout: &wgpu::BindGroupLayout, label: &str| {
+                let pl = gpu
+                    .device
+                    .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                        label: Some("solari_scene/finite_check"),
+                        bind_group_layouts: &[Some(layout)],
+                        immediate_size: 0,
+                    });
+                gpu.device
+                    .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some(label),
+                        layout: Some(&pl),
+                        module,
+                        entry_point: Some("main"),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
+            };
         let (buffer_pipeline, texture_pipeline, depth_pipeline) = gpu.scoped(|| {
             let pipeline = |i: usize, label: &str| {
                 let module = gpu.shader_module(label, &wgsl[i], ShaderChecks::BoundsOnly);
@@ -189,7 +226,7 @@ impl FiniteChecker {
                 pipeline(2, "solari_scene/finite_check_depth"),
             )
         })?;
-        let bytes = (slots.len().max(1) * 8) as u64;
+        let bytes = (slots.len().max(1) * 12) as u64;
         let counters = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("solari_scene/finite_counters"),
             size: bytes,
@@ -266,20 +303,24 @@ impl FiniteChecker {
             float_mask: layout.float_mask,
             non_negative_mask: layout.non_negative_mask & layout.float_mask,
             slot: slot as u32,
-            _pad: [0; 2],
+            upper_mask: layout.upper_mask & layout.float_mask,
+            upper_bound: layout.upper_bound,
         };
         let key = (slot, Source::Buffer(buffer.clone(), records, layout));
-        self.record(gpu, encoder, key, params, [x, y, 1], |gpu, layout, uniform, counters| {
-            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("solari_scene/finite_check"),
-                layout,
-                entries: &[
-                    bind(0, uniform),
-                    bind(1, counters),
-                    bind(2, buffer),
-                ],
-            })
-        })
+        self.record(
+            gpu,
+            encoder,
+            key,
+            params,
+            [x, y, 1],
+            |gpu, layout, uniform, counters| {
+                gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("solari_scene/finite_check"),
+                    layout,
+                    entries: &[bind(0, uniform), bind(1, counters), bind(2, buffer)],
+                })
+            },
+        )
     }
 
     /// Checks a float colour texture (`Rgba16Float`, `Rg16Float`, `Rgba32Float`…): channels in
@@ -301,25 +342,36 @@ impl FiniteChecker {
             float_mask: float_mask & 0xf,
             non_negative_mask: non_negative_mask & float_mask & 0xf,
             slot: slot as u32,
-            _pad: [0; 2],
+            upper_mask: 0,
+            upper_bound: 0.0,
         };
-        let key = (slot, Source::Texture(texture.clone(), float_mask, non_negative_mask));
+        let key = (
+            slot,
+            Source::Texture(texture.clone(), float_mask, non_negative_mask),
+        );
         let dispatch = [w.div_ceil(16), h.div_ceil(16), 1];
-        self.record(gpu, encoder, key, params, dispatch, |gpu, layout, uniform, counters| {
-            let view = texture.create_view(&Default::default());
-            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("solari_scene/finite_check"),
-                layout,
-                entries: &[
-                    bind(0, uniform),
-                    bind(1, counters),
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: wgpu::BindingResource::TextureView(&view),
-                    },
-                ],
-            })
-        })
+        self.record(
+            gpu,
+            encoder,
+            key,
+            params,
+            dispatch,
+            |gpu, layout, uniform, counters| {
+                let view = texture.create_view(&Default::default());
+                gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("solari_scene/finite_check"),
+                    layout,
+                    entries: &[
+                        bind(0, uniform),
+                        bind(1, counters),
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        },
+                    ],
+                })
+            },
+        )
     }
 
     /// Checks a depth texture (`Depth32Float`): every value finite and non-negative.
@@ -338,28 +390,36 @@ impl FiniteChecker {
             float_mask: 1,
             non_negative_mask: 1,
             slot: slot as u32,
-            _pad: [0; 2],
+            upper_mask: 0,
+            upper_bound: 0.0,
         };
         let key = (slot, Source::Depth(texture.clone()));
         let dispatch = [w.div_ceil(16), h.div_ceil(16), 1];
-        self.record(gpu, encoder, key, params, dispatch, |gpu, layout, uniform, counters| {
-            let view = texture.create_view(&wgpu::TextureViewDescriptor {
-                aspect: wgpu::TextureAspect::DepthOnly,
-                ..Default::default()
-            });
-            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("solari_scene/finite_check"),
-                layout,
-                entries: &[
-                    bind(0, uniform),
-                    bind(1, counters),
-                    wgpu::BindGroupEntry {
-                        binding: 4,
-                        resource: wgpu::BindingResource::TextureView(&view),
-                    },
-                ],
-            })
-        })
+        self.record(
+            gpu,
+            encoder,
+            key,
+            params,
+            dispatch,
+            |gpu, layout, uniform, counters| {
+                let view = texture.create_view(&wgpu::TextureViewDescriptor {
+                    aspect: wgpu::TextureAspect::DepthOnly,
+                    ..Default::default()
+                });
+                gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("solari_scene/finite_check"),
+                    layout,
+                    entries: &[
+                        bind(0, uniform),
+                        bind(1, counters),
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        },
+                    ],
+                })
+            },
+        )
     }
 
     fn record(
@@ -443,8 +503,9 @@ impl FiniteChecker {
             .enumerate()
             .map(|(i, name)| FiniteCount {
                 name: name.clone(),
-                non_finite: words[2 * i] as u64,
-                negative: words[2 * i + 1] as u64,
+                non_finite: words[3 * i] as u64,
+                negative: words[3 * i + 1] as u64,
+                over: words[3 * i + 2] as u64,
             })
             .collect())
     }

@@ -124,7 +124,10 @@ fn import_unguarded(
     let document = gltf::Document::from_json(raw.document.into_json()).map_err(gltf_err)?;
     let folder = AssetFolder {
         base: base.to_path_buf(),
-        root: options.asset_root.clone().unwrap_or_else(|| base.to_path_buf()),
+        root: options
+            .asset_root
+            .clone()
+            .unwrap_or_else(|| base.to_path_buf()),
         max_file_bytes: options.limits.max_file_bytes,
     };
     let buffers = load_buffers(&document, blob, &folder, &file)?;
@@ -167,9 +170,9 @@ fn load_buffers(
             reason,
         };
         let data = match buffer.source() {
-            gltf::buffer::Source::Bin => blob
-                .take()
-                .ok_or_else(|| missing("no GLB binary chunk (or a second buffer claims it)".into()))?,
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| {
+                missing("no GLB binary chunk (or a second buffer claims it)".into())
+            })?,
             gltf::buffer::Source::Uri(uri) => folder.read_uri(uri).map_err(missing)?,
         };
         if data.len() < buffer.length() {
@@ -439,7 +442,11 @@ impl Importer {
             self.scene.warnings.skipped_primitives += 1;
             return Ok(None);
         }
-        for s in [Semantic::Normals, Semantic::Tangents, Semantic::TexCoords(0)] {
+        for s in [
+            Semantic::Normals,
+            Semantic::Tangents,
+            Semantic::TexCoords(0),
+        ] {
             if empty(&s) {
                 return Err(bad(format!("{s:?} is empty but POSITION is not")));
             }
@@ -454,6 +461,13 @@ impl Importer {
         if let Some(i) = positions.iter().position(|p| !p.is_finite()) {
             return Err(bad(format!(
                 "vertex {i} has a non-finite position {:?}",
+                positions[i]
+            )));
+        }
+        let limit = crate::validate::MAX_COORDINATE;
+        if let Some(i) = positions.iter().position(|p| p.abs().max_element() > limit) {
+            return Err(bad(format!(
+                "vertex {i} at {} is beyond ±{limit:e}, where f32 cannot resolve geometry",
                 positions[i]
             )));
         }
@@ -682,7 +696,10 @@ impl Importer {
     }
 
     /// Level 0 of `image`, decoded on first use.
-    fn decoded_image(&mut self, image: &gltf::Image) -> Result<(Arc<MipLevel>, String), SceneError> {
+    fn decoded_image(
+        &mut self,
+        image: &gltf::Image,
+    ) -> Result<(Arc<MipLevel>, String), SceneError> {
         let bad = |reason: String| SceneError::BadImage {
             file: self.file.clone(),
             image: image.index(),

@@ -1,9 +1,9 @@
 //! GPU context creation and the small helpers every pass and test shares: buffer creation,
 //! readback and validation error scopes.
 
-use std::sync::{Arc, Mutex};
 use crate::error::GpuError;
 use crate::shaders::Backend;
+use std::sync::{Arc, Mutex};
 
 /// Features used when the adapter has them; none is required.
 pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::EXPERIMENTAL_RAY_QUERY
@@ -207,7 +207,10 @@ impl Gpu {
     /// The first wgpu error raised outside an error scope since the last call, as
     /// [`GpuError::Validation`] (all of them are cleared).
     pub fn check_errors(&self) -> Result<(), GpuError> {
-        let mut v = self.uncaptured.lock().map_err(|e| GpuError::Validation(e.to_string()))?;
+        let mut v = self
+            .uncaptured
+            .lock()
+            .map_err(|e| GpuError::Validation(e.to_string()))?;
         match v.drain(..).next() {
             Some(first) => Err(GpuError::Validation(first)),
             None => Ok(()),

@@ -38,11 +38,11 @@ pub mod trace_pass;
 pub mod validate;
 pub mod view_pass;
 
-pub use error::{GpuError, SceneError};
 pub use asset_io::ImportLimits;
+pub use error::{GpuError, SceneError};
 pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};
-pub use validate::{MAX_COORDINATE, MAX_RADIANCE};
 pub use model::*;
+pub use validate::{MAX_COORDINATE, MAX_RADIANCE};
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]

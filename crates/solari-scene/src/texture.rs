@@ -22,26 +22,9 @@ pub fn decode_texture(
 /// Decodes an encoded image into RGBA8 level 0. The header's size is checked against
 /// `limits` before any pixel memory is allocated, and the decoder itself is capped too.
 pub fn decode_image(bytes: &[u8], name: &str, limits: &ImportLimits) -> Result<MipLevel, String> {
-    let reader = || {
-        image::ImageReader::new(std::io::Cursor::new(bytes))
-            .with_guessed_format()
-            .map_err(|e| format!("cannot read {name}: {e}"))
-    };
-    let (w, h) = reader()?
-        .into_dimensions()
-        .map_err(|e| format!("cannot decode {name}: {e}"))?;
-    if w == 0 || h == 0 {
-        return Err(format!("{name} has zero size"));
-    }
+    let (w, h) = check_image_header(bytes, name, limits)?;
     let pixels = w as u64 * h as u64;
-    if w > limits.max_image_side || h > limits.max_image_side || pixels > limits.max_image_pixels
-    {
-        return Err(format!(
-            "{name} is {w}x{h}, over the image limit ({} pixels, {} per side)",
-            limits.max_image_pixels, limits.max_image_side
-        ));
-    }
-    let mut decoder = reader()?;
+    let mut decoder = reader(bytes, name)?;
     let mut caps = image::Limits::default();
     caps.max_image_width = Some(w);
     caps.max_image_height = Some(h);
@@ -58,6 +41,38 @@ pub fn decode_image(bytes: &[u8], name: &str, limits: &ImportLimits) -> Result<M
         height: h,
         rgba8: rgba.into_raw(),
     })
+}
+
+fn reader<'a>(
+    bytes: &'a [u8],
+    name: &str,
+) -> Result<image::ImageReader<std::io::Cursor<&'a [u8]>>, String> {
+    image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| format!("cannot read {name}: {e}"))
+}
+
+/// The size an encoded image's header declares, refused when it is empty or over `limits`
+/// (nothing is decoded).
+pub fn check_image_header(
+    bytes: &[u8],
+    name: &str,
+    limits: &ImportLimits,
+) -> Result<(u32, u32), String> {
+    let (w, h) = reader(bytes, name)?
+        .into_dimensions()
+        .map_err(|e| format!("cannot decode {name}: {e}"))?;
+    if w == 0 || h == 0 {
+        return Err(format!("{name} has zero size"));
+    }
+    let pixels = w as u64 * h as u64;
+    if w > limits.max_image_side || h > limits.max_image_side || pixels > limits.max_image_pixels {
+        return Err(format!(
+            "{name} is {w}x{h}, over the image limit ({} pixels, {} per side)",
+            limits.max_image_pixels, limits.max_image_side
+        ));
+    }
+    Ok((w, h))
 }
 
 /// A texture with a full mip chain from a decoded level 0.

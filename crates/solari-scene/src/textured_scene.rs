@@ -145,7 +145,12 @@ pub fn textured_spheres() -> Scene {
     });
     let bands = procedural_texture("bands", 64, 64, ColorSpace::Linear, |_, y| {
         let metal = y / 8 % 2 == 0;
-        [0, if metal { 80 } else { 180 }, if metal { 255 } else { 0 }, 255]
+        [
+            0,
+            if metal { 80 } else { 180 },
+            if metal { 255 } else { 0 },
+            255,
+        ]
     });
     // Bumps: a tangent-space normal tilted by a sine field.
     let bumps = procedural_texture("bumps", 64, 64, ColorSpace::Linear, |x, y| {

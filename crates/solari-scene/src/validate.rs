@@ -90,7 +90,10 @@ impl Scene {
                 ));
             }
             if !m.indices.len().is_multiple_of(3) {
-                return Err(format!("mesh {i} ({}): index count not a multiple of 3", m.name));
+                return Err(format!(
+                    "mesh {i} ({}): index count not a multiple of 3",
+                    m.name
+                ));
             }
             if let Some(bad) = m.indices.iter().find(|&&x| x as usize >= n) {
                 return Err(format!(
@@ -112,11 +115,14 @@ impl Scene {
                 ));
             }
             if !inst.transform.is_finite() {
-                return Err(format!("instance {i} ({}): transform is not finite", inst.name));
+                return Err(format!(
+                    "instance {i} ({}): transform is not finite",
+                    inst.name
+                ));
             }
             let (lo, hi) = crate::trace_cpu::instance_bounds(self, inst);
             let reach = lo.abs().max(hi.abs()).max_element();
-            if !(reach <= MAX_COORDINATE) {
+            if reach.is_nan() || reach > MAX_COORDINATE {
                 return Err(format!(
                     "instance {i} ({}) reaches {reach:e}, beyond ±{MAX_COORDINATE:e} where f32 \
                      cannot resolve geometry",
@@ -145,7 +151,10 @@ impl Scene {
             .flatten()
             {
                 if t as usize >= self.textures.len() {
-                    return Err(format!("material {i} ({}): texture {t} out of range", m.name));
+                    return Err(format!(
+                        "material {i} ({}): texture {t} out of range",
+                        m.name
+                    ));
                 }
             }
         }
@@ -197,19 +206,28 @@ mod tests {
     #[test]
     fn the_built_in_scenes_are_valid() {
         cornell_box().validate().unwrap();
-        crate::textured_scene::textured_spheres().validate().unwrap();
+        crate::textured_scene::textured_spheres()
+            .validate()
+            .unwrap();
     }
 
     #[test]
     fn broken_scenes_are_refused_with_the_element_named() {
-        let cases: Vec<(&str, Box<dyn Fn(&mut Scene)>)> = vec![
-            ("vertex", Box::new(|s| s.meshes[0].positions[1].y = f32::NAN)),
+        type Breaker = Box<dyn Fn(&mut Scene)>;
+        let cases: Vec<(&str, Breaker)> = vec![
+            (
+                "vertex",
+                Box::new(|s| s.meshes[0].positions[1].y = f32::NAN),
+            ),
             ("index", Box::new(|s| s.meshes[0].indices[2] = 999)),
             (
                 "reaches",
                 Box::new(|s| s.instances[0].transform = Mat4::from_scale(Vec3::splat(1e37))),
             ),
-            ("emission", Box::new(|s| s.materials[3].emissive.x = f32::INFINITY)),
+            (
+                "emission",
+                Box::new(|s| s.materials[3].emissive.x = f32::INFINITY),
+            ),
             ("emission", Box::new(|s| s.materials[3].emissive.y = -1.0)),
             ("field of view", Box::new(|s| s.cameras[0].yfov = f32::NAN)),
             ("field of view", Box::new(|s| s.cameras[0].yfov = 0.0)),
@@ -223,7 +241,10 @@ mod tests {
             ),
             ("near plane", Box::new(|s| s.cameras[0].znear = 0.0)),
             ("aspect", Box::new(|s| s.cameras[0].aspect = Some(f32::NAN))),
-            ("environment", Box::new(|s| s.environment_radiance.z = f32::NAN)),
+            (
+                "environment",
+                Box::new(|s| s.environment_radiance.z = f32::NAN),
+            ),
             ("no instances", Box::new(|s| s.instances.clear())),
         ];
         for (needle, break_it) in cases {

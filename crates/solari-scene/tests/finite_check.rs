@@ -1,15 +1,15 @@
 //! The non-finite detector counts exactly what a CPU count finds: NaN and ±infinity in the
 //! words or channels it is told are floats, negative values (not −0) where it is told they
-//! cannot be, in buffers (also past one dispatch row of 65,535 workgroups) and float
+//! cannot be, values over a bound where one is given, in buffers (also past one dispatch row of 65,535 workgroups) and float
 //! textures; per slot, with the first offending slot named (GPU: lavapipe in CI).
 
 use rand::{Rng, SeedableRng};
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gpu::{Gpu, test_gpu};
 
-/// CPU twin: (non-finite, negative) over `words` laid out as `layout`.
-fn cpu_count(words: &[u32], layout: RecordLayout) -> (u64, u64) {
-    let (mut n, mut m) = (0, 0);
+/// CPU twin: (non-finite, negative, over) over `words` laid out as `layout`.
+fn cpu_count(words: &[u32], layout: RecordLayout) -> (u64, u64, u64) {
+    let (mut n, mut m, mut o) = (0, 0, 0);
     for record in words.chunks(layout.stride_words as usize) {
         for (w, &bits) in record.iter().enumerate() {
             let bit = 1 << w;
@@ -19,20 +19,33 @@ fn cpu_count(words: &[u32], layout: RecordLayout) -> (u64, u64) {
             let v = f32::from_bits(bits);
             if !v.is_finite() {
                 n += 1;
-            } else if layout.non_negative_mask & bit != 0 && v < 0.0 {
+                continue;
+            }
+            if layout.non_negative_mask & bit != 0 && v < 0.0 {
                 m += 1;
+            }
+            if layout.upper_mask & bit != 0 && v > layout.upper_bound {
+                o += 1;
             }
         }
     }
-    (n, m)
+    (n, m, o)
 }
 
 fn storage(gpu: &Gpu, words: &[u32]) -> wgpu::Buffer {
-    gpu.storage_buffer("test/words", bytemuck::cast_slice(words), wgpu::BufferUsages::empty())
-        .unwrap()
+    gpu.storage_buffer(
+        "test/words",
+        bytemuck::cast_slice(words),
+        wgpu::BufferUsages::empty(),
+    )
+    .unwrap()
 }
 
-fn run(gpu: &Gpu, checker: &mut FiniteChecker, record: impl FnOnce(&mut FiniteChecker, &mut wgpu::CommandEncoder)) -> Vec<FiniteCount> {
+fn run(
+    gpu: &Gpu,
+    checker: &mut FiniteChecker,
+    record: impl FnOnce(&mut FiniteChecker, &mut wgpu::CommandEncoder),
+) -> Vec<FiniteCount> {
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     checker.begin_frame(&mut encoder);
     record(checker, &mut encoder);
@@ -74,19 +87,31 @@ fn buffer_counts_match_the_cpu_on_random_plantings() {
     for trial in 0..8 {
         let stride = rng.random_range(1..=32u32);
         let records = rng.random_range(1..5000u64);
-        let float_mask = if stride == 32 { rng.random::<u32>() } else { rng.random_range(0..1u32 << stride) };
+        let float_mask = if stride == 32 {
+            rng.random::<u32>()
+        } else {
+            rng.random_range(0..1u32 << stride)
+        };
         let layout = RecordLayout {
             stride_words: stride,
             float_mask,
             non_negative_mask: rng.random::<u32>() & float_mask,
+            upper_mask: rng.random::<u32>() & float_mask,
+            upper_bound: rng.random_range(10.0..90.0),
         };
         let words = planted(&mut rng, (records * stride as u64) as usize, trial * 37 + 1);
         let buffer = storage(&gpu, &words);
         let counts = run(&gpu, &mut checker, |c, e| {
-            c.check_buffer(&gpu, e, 1, &buffer, records, layout).unwrap()
+            c.check_buffer(&gpu, e, 1, &buffer, records, layout)
+                .unwrap()
         });
-        let (n, m) = cpu_count(&words, layout);
-        assert_eq!((counts[1].non_finite, counts[1].negative), (n, m), "trial {trial}");
+        let (n, m, o) = cpu_count(&words, layout);
+        let c = &counts[1];
+        assert_eq!(
+            (c.non_finite, c.negative, c.over),
+            (n, m, o),
+            "trial {trial}"
+        );
         assert!(counts[0].is_clean());
         if n + m > 0 {
             assert_eq!(first_offender(&counts).unwrap().name, "second");
@@ -120,8 +145,16 @@ fn slots_accumulate_and_reset_each_frame() {
     assert!(counts.iter().all(FiniteCount::is_clean), "{counts:?}");
     // A check that does not fit its buffer, or a slot that does not exist, is an error.
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    assert!(checker.check_buffer(&gpu, &mut encoder, 0, &clean, 17, layout).is_err());
-    assert!(checker.check_buffer(&gpu, &mut encoder, 3, &clean, 1, layout).is_err());
+    assert!(
+        checker
+            .check_buffer(&gpu, &mut encoder, 0, &clean, 17, layout)
+            .is_err()
+    );
+    assert!(
+        checker
+            .check_buffer(&gpu, &mut encoder, 3, &clean, 1, layout)
+            .is_err()
+    );
 }
 
 #[test]
@@ -130,7 +163,11 @@ fn large_buffers_are_covered_past_one_dispatch_row() {
     let records = 65535u64 * 256 + 1000;
     let bytes = records * 4;
     if bytes > gpu.device.limits().max_storage_buffer_binding_size {
-        assert_ne!(std::env::var("SOLARI_REQUIRE_GPU").as_deref(), Ok("1"), "binding limit");
+        assert_ne!(
+            std::env::var("SOLARI_REQUIRE_GPU").as_deref(),
+            Ok("1"),
+            "binding limit"
+        );
         return;
     }
     let mut words = vec![0.5f32.to_bits(); records as usize];
@@ -145,9 +182,12 @@ fn large_buffers_are_covered_past_one_dispatch_row() {
         stride_words: 1,
         float_mask: 1,
         non_negative_mask: 1,
+        upper_mask: 0,
+        upper_bound: 0.0,
     };
     let counts = run(&gpu, &mut checker, |c, e| {
-        c.check_buffer(&gpu, e, 0, &buffer, records, layout).unwrap()
+        c.check_buffer(&gpu, e, 0, &buffer, records, layout)
+            .unwrap()
     });
     assert_eq!((counts[0].non_finite, counts[0].negative), (3, 1));
 }
@@ -215,17 +255,19 @@ fn float_textures_count_their_channels() {
                 .unwrap()
         });
         let words: Vec<u32> = texels.iter().flatten().map(|v| v.to_bits()).collect();
-        let expected = cpu_count(
+        let (n, m, _) = cpu_count(
             &words,
             RecordLayout {
                 stride_words: 4,
                 float_mask,
                 non_negative_mask,
+                upper_mask: 0,
+                upper_bound: 0.0,
             },
         );
         assert_eq!(
             (counts[0].non_finite, counts[0].negative),
-            expected,
+            (n, m),
             "masks {float_mask:#x}/{non_negative_mask:#x}"
         );
     }

@@ -398,7 +398,10 @@ fn absurd_emission_is_clamped_and_broken_emission_refused() {
         glam::Vec3::new(MAX_RADIANCE, MAX_RADIANCE, 0.0)
     );
     assert!(
-        s.warnings.lines().iter().any(|l| l.contains("emission clamped")),
+        s.warnings
+            .lines()
+            .iter()
+            .any(|l| l.contains("emission clamped")),
         "{:?}",
         s.warnings.lines()
     );

@@ -132,6 +132,15 @@ fn rust_mirrors_match_naga_layouts() {
         l,
         solari_scene::finite_check::GpuCheckParams,
         "CheckParams",
-        [count, rows, stride_words, float_mask, non_negative_mask, slot]
+        [
+            count,
+            rows,
+            stride_words,
+            float_mask,
+            non_negative_mask,
+            slot,
+            upper_mask,
+            upper_bound
+        ]
     );
 }

@@ -74,11 +74,17 @@ fn every_panic_reproducer_is_a_typed_error() {
     let cases: [(&str, &str); 8] = [
         ("panic1_uri_percent_multibyte.gltf", "buffer 0"),
         ("panic2_position_accessor_oob.gltf", "accessor"),
-        ("panic3_indices_byte_type.gltf", "Indices must be SCALAR UNSIGNED"),
+        (
+            "panic3_indices_byte_type.gltf",
+            "Indices must be SCALAR UNSIGNED",
+        ),
         ("panic4_texcoord_u32_type.gltf", "TexCoord must be VEC2"),
         ("panic5_texcoord_stride_4.gltf", "byteStride 4"),
         ("panic6_position_stride_4.gltf", "byteStride 4"),
-        ("panic7_image_without_source.gltf", "neither a uri nor a buffer view"),
+        (
+            "panic7_image_without_source.gltf",
+            "neither a uri nor a buffer view",
+        ),
         ("panic7b_image_view_without_mime.gltf", "no mimeType"),
     ];
     for (file, needle) in cases {
@@ -97,7 +103,10 @@ fn every_panic_reproducer_is_a_typed_error() {
 fn a_device_file_uri_is_refused_at_once() {
     let start = Instant::now();
     let e = repro("dos_buffer_uri_dev_zero.gltf").unwrap_err();
-    assert!(matches!(e, SceneError::MissingBuffer { index: 0, .. }), "{e}");
+    assert!(
+        matches!(e, SceneError::MissingBuffer { index: 0, .. }),
+        "{e}"
+    );
     assert!(e.to_string().contains("absolute path"), "{e}");
     assert!(start.elapsed().as_secs() < 5);
 }
@@ -109,9 +118,16 @@ fn png_bombs_are_refused_from_their_header() {
         let e = repro(file).unwrap_err();
         let msg = e.to_string();
         assert!(matches!(e, SceneError::BadImage { image: 0, .. }), "{msg}");
-        assert!(msg.contains("16384x16384") && msg.contains("limit"), "{msg}");
+        assert!(
+            msg.contains("16384x16384") && msg.contains("limit"),
+            "{msg}"
+        );
         // Refused from the header: no 1 GiB decode (which took seconds per texture).
-        assert!(start.elapsed().as_secs_f64() < 2.0, "{file}: {:?}", start.elapsed());
+        assert!(
+            start.elapsed().as_secs_f64() < 2.0,
+            "{file}: {:?}",
+            start.elapsed()
+        );
     }
 }
 
@@ -163,10 +179,7 @@ fn non_regular_files_and_directories_are_refused() {
     // A socket is a file system entry that is not a regular file.
     let _socket = std::os::unix::net::UnixListener::bind(tmp.0.join("sock.bin")).unwrap();
     std::fs::create_dir_all(tmp.0.join("dir.bin")).unwrap();
-    for (uri, needle) in [
-        ("sock.bin", "not a regular file"),
-        ("dir.bin", "directory"),
-    ] {
+    for (uri, needle) in [("sock.bin", "not a regular file"), ("dir.bin", "directory")] {
         let path = write_gltf(&tmp.0, "scene.gltf", &with_buffer_uri(uri));
         let e = load_gltf(&path).expect_err(uri);
         assert!(e.to_string().contains(needle), "{uri}: {e}");
@@ -223,7 +236,11 @@ fn png(w: u32, h: u32) -> Vec<u8> {
 fn shared_image_doc(textures: usize) -> Value {
     let mut v = base_doc();
     v["images"] = json!([{"uri": "image.png"}]);
-    v["textures"] = json!((0..textures).map(|_| json!({"source": 0})).collect::<Vec<_>>());
+    v["textures"] = json!(
+        (0..textures)
+            .map(|_| json!({"source": 0}))
+            .collect::<Vec<_>>()
+    );
     v["meshes"][0]["primitives"][0]["material"] = json!(0);
     v["materials"] = json!([{
         "pbrMetallicRoughness": {"baseColorTexture": {"index": 0},

@@ -319,6 +319,12 @@ impl WorldCache {
         ])
     }
 
+    /// The cell array ([`crate::GpuCacheCell`] per slot, `settings().capacity` slots; empty
+    /// slots are zero), for the non-finite detector with [`crate::CELL_CHECK`].
+    pub fn cells_buffer(&self) -> &wgpu::Buffer {
+        &self.cells
+    }
+
     /// The settings in use.
     pub fn settings(&self) -> WorldCacheSettings {
         self.settings

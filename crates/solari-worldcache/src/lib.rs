@@ -76,7 +76,7 @@ pub mod hash;
 pub mod settings;
 
 pub use cache::{CacheStats, FIRST_BINDING, PASS_LABELS, WorldCache};
-pub use settings::{GpuCacheCell, GpuCacheParams, GpuNewSample, WorldCacheSettings};
+pub use settings::{CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, WorldCacheSettings};
 
 /// The crate's importable WGSL modules, by module name: `world_cache` (bindings, lookup,
 /// `query_world_cache`) and `world_cache_hash` (addressing).

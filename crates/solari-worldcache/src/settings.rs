@@ -215,6 +215,18 @@ pub struct GpuCacheCell {
     pub indirect: [f32; 4],
 }
 
+/// Which words of a [`GpuCacheCell`] the non-finite detector checks: the position (any
+/// sign), the irradiance with its sample count and the indirect part (non-negative), and the
+/// blend's running change (any sign).
+pub const CELL_CHECK: solari_scene::finite_check::RecordLayout =
+    solari_scene::finite_check::RecordLayout {
+        stride_words: 12,
+        float_mask: 0b1111_1111_0111,
+        non_negative_mask: 0b0111_1111_0000,
+        upper_mask: 0,
+        upper_bound: 0.0,
+    };
+
 /// A cell's new sample between the update and blend passes (WGSL `NewSample`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]

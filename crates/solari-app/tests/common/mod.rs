@@ -2,7 +2,7 @@
 //! scene upload, the reference tracer's direct-only image, and error metrics.
 #![allow(dead_code)]
 
-use solari_app::realtime::RealtimeSettings;
+use solari_app::realtime::{FiniteCheck, RealtimeSettings};
 use solari_app::reference::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, LightTileSettings, Selection};
 use solari_restir::RestirDiSettings;
@@ -28,6 +28,8 @@ pub fn settings() -> RealtimeSettings {
             spatial_radius: 3.0,
             ..Default::default()
         },
+        // Every test frame is checked for NaN, infinite and negative values in every pass.
+        finite_check: FiniteCheck::Fail,
         ..Default::default()
     }
 }

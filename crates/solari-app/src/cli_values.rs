@@ -1,0 +1,210 @@
+//! Parsers for the command line's typed values: every option is read into its type when the
+//! arguments are parsed, so a bad value is refused (with the accepted values named) before
+//! any file is read or any GPU work starts.
+
+use crate::realtime::{CameraPath, FrameView, GiMode};
+use solari_denoise::DenoiserKind;
+use solari_lights::{LightTileSettings, Selection};
+use solari_scene::bvh::BvhQuality;
+use solari_scene::gpu::TracerChoice;
+use solari_scene::view_pass::DebugView;
+
+/// Largest image side the commands accept; the device's own limits are checked later.
+pub const MAX_SIDE: u32 = 16384;
+
+/// `WIDTHxHEIGHT`, each side 1 to [`MAX_SIDE`].
+pub fn size(s: &str) -> Result<(u32, u32), String> {
+    pair(s, "WIDTHxHEIGHT").and_then(|(w, h)| {
+        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+            Err(format!("{s}: each side must be 1 to {MAX_SIDE}"))
+        } else {
+            Ok((w, h))
+        }
+    })
+}
+
+fn pair(s: &str, shape: &str) -> Result<(u32, u32), String> {
+    let (a, b) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("{s}: expected {shape}"))?;
+    let a: u32 = a
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s}: expected {shape} with whole numbers"))?;
+    let b: u32 = b
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s}: expected {shape} with whole numbers"))?;
+    Ok((a, b))
+}
+
+/// Light tiles as `TILESxSAMPLES`: 1 to 4096 tiles of 1 to 65536 samples, at most 2^24 samples
+/// in all (the tiles are rebuilt every frame).
+pub fn tiles(s: &str) -> Result<LightTileSettings, String> {
+    let (tiles, samples_per_tile) = pair(s, "TILESxSAMPLES, e.g. 128x1024")?;
+    if !(1..=4096).contains(&tiles)
+        || !(1..=65536).contains(&samples_per_tile)
+        || tiles as u64 * samples_per_tile as u64 > 1 << 24
+    {
+        return Err(format!(
+            "{s}: expected 1 to 4096 tiles of 1 to 65536 samples, at most 16777216 in all"
+        ));
+    }
+    Ok(LightTileSettings {
+        tiles,
+        samples_per_tile,
+    })
+}
+
+/// A finite number.
+pub fn finite(s: &str) -> Result<f32, String> {
+    let v: f32 = s.trim().parse().map_err(|_| format!("{s}: not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{s}: must be finite"))
+    }
+}
+
+/// Exposure in stops: finite, within ±64.
+pub fn exposure(s: &str) -> Result<f32, String> {
+    let v = finite(s)?;
+    if v.abs() <= 64.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s}: exposure must be within ±64 stops"))
+    }
+}
+
+fn named<T>(s: &str, parsed: Option<T>, expected: &str) -> Result<T, String> {
+    parsed.ok_or_else(|| format!("{s}: expected {expected}"))
+}
+
+/// `auto`, `ray-query` or `software`.
+pub fn tracer(s: &str) -> Result<TracerChoice, String> {
+    named(s, TracerChoice::parse(s), "auto, ray-query or software")
+}
+
+/// A BVH build preset.
+pub fn bvh_quality(s: &str) -> Result<BvhQuality, String> {
+    named(
+        s,
+        BvhQuality::parse(s),
+        "fastest, fast, medium, slow or very-slow",
+    )
+}
+
+/// `fixed` or `orbit`.
+pub fn camera_path(s: &str) -> Result<CameraPath, String> {
+    named(s, CameraPath::parse(s), "fixed or orbit")
+}
+
+/// `off` or `cache`.
+pub fn gi(s: &str) -> Result<GiMode, String> {
+    named(s, GiMode::parse(s), "off or cache")
+}
+
+/// `none`, `fallback` or `dlss-rr`.
+pub fn denoiser(s: &str) -> Result<DenoiserKind, String> {
+    named(s, DenoiserKind::parse(s), "none, fallback or dlss-rr")
+}
+
+/// `power` or `uniform`.
+pub fn selection(s: &str) -> Result<Selection, String> {
+    named(
+        s,
+        match s {
+            "power" => Some(Selection::Power),
+            "uniform" => Some(Selection::Uniform),
+            _ => None,
+        },
+        "power or uniform",
+    )
+}
+
+/// What `--view` shows: a debug view or a real-time view, checked against the mode later.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ViewArg {
+    /// A primary-ray debug view (debug mode).
+    Debug(DebugView),
+    /// A real-time view (real-time mode).
+    Frame(FrameView),
+}
+
+/// `albedo`, `normal`, `depth`, `instance` (debug mode) or `lit`, `world-cache` (real time).
+pub fn view(s: &str) -> Result<ViewArg, String> {
+    if let Some(v) = DebugView::parse(s) {
+        return Ok(ViewArg::Debug(v));
+    }
+    named(
+        s,
+        FrameView::parse(s).map(ViewArg::Frame),
+        "albedo, normal, depth or instance (debug mode), lit or world-cache (real-time mode)",
+    )
+}
+
+/// A comma-separated list of values each read by `item`; `what` names the option.
+pub fn list<T>(
+    s: &str,
+    what: &str,
+    item: impl Fn(&str) -> Result<T, String>,
+) -> Result<Vec<T>, String> {
+    let items: Vec<T> = s
+        .split(',')
+        .map(|v| item(v.trim()).map_err(|e| format!("{what}: {e}")))
+        .collect::<Result<_, _>>()?;
+    if items.is_empty() || items.len() > 64 {
+        return Err(format!("{what}: expected 1 to 64 values"));
+    }
+    Ok(items)
+}
+
+/// A `T` from text (for [`list`]).
+pub fn number<T: std::str::FromStr>(s: &str) -> Result<T, String> {
+    s.parse().map_err(|_| format!("cannot read '{s}'"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_and_tiles_are_bounded() {
+        assert_eq!(size("64x32"), Ok((64, 32)));
+        for bad in [
+            "0x0",
+            "100000x100000",
+            "64",
+            "ax3",
+            "-1x4",
+            "16385x1",
+            "4x",
+            "",
+        ] {
+            assert!(size(bad).is_err(), "{bad}");
+        }
+        assert!(tiles("128x1024").is_ok());
+        for bad in ["0x4", "4x0", "5000x4", "4096x65536", "x"] {
+            assert!(tiles(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn numbers_must_be_finite() {
+        for bad in ["nan", "NaN", "inf", "-inf", "1e39", "x"] {
+            assert!(finite(bad).is_err(), "{bad}");
+            assert!(exposure(bad).is_err(), "{bad}");
+        }
+        assert!(exposure("65").is_err());
+        assert_eq!(exposure("-2.5"), Ok(-2.5));
+    }
+
+    #[test]
+    fn enums_name_their_values() {
+        assert!(gi("bogus").unwrap_err().contains("off or cache"));
+        assert!(view("bogus").unwrap_err().contains("world-cache"));
+        assert_eq!(view("lit"), Ok(ViewArg::Frame(FrameView::Lit)));
+        assert!(list("1,x", "--candidates", number::<u32>).is_err());
+        assert_eq!(list("1, 8", "--candidates", number::<u32>), Ok(vec![1, 8]));
+    }
+}

@@ -1,0 +1,338 @@
+//! `solari soak`: the whole real-time pipeline for many frames with the non-finite detector
+//! on every pass of every frame, optionally switching lights on and off, ending with a JSON
+//! summary: non-finite, negative and over-bound counts per pass (with the first frame of
+//! each), world-cache overflows, GPU and process memory at the start and the end, and
+//! wall and GPU frame-time percentiles. Exits with status 1 when anything was found.
+
+use solari_app::cli::{Prepared, SoakArgs};
+use solari_app::output::write_atomic;
+use solari_app::realtime::{FINITE_SLOTS, RealtimeRenderer};
+use solari_scene::{Material, Scene};
+use std::time::Instant;
+
+/// Per pass over the run.
+#[derive(Clone, Default, serde::Serialize)]
+struct PassFindings {
+    non_finite: u64,
+    negative: u64,
+    over: u64,
+    frames_with_findings: u64,
+    first_frame: Option<u64>,
+}
+
+/// A histogram of frame times on log-spaced buckets (0.01 ms to 10 s, 0.7% wide), so a run of
+/// any length keeps constant memory and percentiles within a bucket's width.
+struct Times {
+    buckets: Vec<u64>,
+    count: u64,
+    max: f64,
+}
+
+const TIME_BUCKETS: usize = 2000;
+const TIME_MIN_MS: f64 = 0.01;
+const TIME_DECADES: f64 = 6.0;
+
+impl Times {
+    fn new() -> Self {
+        Self {
+            buckets: vec![0; TIME_BUCKETS],
+            count: 0,
+            max: 0.0,
+        }
+    }
+
+    fn add(&mut self, ms: f64) {
+        if !ms.is_finite() {
+            return;
+        }
+        let t = ((ms.max(TIME_MIN_MS) / TIME_MIN_MS).log10() / TIME_DECADES * TIME_BUCKETS as f64)
+            as usize;
+        self.buckets[t.min(TIME_BUCKETS - 1)] += 1;
+        self.count += 1;
+        self.max = self.max.max(ms);
+    }
+
+    /// The `q` quantile (bucket upper edge), or None without samples.
+    fn quantile(&self, q: f64) -> Option<f64> {
+        if self.count == 0 {
+            return None;
+        }
+        let target = (q * self.count as f64).ceil().max(1.0) as u64;
+        let mut seen = 0;
+        for (i, n) in self.buckets.iter().enumerate() {
+            seen += n;
+            if seen >= target {
+                let edge =
+                    TIME_MIN_MS * 10f64.powf((i + 1) as f64 / TIME_BUCKETS as f64 * TIME_DECADES);
+                return Some(edge.min(self.max));
+            }
+        }
+        Some(self.max)
+    }
+
+    fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "frames": self.count,
+            "p50": self.quantile(0.5), "p90": self.quantile(0.9),
+            "p99": self.quantile(0.99), "p999": self.quantile(0.999),
+            "max": (self.count > 0).then_some(self.max),
+        })
+    }
+}
+
+/// The lights `--toggle-lights` switches: every other entry of (emissive instances, then
+/// directional lights), or the only one.
+struct Toggle {
+    // Emissive instance index → its material's dark twin (appended to the scene).
+    instances: Vec<(usize, u32, u32)>,
+    directional: Vec<(usize, glam::Vec3)>,
+    off: bool,
+}
+
+impl Toggle {
+    fn new(scene: &mut Scene) -> Self {
+        let emissive: Vec<usize> = scene
+            .instances
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| scene.materials[i.material as usize].is_emissive())
+            .map(|(k, _)| k)
+            .collect();
+        let total = emissive.len() + scene.directional_lights.len();
+        let chosen = |k: usize| total == 1 || k.is_multiple_of(2);
+        let mut instances = Vec::new();
+        let mut twins = std::collections::HashMap::new();
+        for (k, &i) in emissive.iter().enumerate() {
+            if !chosen(k) {
+                continue;
+            }
+            let lit = scene.instances[i].material;
+            let dark = *twins.entry(lit).or_insert_with(|| {
+                let mut m: Material = scene.materials[lit as usize].clone();
+                m.emissive = glam::Vec3::ZERO;
+                m.name.push_str(" (off)");
+                scene.materials.push(m);
+                (scene.materials.len() - 1) as u32
+            });
+            instances.push((i, lit, dark));
+        }
+        let directional = (0..scene.directional_lights.len())
+            .filter(|d| chosen(emissive.len() + d))
+            .map(|d| (d, scene.directional_lights[d].irradiance))
+            .collect();
+        Self {
+            instances,
+            directional,
+            off: false,
+        }
+    }
+
+    fn switched(&self) -> usize {
+        self.instances.len() + self.directional.len()
+    }
+
+    /// Flips the chosen lights in `scene`.
+    fn flip(&mut self, scene: &mut Scene) {
+        self.off = !self.off;
+        for &(i, lit, dark) in &self.instances {
+            scene.instances[i].material = if self.off { dark } else { lit };
+        }
+        for &(d, irradiance) in &self.directional {
+            scene.directional_lights[d].irradiance = if self.off {
+                glam::Vec3::ZERO
+            } else {
+                irradiance
+            };
+        }
+    }
+}
+
+/// Resident memory of this process in bytes (Linux), for the CPU side of "memory flat".
+fn process_rss() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+fn gpu_memory(gpu: &solari_scene::gpu::Gpu) -> serde_json::Value {
+    match gpu.device.generate_allocator_report() {
+        Some(r) => serde_json::json!({
+            "allocated_bytes": r.total_allocated_bytes,
+            "reserved_bytes": r.total_reserved_bytes,
+        }),
+        None => serde_json::Value::Null,
+    }
+}
+
+pub fn run(args: &SoakArgs) -> Result<(), String> {
+    let start = Instant::now();
+    let settings = args.check()?;
+    let (w, h) = args.size;
+    let Prepared {
+        name,
+        mut scene,
+        camera,
+        gpu,
+        backend,
+        mut gpu_scene,
+        dlss,
+    } = args.scene.prepare()?;
+    let mut toggle = args.toggle_lights.map(|_| Toggle::new(&mut scene));
+    if toggle.is_some() {
+        // The dark twins are new materials: upload them once, before the first frame.
+        gpu_scene = solari_scene::gpu_scene::GpuScene::new(
+            &gpu,
+            &scene,
+            backend,
+            &solari_scene::gpu_scene::GpuSceneOptions {
+                bvh_quality: args.scene.bvh_quality,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| e.to_string())?;
+    }
+    let mut renderer =
+        RealtimeRenderer::with_dlss(&gpu, backend, &scene, &gpu_scene, w, h, settings, &dlss)
+            .map_err(|e| e.to_string())?;
+    let memory_start = gpu_memory(&gpu);
+    let rss_start = process_rss();
+    let mut findings = vec![PassFindings::default(); FINITE_SLOTS.len()];
+    let (mut overflow_total, mut overflow_frames, mut overflow_max) = (0u64, 0u64, 0u32);
+    let mut wall = Times::new();
+    let mut gpu_ms = Times::new();
+    let mut toggles = 0u64;
+    let mut last_progress = Instant::now();
+    for frame in 0..args.frames {
+        if let (Some(k), Some(t)) = (args.toggle_lights, toggle.as_mut())
+            && frame > 0
+            && frame % k as u64 == 0
+        {
+            t.flip(&mut scene);
+            gpu_scene
+                .set_instances(&gpu, &scene)
+                .map_err(|e| e.to_string())?;
+            renderer
+                .set_lights(&gpu, &scene)
+                .map_err(|e| e.to_string())?;
+            toggles += 1;
+        }
+        let cam = args
+            .realtime
+            .camera_path
+            .camera(&camera, &scene, frame as u32);
+        let t0 = Instant::now();
+        let report = renderer
+            .render(&gpu, &scene, &gpu_scene, &cam)
+            .map_err(|e| format!("frame {frame}: {e}"))?;
+        wall.add(t0.elapsed().as_secs_f64() * 1e3);
+        let timed: Vec<f64> = report.passes.iter().filter_map(|p| p.gpu_ms).collect();
+        if !timed.is_empty() {
+            gpu_ms.add(timed.iter().sum());
+        }
+        for (f, c) in findings.iter_mut().zip(&report.finite) {
+            f.non_finite += c.non_finite;
+            f.negative += c.negative;
+            f.over += c.over;
+            if c.non_finite + c.negative + c.over > 0 {
+                f.frames_with_findings += 1;
+                f.first_frame.get_or_insert(frame);
+            }
+        }
+        if let Some(stats) = renderer.cache_stats(&gpu).map_err(|e| e.to_string())? {
+            overflow_total += stats.overflows as u64;
+            overflow_frames += (stats.overflows > 0) as u64;
+            overflow_max = overflow_max.max(stats.overflows);
+        }
+        let done = frame + 1;
+        if args.progress_every > 0 && (done % args.progress_every == 0 || done == args.frames) {
+            let bad: u64 = findings.iter().map(|f| f.non_finite + f.negative).sum();
+            eprintln!(
+                "soak {name}: frame {done}/{} ({:.0} frames/s), {bad} non-finite/negative, {} cache overflows",
+                args.frames,
+                args.progress_every as f64 / last_progress.elapsed().as_secs_f64().max(1e-9),
+                overflow_total
+            );
+            last_progress = Instant::now();
+        }
+    }
+    let clean = findings.iter().all(|f| f.non_finite + f.negative == 0);
+    let per_pass: serde_json::Map<String, serde_json::Value> = FINITE_SLOTS
+        .iter()
+        .zip(&findings)
+        .map(|(n, f)| (n.to_string(), serde_json::json!(f)))
+        .collect();
+    let summary = serde_json::json!({
+        "scene": name, "frames": args.frames, "width": w, "height": h,
+        "camera_path": format!("{:?}", args.realtime.camera_path).to_lowercase(),
+        "gi": format!("{:?}", settings.gi), "denoiser": renderer.denoiser_kind().name(),
+        "tracer": backend.name(), "adapter": gpu.info.name,
+        "toggle_lights_every": args.toggle_lights,
+        "lights_switched": toggle.as_ref().map(Toggle::switched), "toggles": toggles,
+        "clean": clean, "passes": per_pass,
+        "cache_overflows": {"total": overflow_total, "frames": overflow_frames, "max_in_a_frame": overflow_max},
+        "gpu_memory": {"start": memory_start, "end": gpu_memory(&gpu)},
+        "process_rss_bytes": {"start": rss_start, "end": process_rss()},
+        "wall_frame_ms": wall.json(), "gpu_frame_ms": gpu_ms.json(),
+        "seconds": start.elapsed().as_secs_f64(),
+    });
+    let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
+    println!("{text}");
+    if let Some(p) = &args.summary {
+        write_atomic(p, text.as_bytes())?;
+    }
+    if clean {
+        Ok(())
+    } else {
+        Err("the soak found non-finite or negative values (see \"passes\")".into())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_come_within_a_bucket() {
+        let mut t = Times::new();
+        for i in 1..=1000 {
+            t.add(i as f64 * 0.01);
+        }
+        let p50 = t.quantile(0.5).unwrap();
+        assert!((p50 - 5.0).abs() / 5.0 < 0.01, "{p50}");
+        assert_eq!(t.quantile(1.0), Some(10.0));
+        assert_eq!(Times::new().quantile(0.5), None);
+    }
+
+    #[test]
+    fn toggling_switches_every_other_light_or_the_only_one() {
+        let mut one = solari_scene::default_scene::cornell_box();
+        let before = one.materials.len();
+        let mut t = Toggle::new(&mut one);
+        assert_eq!(t.switched(), 1);
+        assert_eq!(one.materials.len(), before + 1);
+        t.flip(&mut one);
+        assert_eq!(one.stats().emissive_triangles, 0);
+        t.flip(&mut one);
+        assert_eq!(one.stats().emissive_triangles, 2);
+        let mut many = one.clone();
+        for k in 0..5 {
+            let mut i = many.instances[5].clone();
+            i.transform = glam::Mat4::from_translation(glam::Vec3::X * k as f32);
+            many.instances.push(i);
+        }
+        many.directional_lights
+            .push(solari_scene::DirectionalLight {
+                name: "sun".into(),
+                direction: -glam::Vec3::Y,
+                irradiance: glam::Vec3::ONE,
+                angular_diameter: 0.01,
+            });
+        let mut t = Toggle::new(&mut many);
+        // Six emitters and a sun: entries 0, 2, 4 and 6 (the sun).
+        assert_eq!(t.switched(), 4);
+        t.flip(&mut many);
+        assert_eq!(many.stats().emissive_triangles, 2 * 3);
+        assert_eq!(many.directional_lights[0].irradiance, glam::Vec3::ZERO);
+    }
+}

@@ -1,0 +1,475 @@
+//! The bad-input matrix, through the `solari` binary: every malformed scene, bad argument,
+//! bad path and bad image gives a clear error, a non-zero exit and no partial output (the
+//! working folder holds only the inputs afterwards). Cases that render use lavapipe in CI.
+
+use base64::Engine as _;
+use serde_json::{Value, json};
+use std::ffi::{OsStr, OsString};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// A fresh working folder, removed when dropped.
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(tag: &str) -> Self {
+        let d = std::env::temp_dir().join(format!("solari-cli-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        Self(d)
+    }
+
+    fn files(&self) -> Vec<OsString> {
+        let mut v: Vec<OsString> = std::fs::read_dir(&self.0)
+            .unwrap()
+            .flatten()
+            .map(|e| e.file_name())
+            .collect();
+        v.sort();
+        v
+    }
+
+    fn write(&self, name: impl AsRef<Path>, bytes: &[u8]) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn solari(dir: &Dir, args: &[&OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_solari"))
+        .args(args)
+        .current_dir(&dir.0)
+        .env("RUST_LOG", "error")
+        .output()
+        .expect("run solari")
+}
+
+/// Runs `args` in `dir` and checks: non-zero exit, `needle` in stderr, no new files.
+fn fails(dir: &Dir, args: &[&str], needle: &str) {
+    let before = dir.files();
+    let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    let out = solari(dir, &os);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded; stderr: {err}");
+    assert!(
+        out.status.code().is_some(),
+        "{args:?} was killed by a signal: {err}"
+    );
+    assert!(
+        err.contains(needle),
+        "{args:?}: expected {needle:?} in: {err}"
+    );
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert_eq!(dir.files(), before, "{args:?} left files behind");
+}
+
+/// One triangle in a data-URI buffer, with a camera looking at it.
+fn triangle(positions: [[f32; 3]; 3]) -> Value {
+    let mut bytes: Vec<u8> = positions
+        .iter()
+        .flatten()
+        .flat_map(|f| f.to_le_bytes())
+        .collect();
+    bytes.extend([0u32, 1, 2].iter().flat_map(|i| i.to_le_bytes()));
+    let b64 = base64::engine::general_purpose::STANDARD.encode(&bytes);
+    json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0.3, 0.3, 2.0]}],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "buffers": [{"byteLength": 48, "uri": format!("data:application/octet-stream;base64,{b64}")}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 36},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 12}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+             "min": [0.0, 0.0, 0.0], "max": [1.0, 1.0, 0.0]},
+            {"bufferView": 1, "componentType": 5125, "count": 3, "type": "SCALAR"}
+        ]
+    })
+}
+
+const TRI: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+fn gltf(dir: &Dir, name: &str, v: &Value) -> String {
+    dir.write(name, &serde_json::to_vec(v).unwrap());
+    name.to_string()
+}
+
+/// A GLB container of `json` with `bin` as its binary chunk.
+fn glb(json: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut j = serde_json::to_vec(json).unwrap();
+    j.resize(j.len().next_multiple_of(4), b' ');
+    let mut b = bin.to_vec();
+    b.resize(b.len().next_multiple_of(4), 0);
+    let total = 12 + 8 + j.len() + 8 + b.len();
+    let mut out = Vec::new();
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((j.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(j);
+    out.extend((b.len() as u32).to_le_bytes());
+    out.extend(b"BIN\0");
+    out.extend(b);
+    out
+}
+
+#[test]
+fn malformed_scenes_are_refused() {
+    let d = Dir::new("scenes");
+    fn render(scene: &str) -> Vec<&str> {
+        vec!["render", scene, "--size", "8x8", "--out", "x.png"]
+    }
+    d.write("bad.gltf", b"{ \"asset\": ");
+    fails(&d, &render("bad.gltf"), "not a valid glTF");
+    // A GLB cut short, inside its JSON chunk and inside its binary chunk.
+    let mut v = triangle(TRI);
+    let data = v["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let bin = base64::engine::general_purpose::STANDARD
+        .decode(data.split_once(",").unwrap().1)
+        .unwrap();
+    v["buffers"][0].as_object_mut().unwrap().remove("uri");
+    let whole = glb(&v, &bin);
+    d.write("cut_json.glb", &whole[..40]);
+    fails(&d, &render("cut_json.glb"), "not a valid glTF");
+    d.write("cut_bin.glb", &whole[..whole.len() - 16]);
+    fails(&d, &render("cut_bin.glb"), "cut_bin.glb");
+    let mut v = triangle(TRI);
+    v["buffers"][0]["uri"] = json!("missing.bin");
+    fails(&d, &render(&gltf(&d, "no_buffer.gltf", &v)), "missing.bin");
+    let mut v = triangle(TRI);
+    v["meshes"][0]["primitives"][0]["material"] = json!(0);
+    v["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    v["textures"] = json!([{"source": 0}]);
+    v["images"] = json!([{"uri": "missing.png"}]);
+    fails(&d, &render(&gltf(&d, "no_texture.gltf", &v)), "missing.png");
+    let mut v = triangle(TRI);
+    v["accessors"][0]["count"] = json!(300);
+    fails(&d, &render(&gltf(&d, "accessor.gltf", &v)), "accessor 0");
+    let mut v = triangle(TRI);
+    v["meshes"][0]["primitives"][0]["indices"] = json!(9);
+    fails(
+        &d,
+        &render(&gltf(&d, "accessor_index.gltf", &v)),
+        "accessor",
+    );
+    let mut v = triangle(TRI);
+    let bad_index = base64::engine::general_purpose::STANDARD.encode(
+        TRI.iter()
+            .flatten()
+            .flat_map(|f| f.to_le_bytes())
+            .chain([0u32, 1, 7].iter().flat_map(|i| i.to_le_bytes()))
+            .collect::<Vec<u8>>(),
+    );
+    v["buffers"][0]["uri"] = json!(format!("data:application/octet-stream;base64,{bad_index}"));
+    fails(&d, &render(&gltf(&d, "index.gltf", &v)), "out of range");
+    for (name, x) in [("nan", f32::NAN), ("inf", f32::INFINITY)] {
+        let v = triangle([[0.0, 0.0, 0.0], [x, 0.0, 0.0], [0.0, 1.0, 0.0]]);
+        fails(
+            &d,
+            &render(&gltf(&d, &format!("{name}.gltf"), &v)),
+            "non-finite",
+        );
+    }
+    let v = triangle([[0.0, 0.0, 0.0], [1e38, 0.0, 0.0], [0.0, 1e38, 0.0]]);
+    fails(&d, &render(&gltf(&d, "huge.gltf", &v)), "beyond");
+    let v = triangle([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]);
+    fails(&d, &render(&gltf(&d, "degenerate.gltf", &v)), "empty");
+    let mut v = triangle(TRI);
+    v["scenes"] = json!([{"nodes": []}]);
+    fails(&d, &render(&gltf(&d, "empty.gltf", &v)), "empty");
+    for (name, factor) in [
+        ("nan_emission", json!([1.0, 1e30, 1.0])),
+        ("negative_emission", json!([1.0, -1.0, 1.0])),
+    ] {
+        let mut v = triangle(TRI);
+        v["meshes"][0]["primitives"][0]["material"] = json!(0);
+        v["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+        v["materials"] = json!([{"emissiveFactor": factor,
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 1e30}}}]);
+        fails(
+            &d,
+            &render(&gltf(&d, &format!("{name}.gltf"), &v)),
+            "material 0",
+        );
+    }
+    let mut v = triangle(TRI);
+    v["cameras"][0]["perspective"]["yfov"] = json!(0.0);
+    fails(&d, &render(&gltf(&d, "camera.gltf", &v)), "field of view");
+    let mut v = triangle(TRI);
+    v["nodes"][1]["translation"] = json!([1e30, 0.0, 0.0]);
+    fails(&d, &render(&gltf(&d, "far_camera.gltf", &v)), "camera");
+    let mut v = triangle(TRI);
+    v["nodes"][1]["scale"] = json!([0.0, 0.0, 0.0]);
+    fails(&d, &render(&gltf(&d, "flat_camera.gltf", &v)), "camera");
+    let mut v = triangle(TRI);
+    v["extensionsUsed"] = json!(["KHR_draco_mesh_compression"]);
+    v["extensionsRequired"] = json!(["KHR_draco_mesh_compression"]);
+    fails(
+        &d,
+        &render(&gltf(&d, "draco.gltf", &v)),
+        "requires extension KHR_draco_mesh_compression",
+    );
+    std::fs::create_dir_all(d.0.join("folder.gltf")).unwrap();
+    fails(&d, &render("folder.gltf"), "is a folder");
+    fails(&d, &render("nope.gltf"), "nope.gltf");
+}
+
+#[test]
+fn non_utf8_paths_work_or_fail_clearly() {
+    use std::os::unix::ffi::OsStrExt;
+    let d = Dir::new("utf8");
+    let name = OsStr::from_bytes(b"sc\xffene.gltf");
+    d.write(name, &serde_json::to_vec(&triangle(TRI)).unwrap());
+    let out_name = OsStr::from_bytes(b"out\xfe.png");
+    let args = [
+        OsStr::new("render"),
+        name,
+        OsStr::new("--size"),
+        OsStr::new("8x8"),
+        OsStr::new("--out"),
+        out_name,
+    ];
+    let out = solari(&d, &args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(d.0.join(out_name).is_file());
+    let missing = OsStr::from_bytes(b"mi\xfessing.gltf");
+    let out = solari(&d, &[OsStr::new("info"), missing]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("SCENE"));
+}
+
+#[test]
+fn bad_arguments_are_refused_before_any_work() {
+    let d = Dir::new("args");
+    let cases: &[(&[&str], &str)] = &[
+        (&["render", "--size", "0x0"], "each side must be 1 to 16384"),
+        (
+            &["render", "--size", "100000x100000"],
+            "each side must be 1 to 16384",
+        ),
+        (&["render", "--size", "64"], "WIDTHxHEIGHT"),
+        (&["render", "--mode", "reference", "--spp", "0"], "--spp"),
+        (
+            &["render", "--mode", "realtime", "--frames", "0"],
+            "--frames",
+        ),
+        (&["render", "--mode", "bogus"], "bogus"),
+        (&["render", "--gi", "bogus"], "off or cache"),
+        (
+            &["render", "--denoiser", "bogus"],
+            "none, fallback or dlss-rr",
+        ),
+        (&["render", "--view", "bogus"], "world-cache"),
+        (
+            &["render", "--mode", "realtime", "--view", "albedo"],
+            "lit or world-cache",
+        ),
+        (
+            &["render", "--tracer", "bogus"],
+            "auto, ray-query or software",
+        ),
+        (&["render", "--bvh-quality", "bogus"], "very-slow"),
+        (&["render", "--camera-path", "bogus"], "fixed or orbit"),
+        (&["render", "--tiles", "0x9"], "tiles"),
+        (&["render", "--exposure", "nan"], "finite"),
+        (&["render", "--exposure", "inf"], "finite"),
+        (&["render", "--exposure", "1e9"], "±64"),
+        (
+            &["render", "--mode", "realtime", "--candidates", "0"],
+            "initial_candidates",
+        ),
+        (
+            &[
+                "render",
+                "--mode",
+                "realtime",
+                "--cache-cell-size",
+                "-1",
+                "--gi",
+                "cache",
+            ],
+            "cell_size",
+        ),
+        (
+            &["render", "--mode", "realtime", "--denoise-iterations", "99"],
+            "atrous",
+        ),
+        (
+            &["render", "--out", "x.jpg"],
+            "unknown image extension .jpg",
+        ),
+        (&["render", "--out", "x"], "no extension"),
+        (
+            &["render", "--out", "no/such/folder/x.png"],
+            "does not exist",
+        ),
+        (&["render", "--out", "."], "is a folder"),
+        (&["render", "--out", "a.png", "--out", "a.png"], "twice"),
+        (&["render", "--exr", "a.png"], "must end in .exr"),
+        (
+            &[
+                "render",
+                "--mode",
+                "realtime",
+                "--report",
+                "no/such/r.jsonl",
+            ],
+            "does not exist",
+        ),
+        (&["soak", "--frames", "0"], "--frames"),
+        (&["soak", "--toggle-lights", "0"], "--toggle-lights"),
+        (&["soak", "--summary", "no/such/s.json"], "does not exist"),
+        (
+            &["bench-di", "--frames", "4", "--warmup", "8"],
+            "must exceed --warmup",
+        ),
+        (&["bench-di", "--candidates", "1,x"], "--candidates"),
+        (&["bench-cache", "--cell-sizes", "nan"], "--cell-sizes"),
+        (&["bench-rays", "--frames", "0"], "--frames"),
+        (&["bench-rays", "--presets", "medium,bogus"], "--presets"),
+        (&["bench-denoise", "--reference", "nope.exr"], "--reference"),
+        (&["info", "--asset-root", "nope"], "--asset-root"),
+    ];
+    for (args, needle) in cases {
+        fails(&d, args, needle);
+    }
+}
+
+fn exr(d: &Dir, name: &str, w: u32, h: u32, value: impl Fn(u32) -> f32) -> String {
+    let data: Vec<f32> = (0..w * h * 3).map(value).collect();
+    let img = image::ImageBuffer::<image::Rgb<f32>, _>::from_raw(w, h, data).unwrap();
+    img.save(d.0.join(name)).unwrap();
+    name.to_string()
+}
+
+#[test]
+fn compare_refuses_mismatched_and_non_finite_images() {
+    let d = Dir::new("compare");
+    let a = exr(&d, "a.exr", 4, 4, |_| 0.5);
+    let b = exr(&d, "b.exr", 4, 3, |_| 0.5);
+    fails(&d, &["compare", &a, &b], "is 4x4 but");
+    let n = exr(&d, "n.exr", 4, 4, |i| if i == 5 { f32::NAN } else { 0.5 });
+    fails(&d, &["compare", &a, &n], "1 non-finite pixel");
+    fails(&d, &["compare", &n, &a], "1 non-finite pixel");
+    let i = exr(
+        &d,
+        "i.exr",
+        4,
+        4,
+        |i| if i == 2 { f32::INFINITY } else { 0.5 },
+    );
+    fails(&d, &["compare", &i, &a, "--heatmap", "h.png"], "non-finite");
+    fails(&d, &["compare", &a, "missing.exr"], "REFERENCE");
+    fails(
+        &d,
+        &["compare", &a, &a, "--heatmap", "h.exr"],
+        "must end in .png",
+    );
+    d.write("garbage.exr", b"not an image");
+    fails(&d, &["compare", &a, "garbage.exr"], "garbage.exr");
+    // The control: identical images compare cleanly and write the heat map.
+    let before = d.files().len();
+    let out = solari(
+        &d,
+        &["compare", a.as_str(), a.as_str(), "--heatmap", "h.png"].map(OsStr::new),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(d.files().len(), before + 1);
+}
+
+#[test]
+fn outputs_follow_their_extension() {
+    let d = Dir::new("outputs");
+    let out = solari(
+        &d,
+        &[
+            "render",
+            "--mode",
+            "reference",
+            "--spp",
+            "1",
+            "--size",
+            "8x8",
+            "--out",
+            "r.exr",
+        ]
+        .map(OsStr::new),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(d.files(), vec![OsString::from("r.exr")]);
+    let img = image::open(d.0.join("r.exr")).unwrap();
+    assert!(matches!(
+        img,
+        image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
+    ));
+    let out = solari(
+        &d,
+        &[
+            "render", "--size", "8x8", "--view", "normal", "--out", "n.png", "--out", "n.exr",
+        ]
+        .map(OsStr::new),
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(image::open(d.0.join("n.png")).unwrap().as_rgb8().is_some());
+    assert!(image::open(d.0.join("n.exr")).is_ok());
+}
+
+#[test]
+fn a_huge_frame_count_runs_instead_of_aborting() {
+    let d = Dir::new("frames");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_solari"))
+        .args([
+            "render",
+            "--mode",
+            "realtime",
+            "--frames",
+            "4294967295",
+            "--size",
+            "8x8",
+        ])
+        .args(["--denoiser", "none", "--out", "x.png"])
+        .current_dir(&d.0)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_secs(4));
+    let status = child.try_wait().unwrap();
+    let _ = child.kill();
+    let out = child.wait_with_output().unwrap();
+    assert!(
+        status.is_none(),
+        "exited early with {status:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // Killed mid-run: nothing was written.
+    assert!(d.files().is_empty(), "{:?}", d.files());
+}
