@@ -114,8 +114,8 @@ fn cache_converges_to_the_analytic_furnaces() {
     for (name, regions) in cases {
         let scene = load_gltf(solari_testdata::scene(name)).expect("scene");
         // A table about 40× the live cells. At 1 << 15 (10% full) a linear probing run once
-        // exceeded its 8 steps in the last frame (one overflow, in one of several CI runs):
-        // the check below is that no cell is lost, so the table must be roomy.
+        // exceeded the former default of 8 steps in the last frame (one overflow, in one of
+        // several CI runs; the default is now 32): the check below is that no cell is lost.
         let (_, mut s) = setup(&gpu, &scene, 32, settings(1 << 17));
         // Measured: the uniform furnace's mean settles by frame ~500 (0.984 at 400, 0.989 at
         // 500 and 600); the sphere furnace by ~300.
