@@ -14,12 +14,8 @@ pub const SUPPORTED_EXTENSIONS: [&str; 4] = [
     "KHR_materials_specular",
 ];
 
-/// Checks on the raw JSON, before `Document::from_json` validates it.
-///
-/// - gltf-json 1.4.1 `mesh.rs:151`: the primitive validation hook indexes
-///   `accessors[POSITION]` without a bounds check.
-/// - Required extensions are checked here to give a message naming them.
-pub fn check_root(root: &json::Root) -> Result<(), String> {
+/// Refuses a file that *requires* an extension this importer does not read, naming it.
+pub fn check_required_extensions(root: &json::Root) -> Result<(), String> {
     for ext in &root.extensions_required {
         if !SUPPORTED_EXTENSIONS.contains(&ext.as_str()) {
             return Err(format!(
@@ -29,15 +25,27 @@ pub fn check_root(root: &json::Root) -> Result<(), String> {
             ));
         }
     }
+    Ok(())
+}
+
+/// A primitive attribute naming an accessor that does not exist, as (mesh, primitive,
+/// reason): checked before `Document::from_json` validates the file, because gltf-json
+/// 1.4.1's primitive validation hook indexes `accessors[POSITION]` without a bounds check
+/// (`mesh.rs:151`).
+pub fn check_attribute_indices(root: &json::Root) -> Result<(), (usize, usize, String)> {
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
             for (semantic, index) in &prim.attributes {
                 if index.value() >= root.accessors.len() {
-                    return Err(format!(
-                        "mesh {m} primitive {p}: attribute {semantic:?} names accessor {} \
-                         but the file has {}",
-                        index.value(),
-                        root.accessors.len()
+                    return Err((
+                        m,
+                        p,
+                        format!(
+                            "attribute {} names accessor {} but the file has {}",
+                            semantic.to_string(),
+                            index.value(),
+                            root.accessors.len()
+                        ),
                     ));
                 }
             }

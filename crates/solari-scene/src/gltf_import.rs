@@ -13,7 +13,10 @@
 use crate::asset_io::{AssetFolder, ImportLimits, read_file_limited};
 use crate::error::SceneError;
 use crate::geometry;
-use crate::gltf_check::{Usage, check_extent, check_image, check_layout, check_root};
+use crate::gltf_check::{
+    Usage, check_attribute_indices, check_extent, check_image, check_layout,
+    check_required_extensions,
+};
 use crate::model::*;
 use crate::texture::{decode_image, texture_from_level0};
 use crate::validate::clamp_radiance;
@@ -116,9 +119,19 @@ fn import_unguarded(
         source,
     };
     let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(gltf_err)?;
-    check_root(raw.document.as_json()).map_err(|reason| SceneError::Unsupported {
-        file: file.clone(),
-        reason,
+    check_required_extensions(raw.document.as_json()).map_err(|reason| {
+        SceneError::Unsupported {
+            file: file.clone(),
+            reason,
+        }
+    })?;
+    check_attribute_indices(raw.document.as_json()).map_err(|(mesh, primitive, reason)| {
+        SceneError::BadPrimitive {
+            file: file.clone(),
+            mesh,
+            primitive,
+            reason,
+        }
     })?;
     let blob = raw.blob;
     let document = gltf::Document::from_json(raw.document.into_json()).map_err(gltf_err)?;
