@@ -155,6 +155,12 @@ fn process_rss() -> Option<u64> {
     Some(kb * 1024)
 }
 
+fn allocated(gpu: &solari_scene::gpu::Gpu) -> Option<u64> {
+    gpu.device
+        .generate_allocator_report()
+        .map(|r| r.total_allocated_bytes)
+}
+
 fn gpu_memory(gpu: &solari_scene::gpu::Gpu) -> serde_json::Value {
     match gpu.device.generate_allocator_report() {
         Some(r) => serde_json::json!({
@@ -197,12 +203,17 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             .map_err(|e| e.to_string())?;
     let memory_start = gpu_memory(&gpu);
     let rss_start = process_rss();
+    // Resources made on first use (profiler queries, the detector's bind groups) are in
+    // place after a few frames: memory growth is measured from there.
+    let warm_frame = args.frames.min(100);
+    let (mut memory_warm, mut rss_warm) = (serde_json::Value::Null, None);
+    let (mut memory_max, mut rss_max) = (0u64, 0u64);
     let mut findings = vec![PassFindings::default(); FINITE_SLOTS.len()];
     let (mut overflow_total, mut overflow_frames, mut overflow_max) = (0u64, 0u64, 0u32);
     let mut wall = Times::new();
     let mut gpu_ms = Times::new();
     let mut toggles = 0u64;
-    let mut last_progress = Instant::now();
+    let (mut last_progress, mut last_frames) = (Instant::now(), 0u64);
     for frame in 0..args.frames {
         if let (Some(k), Some(t)) = (args.toggle_lights, toggle.as_mut())
             && frame > 0
@@ -245,15 +256,23 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             overflow_max = overflow_max.max(stats.overflows);
         }
         let done = frame + 1;
+        if done == warm_frame {
+            memory_warm = gpu_memory(&gpu);
+            rss_warm = process_rss();
+        }
+        if done >= warm_frame && (done % 1000 == 0 || done == args.frames) {
+            memory_max = memory_max.max(allocated(&gpu).unwrap_or(0));
+            rss_max = rss_max.max(process_rss().unwrap_or(0));
+        }
         if args.progress_every > 0 && (done % args.progress_every == 0 || done == args.frames) {
             let bad: u64 = findings.iter().map(|f| f.non_finite + f.negative).sum();
             eprintln!(
                 "soak {name}: frame {done}/{} ({:.0} frames/s), {bad} non-finite/negative, {} cache overflows",
                 args.frames,
-                args.progress_every as f64 / last_progress.elapsed().as_secs_f64().max(1e-9),
+                (done - last_frames) as f64 / last_progress.elapsed().as_secs_f64().max(1e-9),
                 overflow_total
             );
-            last_progress = Instant::now();
+            (last_progress, last_frames) = (Instant::now(), done);
         }
     }
     let clean = findings.iter().all(|f| f.non_finite + f.negative == 0);
@@ -271,8 +290,11 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
         "lights_switched": toggle.as_ref().map(Toggle::switched), "toggles": toggles,
         "clean": clean, "passes": per_pass,
         "cache_overflows": {"total": overflow_total, "frames": overflow_frames, "max_in_a_frame": overflow_max},
-        "gpu_memory": {"start": memory_start, "end": gpu_memory(&gpu)},
-        "process_rss_bytes": {"start": rss_start, "end": process_rss()},
+        "gpu_memory": {"start": memory_start, "after_warmup": memory_warm,
+            "end": gpu_memory(&gpu), "max_allocated_after_warmup": memory_max,
+            "warmup_frames": warm_frame},
+        "process_rss_bytes": {"start": rss_start, "after_warmup": rss_warm, "end": process_rss(),
+            "max_after_warmup": rss_max},
         "wall_frame_ms": wall.json(), "gpu_frame_ms": gpu_ms.json(),
         "seconds": start.elapsed().as_secs_f64(),
     });

@@ -17,9 +17,10 @@ pub struct GpuReservoir {
 
 const _: () = assert!(size_of::<GpuReservoir>() == 20);
 
-/// Which words of a [`GpuReservoir`] the non-finite detector checks: confidence and weight,
-/// both finite and non-negative (the sample id is integers), and the confidence at most
-/// `confidence_cap` (an overflow otherwise).
+/// Which words of a final [`GpuReservoir`] the non-finite detector checks: confidence and
+/// weight, both finite and non-negative (the sample id is integers), and the confidence at
+/// most `2 (confidence_cap + 1)` (an overflow otherwise): history is capped when read, the
+/// initial candidate adds 1, and the spatial pass merges one neighbour holding as much.
 pub fn reservoir_check(confidence_cap: f32) -> solari_scene::finite_check::RecordLayout {
     solari_scene::finite_check::RecordLayout {
         stride_words: 5,
@@ -27,6 +28,6 @@ pub fn reservoir_check(confidence_cap: f32) -> solari_scene::finite_check::Recor
         non_negative_mask: 0b11000,
         upper_mask: 0b01000,
         // Merges add confidences in f32; allow their rounding.
-        upper_bound: confidence_cap * (1.0 + 1e-5),
+        upper_bound: 2.0 * (confidence_cap + 1.0) * (1.0 + 1e-5),
     }
 }
