@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Long soak runs on the H200 (device tool) that outlast one device command: `start` launches
+# the runs in a new process session (the device tool lets such a process run on between calls
+# until the machine goes back) and returns; each later `poll [SECONDS]` call waits up to
+# SECONDS (default 570) for them, then copies the summaries and logs so far into $OUT.
+#
+# A run of 100,000 frames of `interior` at 1080p takes about 16 minutes alone, longer than one
+# device command may run (10 minutes), shorter than a machine is held (30 minutes). Several
+# runs share the GPU at once: frame times of such runs measure the sharing, not the renderer;
+# what they prove is the absence of non-finite values, overflows and memory growth.
+#
+# Needs, carried in the working tree: .gl/ (Vulkan loader packages, see the device README),
+# .dev/solari (a release build of this commit, stripped) and .dev/scenes (a copy of
+# ../shared/scenes). Usage (device commands):
+#   SEQUENTIAL=1 RUNS="interior:1000 sun_boxes:" bash benches/results/soak_parallel_h200.sh start
+#   bash benches/results/soak_parallel_h200.sh poll 570
+# RUNS lists scene:toggle pairs (empty toggle: static lights); FRAMES defaults to 100000;
+# SEQUENTIAL=1 runs them one after another. The machine goes back 30 s after a command ends
+# with no next one, killing the runs: issue the polls back to back.
+# Settings as in soak_h200_2026-11-23.sh: 1920x1080, orbit camera, cache GI, fallback
+# denoiser, software BVH, the non-finite detector on every pass of every frame.
+set -u
+DIR=/root/soak
+case "${1:-}" in
+start)
+  for f in .gl/*.deb; do dpkg -x "$f" /; done
+  ldconfig
+  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+  mkdir -p "$DIR"
+  # The working tree may be replaced by the next call: run from a private copy.
+  cp -r .dev/solari .dev/scenes "$DIR/"
+  FRAMES=${FRAMES:-100000}
+  # One chain of runs, one after another (SEQUENTIAL=1), or all at once (the default). Two
+  # runs sharing the H200 reached only about 78% of its throughput (context switching).
+  cat > "$DIR/run_one.sh" <<'ONE'
+s=${1%%:*}; t=${1#*:}; name="$s-${t:-static}"
+file=$(ls "$DIR/scenes/$s"/*.gltf | head -n 1)
+toggle=(); [ -n "$t" ] && toggle=(--toggle-lights "$t")
+echo "== $s frames=$FRAMES toggle=${t:-none} start $(date -u +%T)" > "$DIR/$name.log"
+"$DIR/solari" soak "$file" --frames "$FRAMES" --size 1920x1080 --camera-path orbit \
+  --gi cache --denoiser fallback "${toggle[@]}" --progress-every 10000 \
+  --summary "$DIR/$name.json" < /dev/null 2>> "$DIR/$name.log" > /dev/null
+echo "exit $? $(date -u +%T)" >> "$DIR/$name.log"
+ONE
+  export DIR FRAMES=${FRAMES:-100000}
+  if [ "${SEQUENTIAL:-0}" = 1 ]; then
+    # Logs of runs still queued exist from the start, so `poll` waits for them too.
+    for run in ${RUNS:?RUNS=scene:toggle ...}; do
+      t=${run#*:}; echo "== ${run%%:*} queued" > "$DIR/${run%%:*}-${t:-static}.log"
+    done
+    setsid bash -c 'for r in "$@"; do bash "$DIR/run_one.sh" "$r"; done' _ $RUNS < /dev/null &
+  else
+    for run in ${RUNS:?RUNS=scene:toggle ...}; do
+      setsid bash "$DIR/run_one.sh" "$run" < /dev/null &
+    done
+  fi
+  sleep 20
+  nvidia-smi --query-gpu=name,driver_version,utilization.gpu,memory.used --format=csv
+  tail -n 3 "$DIR"/*.log
+  ;;
+poll)
+  end=$((SECONDS + ${2:-570}))
+  while [ $SECONDS -lt $end ] && [ "$(grep -l '^exit ' "$DIR"/*.log | wc -l)" -lt "$(ls "$DIR"/*.log | wc -l)" ]; do
+    sleep 10
+  done
+  mkdir -p "$OUT"
+  cp "$DIR"/*.log "$OUT"/ 2>/dev/null
+  cp "$DIR"/*.json "$OUT"/ 2>/dev/null
+  nvidia-smi --query-gpu=utilization.gpu,memory.used --format=csv
+  tail -n 2 "$DIR"/*.log
+  ;;
+*)
+  echo "usage: soak_parallel_h200.sh start|poll [SECONDS]" >&2
+  exit 2
+  ;;
+esac
