@@ -5,7 +5,7 @@
 
 use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
 use solari_app::cli::{BenchCacheArgs, Prepared};
-use solari_app::realtime::{GiMode, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{GiMode, RealtimeRenderer, RealtimeSettings};
 use solari_worldcache::{PASS_LABELS, WorldCacheSettings};
 
 // Passes timed per row: the cache's upkeep, its GI pass, and ReSTIR DI for scale.

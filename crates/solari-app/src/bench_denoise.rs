@@ -10,9 +10,9 @@
 
 use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
 use solari_app::cli::{BenchDenoiseArgs, Prepared};
-use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_denoise::DenoiserKind;
 use solari_denoise::fallback::PASS_LABELS;
+use solari_renderer::{RealtimeRenderer, RealtimeSettings};
 use std::time::{Duration, Instant};
 
 /// The CSV header; one row per (iterations, frame).

@@ -4,8 +4,8 @@
 
 use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
 use solari_app::cli::{BenchDiArgs, Prepared};
-use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_lights::LightTileSettings;
+use solari_renderer::{RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 
 /// One measured setting.

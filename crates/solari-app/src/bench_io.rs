@@ -2,7 +2,7 @@
 //! the reference image, error metrics, the frame progress bar, CSV output.
 
 use indicatif::{ProgressBar, ProgressStyle};
-use solari_app::image_io::read_linear;
+use solari_reference::image_io::read_linear;
 use std::io::Write;
 use std::path::PathBuf;
 

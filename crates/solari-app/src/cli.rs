@@ -9,10 +9,10 @@
 
 use crate::cli_values::{self as values, ViewArg};
 use crate::output::{ImageOutputs, check_writable};
-use crate::realtime::{CameraPath, FiniteCheck, FrameView, GiMode, RealtimeSettings};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightTileSettings, Selection};
+use solari_renderer::{CameraPath, FiniteCheck, FrameView, GiMode, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};

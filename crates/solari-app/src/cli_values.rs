@@ -2,9 +2,9 @@
 //! arguments are parsed, so a bad value is refused (with the accepted values named) before
 //! any file is read or any GPU work starts.
 
-use crate::realtime::{CameraPath, FrameView, GiMode};
 use solari_denoise::DenoiserKind;
 use solari_lights::{LightTileSettings, Selection};
+use solari_renderer::{CameraPath, FrameView, GiMode};
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
 use solari_scene::view_pass::DebugView;

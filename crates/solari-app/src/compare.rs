@@ -1,11 +1,11 @@
 //! `solari compare`: error metrics of a test image against a reference.
 
 use solari_app::cli::{CompareArgs, Prepared, SceneArgs};
-use solari_app::image_io::read_linear;
-use solari_app::metrics::{Metrics, compare, heatmap};
 use solari_app::output::write_atomic;
-use solari_app::reference::{ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, Selection};
+use solari_reference::image_io::read_linear;
+use solari_reference::metrics::{Metrics, compare, heatmap};
+use solari_reference::path_tracer::{ReferenceRenderer, ReferenceSettings};
 use solari_scene::gpu_scene::TraceVariant;
 
 /// Pixels that see an emitter directly: emission-only paths (no bounce) at 4 samples per pixel.
@@ -109,7 +109,7 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         None => None,
     };
     if let Some(path) = &args.heatmap {
-        let png = solari_app::image_io::encode_png_rgb8(w, h, &heatmap(&map, w, h))?;
+        let png = solari_reference::image_io::encode_png_rgb8(w, h, &heatmap(&map, w, h))?;
         write_atomic(path, &png)?;
     }
     if args.json {

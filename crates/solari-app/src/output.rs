@@ -3,7 +3,7 @@
 //! writable, the extension is known), and files are written atomically (a temporary file
 //! beside the target, then a rename), so a failure never leaves a corrupt or partial file.
 
-use crate::image_io::{encode_exr, encode_png};
+use solari_reference::image_io::{encode_exr, encode_png};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

@@ -5,7 +5,7 @@
 use crate::bench_io::frame_bar;
 use solari_app::cli::{Prepared, RenderArgs, RenderPlan};
 use solari_app::output::AtomicFile;
-use solari_app::realtime::{FrameReport, PASS_NAMES, RealtimeRenderer};
+use solari_renderer::{FrameReport, PASS_NAMES, RealtimeRenderer};
 use std::io::Write;
 use std::time::Instant;
 

@@ -3,10 +3,10 @@
 
 use indicatif::{ProgressBar, ProgressStyle};
 use solari_app::cli::{Mode, Prepared, RenderArgs, RenderPlan};
-use solari_app::image_io;
 use solari_app::output::{ImageFormat, write_atomic};
-use solari_app::reference::{ReferenceRenderer, ReferenceSettings, SAFETY_CAP};
 use solari_lights::LightList;
+use solari_reference::image_io;
+use solari_reference::path_tracer::{ReferenceRenderer, ReferenceSettings, SAFETY_CAP};
 use solari_scene::gpu_scene::TraceVariant;
 use solari_scene::gpu_types::{GpuView, NO_HIT};
 use solari_scene::view_pass::{DebugView, ViewPass};

@@ -6,7 +6,7 @@
 
 use solari_app::cli::{Prepared, SoakArgs};
 use solari_app::output::write_atomic;
-use solari_app::realtime::{FINITE_SLOTS, RealtimeRenderer};
+use solari_renderer::{FINITE_SLOTS, RealtimeRenderer};
 use solari_scene::{Material, Scene};
 use std::time::Instant;
 

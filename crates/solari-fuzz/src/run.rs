@@ -176,7 +176,7 @@ impl Harness {
 }
 
 fn write_png(path: &Path) -> Result<(), String> {
-    let png = solari_app::image_io::encode_png_rgb8(8, 8, &[200u8; 8 * 8 * 3])?;
+    let png = solari_reference::image_io::encode_png_rgb8(8, 8, &[200u8; 8 * 8 * 3])?;
     std::fs::write(path, png).map_err(|e| e.to_string())
 }
 

@@ -300,7 +300,7 @@ pub fn cli(args: &[OsString]) -> Outcome {
         Command::Soak(a) => Some(&a.scene),
         Command::Compare(a) => {
             for p in [&a.test, &a.reference] {
-                if let Err(e) = solari_app::image_io::read_linear(p) {
+                if let Err(e) = solari_reference::image_io::read_linear(p) {
                     return Outcome::Refused(e);
                 }
             }

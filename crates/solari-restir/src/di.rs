@@ -26,6 +26,8 @@ pub enum DiPasses {
 pub struct RestirDi {
     settings: RestirDiSettings,
     tiles: LightTileSettings,
+    // What the tracing pipelines were specialised for: checked against the scene at encode.
+    variant: TraceVariant,
     size: (u32, u32),
     initial: wgpu::ComputePipeline,
     spatial: wgpu::ComputePipeline,
@@ -133,6 +135,7 @@ impl RestirDi {
         let mut di = Self {
             settings,
             tiles,
+            variant,
             size: (0, 0),
             initial,
             spatial,
@@ -150,6 +153,12 @@ impl RestirDi {
         };
         di.resize(gpu, width, height)?;
         Ok(di)
+    }
+
+    /// The traversal the pipelines were built for (after [`TraceVariant::for_backend`]).
+    /// [`RestirDi::encode`] refuses a scene this variant cannot trace.
+    pub fn variant(&self) -> TraceVariant {
+        self.variant
     }
 
     /// The settings in use.
@@ -324,6 +333,10 @@ impl RestirDi {
     /// [`PASS_LABELS`] when `profiler` is given. With `light_count == 0` only the emission
     /// copy runs (and history is dropped); otherwise initial + temporal, then spatial +
     /// shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles.
+    ///
+    /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
+    /// `scene` no longer has (for example one instance, and the scene has grown): they would
+    /// trace instance 0 alone. Build a new `RestirDi` with [`TraceVariant::for_scene`].
     pub fn encode(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -332,7 +345,8 @@ impl RestirDi {
         gbuffer: &GBuffer,
         lights: &wgpu::BindGroup,
         light_count: u32,
-    ) -> DiPasses {
+    ) -> Result<DiPasses, GpuError> {
+        self.variant.check(scene)?;
         let buffers = self.buffers.as_ref().expect("resize allocates the buffers");
         let groups = [
             scene.bind_group(),
@@ -349,12 +363,12 @@ impl RestirDi {
         if light_count == 0 {
             run(encoder, PASS_LABELS[2], &self.emission);
             self.history = false;
-            return DiPasses::EmissionOnly;
+            return Ok(DiPasses::EmissionOnly);
         }
         run(encoder, PASS_LABELS[0], &self.initial);
         run(encoder, PASS_LABELS[1], &self.spatial);
         self.history = true;
-        DiPasses::Full
+        Ok(DiPasses::Full)
     }
 
     /// Shaded radiance, `width × height` `vec4<f32>` row by row from the top left: rgb is

@@ -500,6 +500,11 @@ impl GpuScene {
         self.generation
     }
 
+    /// Instances in the scene as uploaded now (after the last [`GpuScene::set_instances`]).
+    pub fn instance_count(&self) -> u32 {
+        self.info_data.instance_count
+    }
+
     /// Bind group 0.
     pub fn bind_group(&self) -> &wgpu::BindGroup {
         &self.bind_group

@@ -55,6 +55,8 @@ pub struct WorldCache {
     dispatch_group: wgpu::BindGroup,
     target_layout: wgpu::BindGroupLayout,
     pipelines: Pipelines,
+    // What the update pipeline was specialised for: checked against the scene at encode.
+    variant: TraceVariant,
     size: (u32, u32),
 }
 
@@ -256,6 +258,7 @@ impl WorldCache {
             dispatch_group,
             target_layout,
             pipelines,
+            variant,
             size: (0, 0),
         })
     }
@@ -323,6 +326,12 @@ impl WorldCache {
     /// slots are zero), for the non-finite detector with [`crate::CELL_CHECK`].
     pub fn cells_buffer(&self) -> &wgpu::Buffer {
         &self.cells
+    }
+
+    /// The traversal the update pipeline was built for (after [`TraceVariant::for_backend`]).
+    /// [`WorldCache::encode_update`] refuses a scene this variant cannot trace.
+    pub fn variant(&self) -> TraceVariant {
+        self.variant
     }
 
     /// The settings in use.
@@ -479,13 +488,18 @@ impl WorldCache {
     /// Records the update (a new sample per live cell, stochastic past the budget) and the
     /// blend, both sized on the GPU by the compaction. `lights` is the light tiles' reader
     /// group ([`LightTiles::reader_group`]) for this frame.
+    ///
+    /// Errors, recording nothing, when the update pipeline was specialised for a scene shape
+    /// that `scene` no longer has (for example one instance, and the scene has grown): it
+    /// would trace instance 0 alone. Build a new cache with [`TraceVariant::for_scene`].
     pub fn encode_update(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         profiler: Option<&GpuProfiler>,
         scene: &GpuScene,
         lights: &wgpu::BindGroup,
-    ) {
+    ) -> Result<(), GpuError> {
+        self.variant.check(scene)?;
         let p = &self.pipelines;
         let size = Dispatch::Indirect(&self.dispatch);
         in_scope(profiler, PASS_LABELS[2], encoder, |e| {
@@ -500,19 +514,22 @@ impl WorldCache {
         in_scope(profiler, PASS_LABELS[3], encoder, |e| {
             record(e, PASS_LABELS[3], &p.blend, &[(2, &self.group)], size)
         });
+        Ok(())
     }
 
     /// Records the whole upkeep: [`WorldCache::encode_maintain`] then
-    /// [`WorldCache::encode_update`].
+    /// [`WorldCache::encode_update`], refusing (before recording anything) a scene the
+    /// update pipeline cannot trace.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         profiler: Option<&GpuProfiler>,
         scene: &GpuScene,
         lights: &wgpu::BindGroup,
-    ) {
+    ) -> Result<(), GpuError> {
+        self.variant.check(scene)?;
         self.encode_maintain(encoder, profiler);
-        self.encode_update(encoder, profiler, scene, lights);
+        self.encode_update(encoder, profiler, scene, lights)
     }
 
     /// Records cache-only GI: every G-buffer pixel adds its diffuse albedo × the cache's

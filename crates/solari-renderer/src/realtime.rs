@@ -378,6 +378,49 @@ impl RealtimeRenderer {
         Ok(bytemuck::cast_slice(&bytes).to_vec())
     }
 
+    /// The traversal ReSTIR DI and the world cache trace with: specialised for the scene
+    /// they were built for, rebuilt as two-level when the scene outgrows it.
+    pub fn trace_variant(&self) -> TraceVariant {
+        self.di.variant()
+    }
+
+    // Passes specialised for a single-instance scene would trace instance 0 alone once the
+    // scene grows (`GpuScene::set_instances`, or another scene given to `render`): rebuild
+    // ReSTIR DI and the world cache for the scene's shape now. Their history goes with them
+    // (the scene changed); a shape that still fits (a scene that shrank) keeps them.
+    fn fit_tracing_to(&mut self, gpu: &Gpu, gpu_scene: &GpuScene) -> Result<(), GpuError> {
+        let di_fits = self.di.variant().check(gpu_scene).is_ok();
+        let cache_fits = self
+            .cache
+            .as_ref()
+            .is_none_or(|(c, _)| c.variant().check(gpu_scene).is_ok());
+        if di_fits && cache_fits {
+            return Ok(());
+        }
+        let variant = TraceVariant::for_scene(gpu_scene);
+        log::info!(
+            "scene shape changed ({} instances): rebuilding ReSTIR DI and the world cache as {}",
+            gpu_scene.instance_count(),
+            variant.name()
+        );
+        let (w, h) = self.di.size();
+        let backend = gpu_scene.backend;
+        self.di = RestirDi::new(
+            gpu,
+            backend,
+            variant,
+            w,
+            h,
+            self.settings.di,
+            self.settings.tiles,
+        )?;
+        if let Some((cache, target)) = &mut self.cache {
+            *cache = WorldCache::new(gpu, backend, variant, cache.settings(), self.settings.tiles)?;
+            *target = cache.target_group(gpu, self.di.output());
+        }
+        Ok(())
+    }
+
     // Whether this frame's output goes through the denoiser (debug views do not).
     fn denoising(&self) -> bool {
         self.denoiser.is_some() && self.settings.view == FrameView::Lit
@@ -426,6 +469,7 @@ impl RealtimeRenderer {
         gpu_scene: &GpuScene,
         camera: &Camera,
     ) -> Result<FrameReport, GpuError> {
+        self.fit_tracing_to(gpu, gpu_scene)?;
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;
@@ -472,7 +516,7 @@ impl RealtimeRenderer {
             }
         }
         if let Some((cache, _)) = &self.cache {
-            cache.encode(&mut encoder, profiler, gpu_scene, &self.lights_group);
+            cache.encode(&mut encoder, profiler, gpu_scene, &self.lights_group)?;
             ran[2..6].fill(true);
             if let Some(c) = checker.as_mut() {
                 let slots = cache.settings().capacity as u64;
@@ -494,7 +538,7 @@ impl RealtimeRenderer {
             &self.gbuffer,
             &self.lights_group,
             light_count,
-        );
+        )?;
         match passes {
             DiPasses::Full => {
                 ran[6] = true;

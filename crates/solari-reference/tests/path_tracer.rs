@@ -2,17 +2,13 @@
 //! (GPU: lavapipe in CI). Tolerances come from the sample count: every check allows four
 //! standard errors estimated from the render itself, plus the stated reference accuracy.
 
-use solari_app::image_io::read_linear;
-use solari_app::reference::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
 use solari_lights::{LightList, Selection};
+use solari_reference::image_io::read_linear;
+use solari_reference::path_tracer::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{Scene, load_gltf};
-
-mod common;
-
-use common::reference_image;
 
 fn backends(gpu: &Gpu) -> Vec<Backend> {
     Backend::ALL
@@ -35,7 +31,8 @@ fn render(
         selection: Selection::Power,
         pixel_centre: false,
     };
-    let image = reference_image(gpu, backend, scene, size, &settings);
+    let image = solari_reference::reference_image(gpu, backend, scene, size, size, &settings)
+        .expect("reference render");
     assert_eq!(image.capped_paths, 0, "paths hit the safety cap");
     assert_eq!(image.rejected_samples, 0, "non-finite samples");
     assert!(image.pixels.iter().flatten().all(|c| c.is_finite()));

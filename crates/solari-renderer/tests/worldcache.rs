@@ -5,7 +5,7 @@
 //! figures are printed for the issue notes (`cargo test -- --nocapture`).
 
 use glam::{Mat4, Vec3};
-use solari_app::realtime::{CameraPath, GiMode, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{CameraPath, GiMode, RealtimeRenderer, RealtimeSettings};
 use solari_scene::Camera;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};

@@ -5,8 +5,8 @@
 //! printed for the issue notes (`cargo test -- --nocapture`).
 
 use glam::Vec3;
-use solari_app::realtime::{CameraPath, RealtimeRenderer, RealtimeSettings};
 use solari_lights::LightTileSettings;
+use solari_renderer::{CameraPath, RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::GpuScene;

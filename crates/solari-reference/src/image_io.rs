@@ -3,7 +3,7 @@
 //! The PNG tone curve is stated so images can be compared: radiance × 2^exposure, then
 //! Narkowicz's fitted ACES curve (`x(2.51x + 0.03) / (x(2.43x + 0.59) + 0.14)`), then the
 //! sRGB transfer function. Non-finite pixels are written black in the PNG. Files are written
-//! through [`crate::output`], which checks paths first and writes atomically.
+//! by the caller; `solari-app`'s `output` module checks paths first and writes atomically.
 
 use image::{ImageBuffer, Rgb};
 use std::path::Path;

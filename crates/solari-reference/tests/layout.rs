@@ -1,6 +1,6 @@
 //! CPU-only: the path tracer's uniform mirror has the size naga gives its WGSL twin.
 
-use solari_app::reference::{MODULES, ReferenceParams};
+use solari_reference::path_tracer::{MODULES, ReferenceParams};
 use solari_scene::shaders::{Backend, compose, validate};
 
 #[test]

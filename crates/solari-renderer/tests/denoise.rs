@@ -4,8 +4,8 @@
 //! (`cargo test --release -p solari-app --test denoise -- --nocapture`).
 
 use glam::{Mat4, Vec3, Vec4};
-use solari_app::realtime::{RealtimeRenderer, RealtimeSettings};
 use solari_denoise::{DenoiserKind, FallbackSettings};
+use solari_renderer::{RealtimeRenderer, RealtimeSettings};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;

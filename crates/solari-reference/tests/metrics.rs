@@ -2,7 +2,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_app::metrics::compare;
+use solari_reference::metrics::compare;
 
 fn gradient(w: u32, h: u32) -> Vec<[f32; 3]> {
     (0..w * h)

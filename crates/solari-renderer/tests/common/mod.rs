@@ -1,14 +1,16 @@
 //! Helpers shared by the renderer tests (`realtime.rs`, `denoise.rs`): small settings,
-//! scene upload, the reference tracer's direct-only image, and error metrics.
+//! scene upload and the reference tracer's images at pixel centres (`solari-reference`).
 #![allow(dead_code)]
 
-use solari_app::realtime::{FiniteCheck, RealtimeSettings};
-use solari_app::reference::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
-use solari_lights::{LightList, LightTileSettings, Selection};
+use solari_lights::{LightTileSettings, Selection};
+#[allow(unused_imports)] // not every test file compares images
+pub use solari_reference::rmse;
+use solari_reference::{ReferenceSettings, reference_image};
+use solari_renderer::{FiniteCheck, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 use solari_scene::Scene;
 use solari_scene::gpu::Gpu;
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
 
 /// Image side of the renderer tests.
@@ -66,46 +68,13 @@ pub fn reference(
         selection: Selection::Power,
         pixel_centre: true,
     };
-    reference_image(gpu, backend, scene, size, &settings).pixels
-}
-
-/// The reference tracer's `size × size` image of `scene` from its first camera.
-pub fn reference_image(
-    gpu: &Gpu,
-    backend: Backend,
-    scene: &Scene,
-    size: u32,
-    settings: &ReferenceSettings,
-) -> ReferenceImage {
-    let gpu_scene = upload(gpu, backend, scene);
-    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("reference pipeline");
-    let camera = scene.camera(None).expect("camera");
-    renderer
-        .render(
-            gpu,
-            &gpu_scene,
-            &LightList::build(scene),
-            &camera,
-            size,
-            size,
-            settings,
-            |_| {},
-        )
+    reference_image(gpu, backend, scene, size, size, &settings)
         .expect("reference render")
+        .pixels
 }
 
 pub fn luminance(c: [f32; 3]) -> f64 {
     0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
-}
-
-pub fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
-    let sum: f64 = image
-        .iter()
-        .zip(reference)
-        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
-        .sum();
-    (sum / (image.len() * 3) as f64).sqrt()
 }
 
 pub fn rgb(pixels: &[[f32; 4]]) -> Vec<[f32; 3]> {

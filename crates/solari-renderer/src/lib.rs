@@ -1,0 +1,19 @@
+//! # solari-renderer
+//!
+//! The composed real-time frame of the Solari workspace, for a game, a tool or a test that
+//! wants the whole pipeline rather than single components: G-buffer → light tiles → world
+//! cache upkeep → ReSTIR DI → cache-only GI → denoiser, one frame per
+//! [`RealtimeRenderer::render`] call, with a report of the passes that ran, their GPU times
+//! and (optionally) the non-finite detector's counts per pass.
+
+pub mod realtime;
+
+pub use realtime::{
+    CameraPath, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES, PassRun,
+    RealtimeRenderer, RealtimeSettings,
+};
+
+/// The README's example, compiled and run as a doc test.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
