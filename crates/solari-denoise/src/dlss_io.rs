@@ -33,6 +33,8 @@ struct CopyParams {
     _pad: [u32; 2],
 }
 
+const _: () = assert!(size_of::<CopyParams>() == 16);
+
 /// DLSS-RR's input textures at the render resolution and its output at the output
 /// resolution, with the passes that fill the inputs from Solari's lighting buffer and
 /// G-buffer and copy the output to a `vec4<f32>` buffer.

@@ -28,6 +28,8 @@ pub struct GpuHistory {
     pub carry: [f32; 4],
 }
 
+const _: () = assert!(size_of::<GpuHistory>() == 48);
+
 // Bytes per pixel: two histories, two filter buffers, the guide.
 const HISTORY_BYTES: u64 = size_of::<GpuHistory>() as u64;
 const PIXEL_BYTES: u64 = 2 * HISTORY_BYTES + 2 * 16 + 16;

@@ -231,6 +231,8 @@ pub struct GpuDenoiseParams {
     pub _pad1: [u32; 3],
 }
 
+const _: () = assert!(size_of::<GpuDenoiseParams>() == 80);
+
 /// Per-dispatch uniform (WGSL `PassParams`): which signal, which iteration.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -248,3 +250,5 @@ pub struct GpuPassParams {
     /// Padding.
     pub _pad: [u32; 3],
 }
+
+const _: () = assert!(size_of::<GpuPassParams>() == 32);

@@ -35,6 +35,8 @@ pub struct GpuLight {
     pub _pad: u32,
 }
 
+const _: () = assert!(size_of::<GpuLight>() == 64);
+
 /// WGSL twin: `GpuEmissiveTriangle` in `light_sampling.wesl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -53,6 +55,8 @@ pub struct GpuEmissiveTriangle {
     pub primitive: u32,
 }
 
+const _: () = assert!(size_of::<GpuEmissiveTriangle>() == 48);
+
 /// WGSL twin: `GpuLightInfo` in `light_sampling.wesl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -64,6 +68,8 @@ pub struct GpuLightInfo {
     /// Padding.
     pub _pad: [u32; 2],
 }
+
+const _: () = assert!(size_of::<GpuLightInfo>() == 16);
 
 /// The GPU form of a [`LightList`], flattened for upload.
 pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>) {

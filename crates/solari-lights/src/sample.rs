@@ -41,6 +41,8 @@ pub struct LightSampleId {
     pub point: u32,
 }
 
+const _: () = assert!(size_of::<LightSampleId>() == 12);
+
 /// A light sample resolved independently of any shading point: the form light tiles store.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ResolvedLightSample {

@@ -68,6 +68,8 @@ pub struct PackedLightSample {
     pub inverse_pdf: f32,
 }
 
+const _: () = assert!(size_of::<PackedLightSample>() == 32);
+
 /// Which words of a [`PackedLightSample`] the non-finite detector checks: the position (any
 /// sign), and the radiance and inverse pdf (non-negative).
 pub const SAMPLE_CHECK: solari_scene::finite_check::RecordLayout =
@@ -134,6 +136,8 @@ pub struct GpuTileParams {
     /// Padding.
     pub _pad: [u32; 2],
 }
+
+const _: () = assert!(size_of::<GpuTileParams>() == 16);
 
 /// Salt of the presampling pass's random stream (`LIGHT_TILE_SALT` in the shader).
 pub const LIGHT_TILE_SALT: u32 = 0x711e5;

@@ -75,6 +75,8 @@ pub struct ReferenceParams {
     pub pixel_centre: u32,
 }
 
+const _: () = assert!(size_of::<ReferenceParams>() == 16);
+
 /// The app's own WESL modules.
 pub const MODULES: &[(&str, &str)] = &[("reference", include_str!("../shaders/reference.wesl"))];
 

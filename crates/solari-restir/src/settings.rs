@@ -122,3 +122,5 @@ pub struct GpuDiParams {
     /// Padding.
     pub _pad: u32,
 }
+
+const _: () = assert!(size_of::<GpuDiParams>() == 48);

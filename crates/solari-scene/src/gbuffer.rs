@@ -45,6 +45,8 @@ pub struct GpuRasterView {
     pub previous_view_proj: [[f32; 4]; 4],
 }
 
+const _: () = assert!(size_of::<GpuRasterView>() == 128);
+
 /// The world-to-clip matrix the G-buffer rasterises with for `camera` at `width × height`:
 /// a reversed-Z infinite perspective, matching the primary rays of `view.wesl` pixel for pixel.
 pub fn view_projection(camera: &Camera, width: u32, height: u32) -> Mat4 {
@@ -89,6 +91,8 @@ pub struct GpuFrameViews {
     /// Padding.
     pub _pad: [u32; 3],
 }
+
+const _: () = assert!(size_of::<GpuFrameViews>() == 176);
 
 /// One set of G-buffer targets.
 pub struct GBufferTargets {

@@ -201,6 +201,8 @@ pub struct GpuCacheParams {
     pub height: u32,
 }
 
+const _: () = assert!(size_of::<GpuCacheParams>() == 80);
+
 /// One table slot's contents (WGSL `CacheCell`), as [`crate::WorldCache::read_cells`]
 /// returns them.
 #[repr(C)]
@@ -218,6 +220,8 @@ pub struct GpuCacheCell {
     /// blend.
     pub indirect: [f32; 4],
 }
+
+const _: () = assert!(size_of::<GpuCacheCell>() == 48);
 
 /// Which words of a [`GpuCacheCell`] the non-finite detector checks: the position (any
 /// sign), the irradiance with its sample count and the indirect part (non-negative), and the
@@ -244,6 +248,8 @@ pub struct GpuNewSample {
     /// Padding.
     pub _pad: u32,
 }
+
+const _: () = assert!(size_of::<GpuNewSample>() == 32);
 
 /// Bytes before the per-block counts in the control buffer (WGSL `CacheControl`).
 pub const CONTROL_HEADER_BYTES: u64 = 16;
