@@ -8,6 +8,7 @@ use solari_app::cli::BenchArgs;
 use solari_scene::bvh::{BvhQuality, SoftwareBvh};
 use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::gpu_timer::PassTimer;
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::ViewPass;
@@ -83,36 +84,19 @@ fn measure(
 ) -> Result<Measurement, String> {
     let target = pass.target(gpu, view).map_err(|e| e.to_string())?;
     let counts = pass.run(gpu, scene, &target).map_err(|e| e.to_string())?;
-    let counts: &[u32] = bytemuck::cast_slice(&counts);
-    // count: 1 = primary only, 2 = a hemisphere ray that missed, 3 = one that hit.
-    let rays_per_frame: u64 = counts.iter().map(|&c| if c >= 2 { 2 } else { 1 }).sum();
-    let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-        label: Some("solari_app/bench_timestamps"),
-        ty: wgpu::QueryType::Timestamp,
-        count: 2,
-    });
-    let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("solari_app/bench_resolve"),
-        size: 16,
-        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let period = gpu.queue.get_timestamp_period() as f64;
+    let rays_per_frame = ViewPass::bench_ray_count(&counts);
+    let timer = PassTimer::new(gpu).map_err(|e| e.to_string())?;
     let mut times = Vec::new();
     for frame in 0..frames + 10 {
         let mut v = *view;
         v.frame = frame;
         gpu.queue
             .write_buffer(&target.uniform, 0, bytemuck::bytes_of(&v));
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        pass.encode(&mut encoder, scene, &target, Some((&queries, 0)))
+        let ms = timer
+            .time(gpu, |e, ts| pass.encode(e, scene, &target, Some(ts)))
             .map_err(|e| e.to_string())?;
-        encoder.resolve_query_set(&queries, 0..2, &resolve, 0);
-        gpu.queue.submit([encoder.finish()]);
-        let ts = gpu.read_buffer(&resolve, 16).map_err(|e| e.to_string())?;
-        let ts: &[u64] = bytemuck::cast_slice(&ts);
         if frame >= 10 {
-            times.push(ts[1].wrapping_sub(ts[0]) as f64 * period * 1e-6);
+            times.push(ms);
         }
     }
     times.sort_by(f64::total_cmp);

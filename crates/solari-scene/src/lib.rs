@@ -25,6 +25,7 @@ pub mod gltf_check;
 pub mod gltf_import;
 pub mod gpu;
 pub mod gpu_scene;
+pub mod gpu_timer;
 pub mod gpu_types;
 pub mod model;
 pub mod packing;

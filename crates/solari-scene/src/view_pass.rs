@@ -57,6 +57,13 @@ impl ViewPass {
         )
     }
 
+    /// Rays a run of the [`ViewPass::ray_bench`] pass traced, from its output (one `u32` per
+    /// pixel: 1 = a primary ray only, 2 = plus a hemisphere ray that missed, 3 = one that hit).
+    pub fn bench_ray_count(output: &[u8]) -> u64 {
+        let counts: &[u32] = bytemuck::cast_slice(output);
+        counts.iter().map(|&c| if c >= 2 { 2 } else { 1 }).sum()
+    }
+
     /// The ray-throughput benchmark pass (`ray_bench.wesl`, 4 bytes per pixel), compiled with
     /// the given runtime checks so their cost can be measured.
     pub fn ray_bench(

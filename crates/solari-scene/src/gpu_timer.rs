@@ -1,0 +1,58 @@
+//! GPU time of one pass from two timestamp queries: the one way every Solari bench measures a
+//! pass (`solari bench-rays` and the criterion benches), so their figures can be compared.
+
+use crate::GpuError;
+use crate::gpu::Gpu;
+
+/// A pair of timestamp queries bracketing one compute pass, with its resolve buffer. Reuse it
+/// for many measurements; each [`PassTimer::time`] waits for its pass to finish.
+pub struct PassTimer {
+    queries: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    period_ns: f64,
+}
+
+impl PassTimer {
+    /// Creates the queries. Errors (naming the adapter) where timestamp queries are missing.
+    pub fn new(gpu: &Gpu) -> Result<Self, GpuError> {
+        if !gpu.features.contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return Err(GpuError::Validation(format!(
+                "adapter '{}' has no timestamp queries: GPU times cannot be measured",
+                gpu.info.name
+            )));
+        }
+        let queries = gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("solari_scene/pass_timer"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2,
+        });
+        let resolve = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_scene/pass_timer_resolve"),
+            size: 16,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            queries,
+            resolve,
+            period_ns: gpu.queue.get_timestamp_period() as f64,
+        })
+    }
+
+    /// Records one pass with `record`, which must give the query set and first index it
+    /// receives to its pass's timestamp writes (as [`crate::view_pass::ViewPass::encode`]
+    /// does), submits it and returns the pass's GPU time in milliseconds.
+    pub fn time(
+        &self,
+        gpu: &Gpu,
+        record: impl FnOnce(&mut wgpu::CommandEncoder, (&wgpu::QuerySet, u32)) -> Result<(), GpuError>,
+    ) -> Result<f64, GpuError> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        record(&mut encoder, (&self.queries, 0))?;
+        encoder.resolve_query_set(&self.queries, 0..2, &self.resolve, 0);
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = gpu.read_buffer(&self.resolve, 16)?;
+        let ts: &[u64] = bytemuck::cast_slice(&bytes);
+        Ok(ts[1].wrapping_sub(ts[0]) as f64 * self.period_ns * 1e-6)
+    }
+}
