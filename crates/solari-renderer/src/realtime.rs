@@ -66,6 +66,26 @@ pub const FINITE_SLOTS: [&str; 6] = [
     "denoise",
 ];
 
+// Indices into FINITE_SLOTS, so the frame loop names the slot it checks.
+const SLOT_GBUFFER: usize = 0;
+const SLOT_TILES: usize = 1;
+const SLOT_CACHE: usize = 2;
+const SLOT_DI: usize = 3;
+const SLOT_CACHE_GI: usize = 4;
+const SLOT_DENOISE: usize = 5;
+
+/// Which of [`PASS_NAMES`] ran this frame, marked by name (a name not in the list is
+/// ignored: it has no row in the report).
+struct Ran([bool; PASS_NAMES.len()]);
+
+impl Ran {
+    fn mark(&mut self, name: &str) {
+        if let Some(i) = PASS_NAMES.iter().position(|n| *n == name) {
+            self.0[i] = true;
+        }
+    }
+}
+
 /// What the renderer does with the non-finite detector.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FiniteCheck {
@@ -482,7 +502,7 @@ impl RealtimeRenderer {
             cache.prepare(gpu, frame, eye, light_count, self.di.size());
         }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let mut ran = [false; PASS_NAMES.len()];
+        let mut ran = Ran([false; PASS_NAMES.len()]);
         let profiler = self.profiler.as_ref();
         let denoising = self.denoising();
         let checker = &mut self.checker;
@@ -492,23 +512,26 @@ impl RealtimeRenderer {
         in_scope(profiler, PASS_NAMES[0], &mut encoder, |e| {
             self.gbuffer.encode(e, gpu_scene)
         });
-        ran[0] = true;
+        ran.mark(PASS_NAMES[0]);
         if let Some(c) = checker.as_mut() {
             let t = self.gbuffer.current();
-            c.check_texture(gpu, &mut encoder, 0, &t.emission, 0xf, 0xf)?;
-            c.check_texture(gpu, &mut encoder, 0, &t.motion, 0x3, 0)?;
-            c.check_depth(gpu, &mut encoder, 0, &t.depth)?;
+            c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;
+            c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.motion, 0x3, 0)?;
+            c.check_depth(gpu, &mut encoder, SLOT_GBUFFER, &t.depth)?;
         }
         if light_count > 0 {
-            ran[1] = in_scope(profiler, PASS_NAMES[1], &mut encoder, |e| {
+            let encoded = in_scope(profiler, PASS_NAMES[1], &mut encoder, |e| {
                 self.tiles.encode(e, &self.lights)
             });
+            if encoded {
+                ran.mark(PASS_NAMES[1]);
+            }
             if let Some(c) = checker.as_mut() {
                 let samples = self.tiles.settings().sample_count();
                 c.check_buffer(
                     gpu,
                     &mut encoder,
-                    1,
+                    SLOT_TILES,
                     self.tiles.samples_buffer(),
                     samples,
                     solari_lights::SAMPLE_CHECK,
@@ -517,14 +540,16 @@ impl RealtimeRenderer {
         }
         if let Some((cache, _)) = &self.cache {
             cache.encode(&mut encoder, profiler, gpu_scene, &self.lights_group)?;
-            ran[2..6].fill(true);
+            for name in &CACHE[..4] {
+                ran.mark(name);
+            }
             if let Some(c) = checker.as_mut() {
                 let slots = cache.settings().capacity as u64;
                 let cells = cache.cells_buffer();
                 c.check_buffer(
                     gpu,
                     &mut encoder,
-                    2,
+                    SLOT_CACHE,
                     cells,
                     slots,
                     solari_worldcache::CELL_CHECK,
@@ -541,10 +566,10 @@ impl RealtimeRenderer {
         )?;
         match passes {
             DiPasses::Full => {
-                ran[6] = true;
-                ran[7] = true;
+                ran.mark(PASS_LABELS[0]);
+                ran.mark(PASS_LABELS[1]);
             }
-            DiPasses::EmissionOnly => ran[8] = true,
+            DiPasses::EmissionOnly => ran.mark(PASS_LABELS[2]),
         }
         let (w, h) = self.di.size();
         let pixels = w as u64 * h as u64;
@@ -553,22 +578,29 @@ impl RealtimeRenderer {
                 let reservoirs = self.di.reservoirs();
                 let cap = self.settings.di.confidence_cap;
                 let layout = solari_restir::reservoir_check(cap);
-                c.check_buffer(gpu, &mut encoder, 3, reservoirs, pixels, layout)?;
+                c.check_buffer(gpu, &mut encoder, SLOT_DI, reservoirs, pixels, layout)?;
             }
             let rgba = RecordLayout::RGBA_NON_NEGATIVE;
-            c.check_buffer(gpu, &mut encoder, 3, self.di.output(), pixels, rgba)?;
+            c.check_buffer(gpu, &mut encoder, SLOT_DI, self.di.output(), pixels, rgba)?;
         }
         if let Some((cache, target)) = &self.cache {
             if self.settings.view == FrameView::WorldCache {
                 cache.encode_view(&mut encoder, profiler, &self.gbuffer, target);
-                ran[10] = true;
+                ran.mark(CACHE[5]);
             } else if self.settings.gi == GiMode::WorldCache {
                 cache.encode_gi(&mut encoder, profiler, &self.gbuffer, target);
-                ran[9] = true;
+                ran.mark(CACHE[4]);
             }
             if let Some(c) = checker.as_mut() {
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;
-                c.check_buffer(gpu, &mut encoder, 4, self.di.output(), pixels, rgba)?;
+                c.check_buffer(
+                    gpu,
+                    &mut encoder,
+                    SLOT_CACHE_GI,
+                    self.di.output(),
+                    pixels,
+                    rgba,
+                )?;
             }
         }
         let mut after = Vec::new();
@@ -582,9 +614,7 @@ impl RealtimeRenderer {
             };
             after = denoiser.encode(gpu, &mut encoder, profiler, &inputs)?;
             for label in denoiser.pass_labels() {
-                if let Some(i) = PASS_NAMES.iter().position(|n| n == label) {
-                    ran[i] = true;
-                }
+                ran.mark(label);
             }
         }
         if let Some(p) = &mut self.profiler {
@@ -598,7 +628,8 @@ impl RealtimeRenderer {
                 let d = self.denoiser.as_ref().expect("denoising() checked it");
                 let (ow, oh) = d.output_size();
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;
-                c.check_buffer(gpu, &mut last, 5, d.output(), ow as u64 * oh as u64, rgba)?;
+                let outputs = ow as u64 * oh as u64;
+                c.check_buffer(gpu, &mut last, SLOT_DENOISE, d.output(), outputs, rgba)?;
             }
             c.end_frame(&mut last);
         }
@@ -643,7 +674,7 @@ impl RealtimeRenderer {
             finite,
             passes: PASS_NAMES
                 .iter()
-                .zip(ran)
+                .zip(ran.0)
                 .zip(times)
                 .map(|((name, ran), gpu_ms)| PassRun {
                     name,
@@ -719,5 +750,34 @@ impl CameraPath {
                 camera
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slot_constants_name_their_slots() {
+        let named = [
+            (SLOT_GBUFFER, "gbuffer"),
+            (SLOT_TILES, "light_tiles"),
+            (SLOT_CACHE, "world_cache"),
+            (SLOT_DI, "restir_di"),
+            (SLOT_CACHE_GI, "cache_gi"),
+            (SLOT_DENOISE, "denoise"),
+        ];
+        for (slot, name) in named {
+            assert_eq!(FINITE_SLOTS[slot], name);
+        }
+    }
+
+    #[test]
+    fn ran_marks_by_name_and_ignores_unknown_names() {
+        let mut ran = Ran([false; PASS_NAMES.len()]);
+        ran.mark("light_tiles");
+        ran.mark("not_a_pass");
+        let marked: Vec<_> = PASS_NAMES.iter().zip(ran.0).filter(|(_, r)| *r).collect();
+        assert_eq!(marked, [(&"light_tiles", true)]);
     }
 }
