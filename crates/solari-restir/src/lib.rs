@@ -43,7 +43,7 @@
 //!
 //! Per frame: [`solari_scene::gbuffer::GBuffer::prepare`] and `encode`,
 //! [`solari_lights::LightTiles::prepare`] and `encode`, then [`RestirDi::prepare`] and
-//! [`RestirDi::encode`]. `solari-app`'s real-time renderer is the worked example; the crate
+//! [`RestirDi::encode`]. `solari-renderer`'s `RealtimeRenderer` is the worked example; the crate
 //! README has a compiled one.
 
 pub mod di;

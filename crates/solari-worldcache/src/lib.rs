@@ -69,7 +69,7 @@
 //!
 //! Per frame, after the light tiles: [`WorldCache::prepare`], [`WorldCache::encode`], and
 //! after the direct light [`WorldCache::encode_gi`] (or [`WorldCache::encode_view`]). The
-//! real-time renderer in `solari-app` is the worked example; the README has a compiled one.
+//! real-time renderer in `solari-renderer` is the worked example; the README has a compiled one.
 
 pub mod cache;
 pub mod hash;
