@@ -108,22 +108,7 @@ fn gltf(dir: &Dir, name: &str, v: &Value) -> String {
 
 /// A GLB container of `json` with `bin` as its binary chunk.
 fn glb(json: &Value, bin: &[u8]) -> Vec<u8> {
-    let mut j = serde_json::to_vec(json).unwrap();
-    j.resize(j.len().next_multiple_of(4), b' ');
-    let mut b = bin.to_vec();
-    b.resize(b.len().next_multiple_of(4), 0);
-    let total = 12 + 8 + j.len() + 8 + b.len();
-    let mut out = Vec::new();
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((j.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(j);
-    out.extend((b.len() as u32).to_le_bytes());
-    out.extend(b"BIN\0");
-    out.extend(b);
-    out
+    solari_testdata::glb(&serde_json::to_vec(json).unwrap(), bin)
 }
 
 #[test]

@@ -136,27 +136,7 @@ pub fn to_glb(json: &Value) -> Option<Vec<u8>> {
     Some(glb(&serde_json::to_vec(&json).ok()?, &bin))
 }
 
-/// A GLB container of `json` and `bin` (both padded to 4 bytes, as the format requires).
-pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
-    let mut j = json.to_vec();
-    j.resize(j.len().next_multiple_of(4), b' ');
-    let mut b = bin.to_vec();
-    b.resize(b.len().next_multiple_of(4), 0);
-    let total = 12 + 8 + j.len() + if b.is_empty() { 0 } else { 8 + b.len() };
-    let mut out = Vec::with_capacity(total);
-    out.extend(b"glTF");
-    out.extend(2u32.to_le_bytes());
-    out.extend((total as u32).to_le_bytes());
-    out.extend((j.len() as u32).to_le_bytes());
-    out.extend(b"JSON");
-    out.extend(j);
-    if !b.is_empty() {
-        out.extend((b.len() as u32).to_le_bytes());
-        out.extend(b"BIN\0");
-        out.extend(b);
-    }
-    out
-}
+pub use solari_testdata::glb;
 
 /// The folders seeds come from when none are given: the repository's test scenes and
 /// reproducers.

@@ -99,6 +99,27 @@ pub fn compare(
     Ok((out, hdr))
 }
 
+/// Root-mean-square difference over every channel of two images of the same size, in f64:
+/// [`compare`]'s `rmse` without its mask, FLIP maps and non-finite handling (a NaN pixel
+/// gives NaN), cheap enough to call every frame in a test. Panics if the sizes differ (a
+/// caller's mistake, like a slice index out of range).
+pub fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
+    assert_eq!(
+        image.len(),
+        reference.len(),
+        "rmse of images of different sizes"
+    );
+    if image.is_empty() {
+        return 0.0;
+    }
+    let sum: f64 = image
+        .iter()
+        .zip(reference)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
+        .sum();
+    (sum / (image.len() * 3) as f64).sqrt()
+}
+
 /// A FLIP error map as a colour heat map (magma), 8-bit RGB.
 pub fn heatmap(map: &[f32], w: u32, h: u32) -> Vec<u8> {
     let img = nv_flip::FlipImageFloat::with_data(w, h, map);

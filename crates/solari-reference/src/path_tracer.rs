@@ -93,8 +93,8 @@ impl ReferenceRenderer {
     pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
         let uniform = wgpu::BufferBindingType::Uniform;
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let view_layout = gpu.buffer_layout("solari_app/reference_view", &[uniform]);
-        let io_layout = gpu.buffer_layout("solari_app/reference_io", &[rw, rw, uniform]);
+        let view_layout = gpu.buffer_layout("solari_reference/reference_view", &[uniform]);
+        let io_layout = gpu.buffer_layout("solari_reference/reference_io", &[rw, rw, uniform]);
         let extra: Vec<(&str, &str)> = solari_lights::MODULES
             .iter()
             .chain(MODULES)
@@ -104,7 +104,7 @@ impl ReferenceRenderer {
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let lights_layout = GpuLights::layout(gpu);
         let pipeline = gpu.compute_pipeline(
-            "solari_app/reference",
+            "solari_reference/reference",
             &wgsl,
             &[
                 Some(&scene_layout),
@@ -154,15 +154,25 @@ impl ReferenceRenderer {
                 mapped_at_creation: false,
             })
         };
-        let accumulation = buffer("solari_app/accumulation", accum_bytes.max(16), storage);
-        let counters = buffer("solari_app/reference_counters", 8, storage);
+        let accumulation = buffer(
+            "solari_reference/accumulation",
+            accum_bytes.max(16),
+            storage,
+        );
+        let counters = buffer("solari_reference/reference_counters", 8, storage);
         let view = GpuView::new(camera, width, height);
-        let view_buf = gpu.uniform_buffer("solari_app/reference_view", &view);
-        let params = gpu.uniform_buffer("solari_app/reference_params", &ReferenceParams::zeroed());
-        let view_group =
-            gpu.bind_buffers("solari_app/reference_view", &self.view_layout, &[&view_buf]);
+        let view_buf = gpu.uniform_buffer("solari_reference/reference_view", &view);
+        let params = gpu.uniform_buffer(
+            "solari_reference/reference_params",
+            &ReferenceParams::zeroed(),
+        );
+        let view_group = gpu.bind_buffers(
+            "solari_reference/reference_view",
+            &self.view_layout,
+            &[&view_buf],
+        );
         let io_group = gpu.bind_buffers(
-            "solari_app/reference_io",
+            "solari_reference/reference_io",
             &self.io_layout,
             &[&accumulation, &counters, &params],
         );
@@ -210,7 +220,7 @@ impl ReferenceRenderer {
             gpu.queue
                 .write_buffer(&acc.params, 0, bytemuck::bytes_of(&params));
             gpu.dispatch(
-                "solari_app/reference",
+                "solari_reference/reference",
                 &self.pipeline,
                 &[
                     scene.bind_group(),

@@ -35,22 +35,3 @@ pub fn reference_image(
         |_| {},
     )
 }
-
-/// Root-mean-square difference over every channel of two images of the same size, in f64.
-/// Panics if the sizes differ (a test's mistake, not data).
-pub fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
-    assert_eq!(
-        image.len(),
-        reference.len(),
-        "rmse of images of different sizes"
-    );
-    if image.is_empty() {
-        return 0.0;
-    }
-    let sum: f64 = image
-        .iter()
-        .zip(reference)
-        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] as f64 - b[c] as f64).powi(2)))
-        .sum();
-    (sum / (image.len() * 3) as f64).sqrt()
-}

@@ -76,3 +76,25 @@ fn bad_inputs_are_reported() {
     assert!(compare(&test[..10], &reference, 8, 8, None).is_err());
     assert!(compare(&test, &reference, 8, 8, Some(&[true; 3])).is_err());
 }
+
+#[test]
+fn cheap_rmse_equals_the_rmse_compare_reports() {
+    let mut rng = Pcg32::seed_from_u64(11);
+    let (w, h) = (24, 16);
+    let reference: Vec<[f32; 3]> = (0..w * h)
+        .map(|_| [rng.random(), rng.random(), rng.random()])
+        .collect();
+    let test: Vec<[f32; 3]> = reference
+        .iter()
+        .map(|p| p.map(|c| c + rng.random_range(-0.2..0.2)))
+        .collect();
+    let (m, _) = compare(&test, &reference, w, h, None).unwrap();
+    let cheap = solari_reference::rmse(&test, &reference);
+    assert!(
+        (cheap - m.rmse).abs() <= 1e-12 * m.rmse,
+        "{cheap} vs {}",
+        m.rmse
+    );
+    assert_eq!(solari_reference::rmse(&reference, &reference), 0.0);
+    assert!(solari_reference::rmse(&[[f32::NAN, 0.0, 0.0]], &[[0.0; 3]]).is_nan());
+}

@@ -1,7 +1,7 @@
 //! The fallback denoiser in the real-time renderer on lavapipe: ReSTIR DI frames against the
 //! reference tracer's direct-only image (one frame, and the long-run mean), and a moving
 //! object's disoccluded trail. Figures are printed for the issue notes
-//! (`cargo test --release -p solari-app --test denoise -- --nocapture`).
+//! (`cargo test --release -p solari-renderer --test denoise -- --nocapture`).
 
 use glam::{Mat4, Vec3, Vec4};
 use solari_denoise::{DenoiserKind, FallbackSettings};

@@ -476,27 +476,8 @@ impl FiniteChecker {
     /// The counts of the last submitted frame, per slot in frame order. Blocks until the GPU
     /// is done with it.
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<FiniteCount>, GpuError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.readback
-            .slice(..)
-            .map_async(wgpu::MapMode::Read, move |r| {
-                let _ = tx.send(r);
-            });
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| GpuError::Readback(e.to_string()))?
-            .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let words: Vec<u32> = bytemuck::cast_slice(
-            &self
-                .readback
-                .slice(..)
-                .get_mapped_range()
-                .map_err(|e| GpuError::Readback(format!("{e:?}")))?,
-        )
-        .to_vec();
-        self.readback.unmap();
+        let bytes = gpu.map_read(&self.readback)?;
+        let words: &[u32] = bytemuck::cast_slice(&bytes);
         Ok(self
             .names
             .iter()

@@ -300,8 +300,14 @@ impl Gpu {
         let mut encoder = self.device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
         self.queue.submit([encoder.finish()]);
+        self.map_read(&staging)
+    }
+
+    /// Waits for the GPU, then maps a `MAP_READ` buffer and returns its bytes (unmapping it
+    /// again, so it can be reused). For read-back buffers a pass keeps across frames.
+    pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
-        staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
         self.device
@@ -310,12 +316,12 @@ impl Gpu {
         rx.recv()
             .map_err(|e| GpuError::Readback(e.to_string()))?
             .map_err(|e| GpuError::Readback(e.to_string()))?;
-        let data = staging
+        let data = buffer
             .slice(..)
             .get_mapped_range()
             .map_err(|e| GpuError::Readback(format!("{e:?}")))?
             .to_vec();
-        staging.unmap();
+        buffer.unmap();
         Ok(data)
     }
 

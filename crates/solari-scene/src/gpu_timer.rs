@@ -9,6 +9,8 @@ use crate::gpu::Gpu;
 pub struct PassTimer {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
+    // Mapped after each pass; kept so a measurement allocates nothing.
+    readback: wgpu::Buffer,
     period_ns: f64,
 }
 
@@ -32,9 +34,16 @@ impl PassTimer {
             usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_scene/pass_timer_readback"),
+            size: 16,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Ok(Self {
             queries,
             resolve,
+            readback,
             period_ns: gpu.queue.get_timestamp_period() as f64,
         })
     }
@@ -50,9 +59,10 @@ impl PassTimer {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         record(&mut encoder, (&self.queries, 0))?;
         encoder.resolve_query_set(&self.queries, 0..2, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 16);
         gpu.queue.submit([encoder.finish()]);
-        let bytes = gpu.read_buffer(&self.resolve, 16)?;
-        let ts: &[u64] = bytemuck::cast_slice(&bytes);
+        let bytes = gpu.map_read(&self.readback)?;
+        let ts: [u64; 2] = bytemuck::pod_read_unaligned(&bytes);
         Ok(ts[1].wrapping_sub(ts[0]) as f64 * self.period_ns * 1e-6)
     }
 }

@@ -82,6 +82,30 @@ pub fn repro(file: &str) -> PathBuf {
     p
 }
 
+/// A binary glTF (GLB) container of `json` and `bin`, both padded to 4 bytes as the format
+/// requires; an empty `bin` writes no binary chunk. Tests and the fuzzer build GLB inputs
+/// with it.
+pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
+    let mut j = json.to_vec();
+    j.resize(j.len().next_multiple_of(4), b' ');
+    let mut b = bin.to_vec();
+    b.resize(b.len().next_multiple_of(4), 0);
+    let total = 12 + 8 + j.len() + if b.is_empty() { 0 } else { 8 + b.len() };
+    let mut out = Vec::with_capacity(total);
+    out.extend(b"glTF");
+    out.extend(2u32.to_le_bytes());
+    out.extend((total as u32).to_le_bytes());
+    out.extend((j.len() as u32).to_le_bytes());
+    out.extend(b"JSON");
+    out.extend(j);
+    if !b.is_empty() {
+        out.extend((b.len() as u32).to_le_bytes());
+        out.extend(b"BIN\0");
+        out.extend(b);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     #[test]
@@ -89,5 +113,26 @@ mod tests {
         assert_eq!(super::all_scenes().len(), super::SCENES.len());
         super::reference("cornell_box.exr");
         super::reference("cornell_box_direct.exr");
+    }
+
+    #[test]
+    fn glb_pads_chunks_and_states_the_total_length() {
+        let out = super::glb(b"{}", &[1, 2, 3]);
+        assert_eq!(&out[..4], b"glTF");
+        assert_eq!(
+            u32::from_le_bytes(out[8..12].try_into().unwrap()) as usize,
+            out.len()
+        );
+        assert_eq!(u32::from_le_bytes(out[12..16].try_into().unwrap()), 4);
+        assert_eq!(&out[16..20], b"JSON");
+        assert_eq!(&out[20..24], b"{}  ");
+        assert_eq!(u32::from_le_bytes(out[24..28].try_into().unwrap()), 4);
+        assert_eq!(&out[28..32], b"BIN\0");
+        assert_eq!(&out[32..], &[1, 2, 3, 0]);
+        assert_eq!(
+            super::glb(b"{}", &[]).len(),
+            24, // header 12 + JSON chunk header 8 + "{}  " 4
+            "no binary chunk when bin is empty"
+        );
     }
 }
