@@ -2,7 +2,7 @@
 //! ([`Requirements`]).
 
 use solari_scene::GpuError;
-use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::Gpu;
 use wgpu_profiler::GpuProfiler;
 
@@ -37,17 +37,19 @@ impl Lighting<'_> {
 
 /// One frame's inputs.
 ///
-/// The guides come from Solari's G-buffer ([`GBuffer`]), which holds everything the trait
-/// promises a denoiser: demodulation albedos (base colour, metallic and specular F0, from
-/// which diffuse albedo `base × (1 − metallic)` and specular albedo `mix(F0, base, metallic)`
-/// follow), shading normal and roughness, depth, emission and motion vectors, for this frame
-/// and the last.
+/// The guides come from a G-buffer ([`GBufferSource`]: Solari's raster pass or your own),
+/// which holds everything the trait promises a denoiser: demodulation albedos (base colour,
+/// metallic and specular F0, from which diffuse albedo `base × (1 − metallic)` and specular
+/// albedo `mix(F0, base, metallic)` follow), shading normal and roughness, depth, emission
+/// and motion vectors, for this frame and the last.
 #[derive(Clone, Copy)]
 pub struct DenoiserInputs<'a> {
     /// The noisy lighting.
     pub lighting: Lighting<'a>,
-    /// This frame's G-buffer, after [`GBuffer::encode`] was recorded into the same encoder.
-    pub gbuffer: &'a GBuffer,
+    /// This frame's G-buffer: Solari's, after [`solari_scene::gbuffer::GBuffer::encode`] was
+    /// recorded into the same encoder, or your own bound by
+    /// [`solari_scene::gbuffer_input::ExternalGBuffer`].
+    pub gbuffer: &'a dyn GBufferSource,
     /// Optional distance to the hit of each pixel's secondary ray (`f32` per pixel; 0 where
     /// none), for denoisers that size their filter by it. Pass it only when
     /// [`Requirements::inputs`] asks for [`Inputs::HIT_DISTANCE`].

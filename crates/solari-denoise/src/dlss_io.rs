@@ -4,6 +4,7 @@
 
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
 use solari_scene::shaders::{Backend, compose};
 use wgpu_profiler::GpuProfiler;
@@ -232,7 +233,7 @@ impl DlssTextures {
         encoder: &mut wgpu::CommandEncoder,
         profiler: Option<&GpuProfiler>,
         lighting: &wgpu::Buffer,
-        gbuffer: &GBuffer,
+        gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
         if gbuffer.size() != self.render {
             return Err(GpuError::Validation(format!(
@@ -266,6 +267,7 @@ impl DlssTextures {
             self.bound = Some((lighting.clone(), group));
         }
         let group = &self.bound.as_ref().expect("bound above").1;
+        let gbuffer_group = gbuffer.bind_group()?;
         let (w, h) = self.render;
         in_scope(profiler, COPY_LABELS[0], encoder, |e| {
             let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -274,7 +276,7 @@ impl DlssTextures {
             });
             pass.set_pipeline(&self.copy_in);
             pass.set_bind_group(0, group, &[]);
-            pass.set_bind_group(1, gbuffer.reader_group(), &[]);
+            pass.set_bind_group(1, gbuffer_group, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         });
         Ok(())

@@ -311,7 +311,7 @@ impl Denoiser for FallbackDenoiser {
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let workgroups = [w.div_ceil(8), h.div_ceil(8)];
-        let gbuffer = inputs.gbuffer.reader_group();
+        let gbuffer = inputs.gbuffer.bind_group()?;
         for signal in &self.signals {
             let groups = &signal.groups[self.parity];
             let run = |e: &mut wgpu::CommandEncoder, label, pipeline, group| {

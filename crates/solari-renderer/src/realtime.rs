@@ -585,10 +585,10 @@ impl RealtimeRenderer {
         }
         if let Some((cache, target)) = &self.cache {
             if self.settings.view == FrameView::WorldCache {
-                cache.encode_view(&mut encoder, profiler, &self.gbuffer, target);
+                cache.encode_view(&mut encoder, profiler, &self.gbuffer, target)?;
                 ran.mark(CACHE[5]);
             } else if self.settings.gi == GiMode::WorldCache {
-                cache.encode_gi(&mut encoder, profiler, &self.gbuffer, target);
+                cache.encode_gi(&mut encoder, profiler, &self.gbuffer, target)?;
                 ran.mark(CACHE[4]);
             }
             if let Some(c) = checker.as_mut() {

@@ -6,6 +6,7 @@ use bytemuck::Zeroable;
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::shaders::{Backend, compose};
@@ -332,25 +333,34 @@ impl RestirDi {
     /// Records the frame's dispatches, each in a profiler scope named as in
     /// [`PASS_LABELS`] when `profiler` is given. With `light_count == 0` only the emission
     /// copy runs (and history is dropped); otherwise initial + temporal, then spatial +
-    /// shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles.
+    /// shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles; `gbuffer` is
+    /// Solari's raster G-buffer or your own ([`solari_scene::gbuffer_input`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
     /// `scene` no longer has (for example one instance, and the scene has grown): they would
-    /// trace instance 0 alone. Build a new `RestirDi` with [`TraceVariant::for_scene`].
+    /// trace instance 0 alone. Build a new `RestirDi` with [`TraceVariant::for_scene`]. Errors
+    /// too when the G-buffer's size is not this pass's.
     pub fn encode(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
         profiler: Option<&GpuProfiler>,
         scene: &GpuScene,
-        gbuffer: &GBuffer,
+        gbuffer: &dyn GBufferSource,
         lights: &wgpu::BindGroup,
         light_count: u32,
     ) -> Result<DiPasses, GpuError> {
         self.variant.check(scene)?;
+        if gbuffer.size() != self.size {
+            return Err(GpuError::Validation(format!(
+                "ReSTIR DI: built for {:?} pixels, G-buffer is {:?}",
+                self.size,
+                gbuffer.size()
+            )));
+        }
         let buffers = self.buffers.as_ref().expect("resize allocates the buffers");
         let groups = [
             scene.bind_group(),
-            gbuffer.reader_group(),
+            gbuffer.bind_group()?,
             &buffers.groups[self.parity],
             lights,
         ];

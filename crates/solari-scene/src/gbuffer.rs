@@ -18,6 +18,7 @@
 //! storage buffers in vertex shaders (every Vulkan, Metal and D3D12 adapter does).
 
 use crate::error::GpuError;
+use crate::gbuffer_input::{GBufferSource, GBufferViews};
 use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::GpuView;
@@ -140,6 +141,16 @@ impl GBufferTargets {
             motion,
             depth,
             views,
+        }
+    }
+
+    fn reader_views(&self) -> GBufferViews<'_> {
+        let [gbuffer, emission, motion, depth] = &self.views;
+        GBufferViews {
+            gbuffer,
+            emission,
+            motion,
+            depth,
         }
     }
 }
@@ -450,37 +461,10 @@ impl GBuffer {
     }
 
     /// The layout of bind group 1 for compute passes that read the G-buffer through
-    /// `gbuffer_read.wesl`: binding 0 the views ([`GpuFrameViews`]); 1–4 this frame's
-    /// material, emission, motion and depth; 5–7 last frame's material, emission and depth.
+    /// `gbuffer_read.wesl`: [`crate::gbuffer_input::reader_layout`], whose docs list the
+    /// bindings.
     pub fn reader_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-        let stage = wgpu::ShaderStages::COMPUTE;
-        let texture = |binding, sample_type| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: stage,
-            ty: wgpu::BindingType::Texture {
-                sample_type,
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        };
-        let uint = wgpu::TextureSampleType::Uint;
-        let float = wgpu::TextureSampleType::Float { filterable: false };
-        let depth = wgpu::TextureSampleType::Depth;
-        gpu.device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_scene/gbuffer_reader"),
-                entries: &[
-                    crate::gpu::buffer_layout_entry(0, wgpu::BufferBindingType::Uniform, stage),
-                    texture(1, uint),
-                    texture(2, float),
-                    texture(3, float),
-                    texture(4, depth),
-                    texture(5, uint),
-                    texture(6, float),
-                    texture(7, depth),
-                ],
-            })
+        crate::gbuffer_input::reader_layout(gpu)
     }
 
     /// Bind group 1 for this frame (see [`GBuffer::reader_layout`]); valid after
@@ -499,37 +483,31 @@ fn reader_groups(
 ) -> [wgpu::BindGroup; 2] {
     [0, 1].map(|parity| {
         let (now, before) = (&targets[parity], &targets[parity ^ 1]);
-        let entries: Vec<wgpu::BindGroupEntry> = std::iter::once(wgpu::BindGroupEntry {
-            binding: 0,
-            resource: views.as_entire_binding(),
-        })
-        .chain(
-            [
-                &now.views[0],
-                &now.views[1],
-                &now.views[2],
-                &now.views[3],
-                &before.views[0],
-                &before.views[1],
-                &before.views[3],
-            ]
-            .into_iter()
-            .enumerate()
-            .map(|(i, view)| wgpu::BindGroupEntry {
-                binding: i as u32 + 1,
-                resource: wgpu::BindingResource::TextureView(view),
-            }),
-        )
-        .collect();
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_scene/gbuffer_reader"),
+        crate::gbuffer_input::reader_group(
+            gpu,
             layout,
-            entries: &entries,
-        })
+            views,
+            now.reader_views(),
+            before.reader_views(),
+        )
     })
 }
 
-fn check_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
+impl GBufferSource for GBuffer {
+    fn bind_group(&self) -> Result<&wgpu::BindGroup, GpuError> {
+        Ok(self.reader_group())
+    }
+
+    fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    fn history_valid(&self) -> bool {
+        self.history_valid
+    }
+}
+
+pub(crate) fn check_size(gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
     let limit = gpu.device.limits().max_texture_dimension_2d;
     if width == 0 || height == 0 {
         return Err(GpuError::Validation(format!(

@@ -20,6 +20,7 @@ pub mod default_scene;
 pub mod error;
 pub mod finite_check;
 pub mod gbuffer;
+pub mod gbuffer_input;
 pub mod geometry;
 pub mod gltf_check;
 pub mod gltf_import;

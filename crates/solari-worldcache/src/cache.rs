@@ -8,6 +8,7 @@ use bytemuck::Zeroable;
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::shaders::{Backend, compose};
@@ -534,27 +535,30 @@ impl WorldCache {
 
     /// Records cache-only GI: every G-buffer pixel adds its diffuse albedo × the cache's
     /// indirect irradiance to `target` ([`WorldCache::target_group`]), renewing the cells it
-    /// reads. Run it after the upkeep and after whatever wrote the direct light.
+    /// reads. Run it after the upkeep and after whatever wrote the direct light. `gbuffer` is
+    /// Solari's raster G-buffer or your own ([`solari_scene::gbuffer_input`]); errors,
+    /// recording nothing, when its size is not the cache's.
     pub fn encode_gi(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         profiler: Option<&GpuProfiler>,
-        gbuffer: &GBuffer,
+        gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
-    ) {
-        self.pixels(encoder, profiler, 4, &self.pipelines.gi, gbuffer, target);
+    ) -> Result<(), GpuError> {
+        self.pixels(encoder, profiler, 4, &self.pipelines.gi, gbuffer, target)
     }
 
     /// Records the debug view: every pixel of `target` shows its cell's irradiance, tinted
     /// per cell (background black, magenta where the table was full).
+    /// Errors as [`WorldCache::encode_gi`] does.
     pub fn encode_view(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         profiler: Option<&GpuProfiler>,
-        gbuffer: &GBuffer,
+        gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
-    ) {
-        self.pixels(encoder, profiler, 5, &self.pipelines.view, gbuffer, target);
+    ) -> Result<(), GpuError> {
+        self.pixels(encoder, profiler, 5, &self.pipelines.view, gbuffer, target)
     }
 
     fn pixels(
@@ -563,14 +567,22 @@ impl WorldCache {
         profiler: Option<&GpuProfiler>,
         label: usize,
         pipeline: &wgpu::ComputePipeline,
-        gbuffer: &GBuffer,
+        gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
-    ) {
-        let groups = [(1, gbuffer.reader_group()), (2, &self.group), (3, target)];
+    ) -> Result<(), GpuError> {
+        if gbuffer.size() != self.size {
+            return Err(GpuError::Validation(format!(
+                "world cache: built for {:?} pixels, G-buffer is {:?}",
+                self.size,
+                gbuffer.size()
+            )));
+        }
+        let groups = [(1, gbuffer.bind_group()?), (2, &self.group), (3, target)];
         let size = Dispatch::Direct(self.size.0.div_ceil(8), self.size.1.div_ceil(8));
         in_scope(profiler, PASS_LABELS[label], encoder, |e| {
             record(e, PASS_LABELS[label], pipeline, &groups, size)
         });
+        Ok(())
     }
 
     /// The last frame's counters. Blocks until the GPU is done.

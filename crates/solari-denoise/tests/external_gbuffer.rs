@@ -1,0 +1,137 @@
+//! The fallback denoiser on a G-buffer the caller drew (bound by `ExternalGBuffer`) gives
+//! exactly what it gives on Solari's own G-buffer: here the caller's textures are copies of
+//! Solari's, alternated between two sets as an engine would, under a moving camera so that
+//! history and reprojection take part (GPU: lavapipe in CI).
+
+use glam::Vec3;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_denoise::{Denoiser, DenoiserInputs, FallbackDenoiser, FallbackSettings, Lighting};
+use solari_scene::gbuffer::{DEPTH_FORMAT, EMISSION_FORMAT, GBUFFER_FORMAT, MOTION_FORMAT};
+use solari_scene::gbuffer_input::{ExternalGBuffer, GBufferViews};
+use solari_scene::gpu::Gpu;
+
+mod common;
+
+use common::{Harness, SIZE, grey_box};
+
+/// One set of the caller's targets: `[gbuffer, emission, motion, depth]` textures.
+fn targets(gpu: &Gpu) -> [wgpu::Texture; 4] {
+    [GBUFFER_FORMAT, EMISSION_FORMAT, MOTION_FORMAT, DEPTH_FORMAT].map(|format| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("caller's target"),
+            size: wgpu::Extent3d {
+                width: SIZE,
+                height: SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+    })
+}
+
+#[test]
+fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
+    let Some(mut h) = Harness::new() else { return };
+    let settings = FallbackSettings::default();
+    let mut own = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
+    let mut external_denoiser =
+        FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
+    let mut external = ExternalGBuffer::new(&h.gpu, SIZE, SIZE).expect("external");
+    let sets = [targets(&h.gpu), targets(&h.gpu)];
+    let views: Vec<Vec<wgpu::TextureView>> = sets
+        .iter()
+        .map(|s| {
+            s.iter()
+                .map(|t| t.create_view(&Default::default()))
+                .collect()
+        })
+        .collect();
+    let bind = |i: usize| GBufferViews {
+        gbuffer: &views[i][0],
+        emission: &views[i][1],
+        motion: &views[i][2],
+        depth: &views[i][3],
+    };
+    let base_camera = grey_box().camera(None).expect("camera");
+    let mut rng = Pcg32::seed_from_u64(3);
+    let n = (SIZE * SIZE) as usize;
+    let bytes = (n * 16) as u64;
+    let mut compared = 0;
+    for frame in 0..8usize {
+        h.camera_offset = Vec3::new(0.02 * frame as f32, 0.0, 0.0);
+        let input: Vec<[f32; 4]> = (0..n)
+            .map(|_| {
+                let v = 0.5 + rng.random::<f32>();
+                [v, v * 0.8, v * 0.6, 1.0]
+            })
+            .collect();
+        h.write_lighting(&input);
+        let mut encoder = h.gbuffer_encoder();
+        // The caller's copy of this frame's G-buffer, in the set of this frame's parity.
+        let now = frame % 2;
+        let solari = h.gbuffer().current();
+        for (from, to) in [
+            &solari.gbuffer,
+            &solari.emission,
+            &solari.motion,
+            &solari.depth,
+        ]
+        .into_iter()
+        .zip(&sets[now])
+        {
+            encoder.copy_texture_to_texture(from.as_image_copy(), to.as_image_copy(), from.size());
+        }
+        let mut camera = base_camera.clone();
+        camera.transform = glam::Mat4::from_translation(h.camera_offset) * camera.transform;
+        let previous = (frame > 0).then(|| bind(1 - now));
+        external
+            .prepare(&h.gpu, &camera, bind(now), previous)
+            .expect("bind the caller's G-buffer");
+        let mut after = Vec::new();
+        let lighting = Lighting::Combined(h.write_lighting(&input));
+        for (denoiser, gbuffer) in [
+            (
+                &mut own,
+                h.gbuffer() as &dyn solari_scene::gbuffer_input::GBufferSource,
+            ),
+            (&mut external_denoiser, &external),
+        ] {
+            let inputs = DenoiserInputs {
+                lighting,
+                gbuffer,
+                hit_distance: None,
+                reset: false,
+            };
+            after.extend(
+                denoiser
+                    .encode(&h.gpu, &mut encoder, None, &inputs)
+                    .expect("encode"),
+            );
+        }
+        h.gpu
+            .queue
+            .submit(std::iter::once(encoder.finish()).chain(after));
+        let a = h.gpu.read_buffer(own.output(), bytes).expect("read");
+        let b = h
+            .gpu
+            .read_buffer(external_denoiser.output(), bytes)
+            .expect("read");
+        let (a, b): (&[[f32; 4]], &[[f32; 4]]) =
+            (bytemuck::cast_slice(&a), bytemuck::cast_slice(&b));
+        assert!(
+            a.iter().any(|p| p[3] > 0.0),
+            "frame {frame}: the box was drawn"
+        );
+        let differing = a.iter().zip(b).filter(|(p, q)| p != q).count();
+        assert_eq!(differing, 0, "frame {frame}: {differing} pixels differ");
+        compared += n;
+    }
+    assert!(h.gpu.check_errors().is_ok());
+    println!("{compared} pixels over 8 frames identical on both G-buffers");
+}
