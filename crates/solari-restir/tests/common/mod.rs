@@ -1,0 +1,182 @@
+//! The component frame the ReSTIR DI tests run (G-buffer → light tiles → ReSTIR DI, as the
+//! renderer composes them, without it) and the reference tracer's images to compare with
+//! (`solari-reference`). solari-worldcache's tests include this file too.
+#![allow(dead_code)]
+
+use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+pub use solari_reference::rmse;
+use solari_reference::{ReferenceSettings, reference_image};
+use solari_restir::{DiPasses, RestirDi, RestirDiSettings};
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gpu::Gpu;
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::shaders::Backend;
+use solari_scene::{Camera, Scene};
+
+/// Image side of the tests.
+pub const SIZE: u32 = 64;
+
+/// Small tiles keep lavapipe quick; the sampling is the same as with Solari's 128 × 1024.
+pub fn tile_settings() -> LightTileSettings {
+    LightTileSettings {
+        tiles: 16,
+        samples_per_tile: 256,
+    }
+}
+
+/// DI settings for 64-pixel images: Solari's 30-pixel spatial radius is meant for 900-1080
+/// lines; on 64 it would reach half the image, where neighbours' target functions differ so
+/// much that reuse stops paying (measured: no gain at 30 px, the ideal √2 at 3 px).
+pub fn di_settings() -> RestirDiSettings {
+    RestirDiSettings {
+        spatial_radius: 3.0,
+        ..Default::default()
+    }
+}
+
+/// One scene's G-buffer, lights, light tiles and ReSTIR DI at `size × size`.
+pub struct DirectLight {
+    /// The tracer the passes were built for.
+    pub backend: Backend,
+    /// The scene on the GPU.
+    pub gpu_scene: GpuScene,
+    /// Solari's raster G-buffer.
+    pub gbuffer: GBuffer,
+    /// The light tiles.
+    pub tiles: LightTiles,
+    /// The scene's lights.
+    pub lights: GpuLights,
+    /// Tile reader group for `lights`.
+    pub lights_group: wgpu::BindGroup,
+    /// ReSTIR DI.
+    pub di: RestirDi,
+    frame: u32,
+}
+
+impl DirectLight {
+    /// Uploads `scene` and builds the passes.
+    pub fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        scene: &Scene,
+        size: u32,
+        di: RestirDiSettings,
+        tiles: LightTileSettings,
+    ) -> Self {
+        let gpu_scene =
+            GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("upload");
+        let list = LightList::build(scene);
+        let lights = GpuLights::new(gpu, &list, Selection::Power).expect("lights");
+        let light_tiles = LightTiles::new(gpu, tiles).expect("tiles");
+        let lights_group = light_tiles.reader_group(gpu, &lights);
+        let variant = TraceVariant::for_scene(&gpu_scene);
+        Self {
+            backend,
+            gbuffer: GBuffer::new(gpu, backend, size, size).expect("G-buffer"),
+            di: RestirDi::new(gpu, backend, variant, size, size, di, tiles).expect("DI"),
+            tiles: light_tiles,
+            lights,
+            lights_group,
+            gpu_scene,
+            frame: 0,
+        }
+    }
+
+    /// The frame index the next [`DirectLight::encode`] uses.
+    pub fn frame(&self) -> u32 {
+        self.frame
+    }
+
+    /// Prepares and records one frame's G-buffer, tiles and DI from `camera` into
+    /// `encoder`, as the renderer does.
+    pub fn encode(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        camera: &Camera,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> DiPasses {
+        let frame = self.frame;
+        self.frame += 1;
+        let count = self.lights.light_count;
+        self.gbuffer.prepare(gpu, scene, camera).expect("G-buffer");
+        self.tiles.prepare(gpu, frame);
+        self.di
+            .prepare(gpu, frame, self.gbuffer.history_valid(), count)
+            .expect("DI prepare");
+        self.gbuffer.encode(encoder, &self.gpu_scene);
+        if count > 0 {
+            self.tiles.encode(encoder, &self.lights);
+        }
+        self.di
+            .encode(
+                encoder,
+                None,
+                &self.gpu_scene,
+                &self.gbuffer,
+                &self.lights_group,
+                count,
+            )
+            .expect("DI encode")
+    }
+
+    /// One frame, submitted and read back: DI's output (`vec4<f32>` per pixel).
+    pub fn render(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Vec<[f32; 4]> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.encode(gpu, scene, camera, &mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+        self.read_output(gpu)
+    }
+
+    /// DI's output of the last submitted frame.
+    pub fn read_output(&self, gpu: &Gpu) -> Vec<[f32; 4]> {
+        let (w, h) = self.di.size();
+        let bytes = gpu
+            .read_buffer(self.di.output(), w as u64 * h as u64 * 16)
+            .expect("read back");
+        bytemuck::cast_slice(&bytes).to_vec()
+    }
+}
+
+/// The reference tracer's direct-only image at pixel centres (what the G-buffer sees),
+/// `size × size`.
+pub fn reference_direct(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+) -> Vec<[f32; 3]> {
+    reference(gpu, backend, scene, size, spp, 1)
+}
+
+/// The reference tracer's image at pixel centres with paths of at most `max_bounces`
+/// scattering events (`u32::MAX`: Russian roulette alone ends them), `size × size`.
+pub fn reference(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+    max_bounces: u32,
+) -> Vec<[f32; 3]> {
+    let settings = ReferenceSettings {
+        spp,
+        max_bounces,
+        selection: Selection::Power,
+        pixel_centre: true,
+    };
+    reference_image(gpu, backend, scene, size, size, &settings)
+        .expect("reference render")
+        .pixels
+}
+
+/// Rec. 709 luminance.
+pub fn luminance(c: [f32; 3]) -> f64 {
+    0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
+}
+
+/// The rgb of `vec4` pixels.
+pub fn rgb(pixels: &[[f32; 4]]) -> Vec<[f32; 3]> {
+    pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
+}
