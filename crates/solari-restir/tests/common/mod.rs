@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+#[allow(unused_imports)] // not every including test compares images
 pub use solari_reference::rmse;
 use solari_reference::{ReferenceSettings, reference_image};
 use solari_restir::{DiPasses, RestirDi, RestirDiSettings};
@@ -50,6 +51,7 @@ pub struct DirectLight {
     pub lights_group: wgpu::BindGroup,
     /// ReSTIR DI.
     pub di: RestirDi,
+    list: LightList,
     frame: u32,
 }
 
@@ -78,8 +80,20 @@ impl DirectLight {
             lights,
             lights_group,
             gpu_scene,
+            list,
             frame: 0,
         }
+    }
+
+    /// Replaces the lights with `scene`'s, as the renderer does when lights change: reuse
+    /// follows surviving lights to their new indices.
+    pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) {
+        let list = LightList::build(scene);
+        self.di
+            .set_light_translation(list.translation_from(&self.list));
+        self.lights = GpuLights::new(gpu, &list, Selection::Power).expect("lights");
+        self.lights_group = self.tiles.reader_group(gpu, &self.lights);
+        self.list = list;
     }
 
     /// The frame index the next [`DirectLight::encode`] uses.
