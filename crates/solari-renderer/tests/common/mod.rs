@@ -1,4 +1,4 @@
-//! Helpers shared by the renderer tests (`realtime.rs`, `denoise.rs`): small settings,
+//! Helpers shared by the renderer tests (`realtime.rs`, `scene_shape.rs`): small settings,
 //! scene upload and the reference tracer's images at pixel centres (`solari-reference`).
 #![allow(dead_code)]
 

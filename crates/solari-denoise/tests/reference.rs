@@ -1,39 +1,85 @@
-//! The fallback denoiser in the real-time renderer on lavapipe: ReSTIR DI frames against the
-//! reference tracer's direct-only image (one frame, and the long-run mean), and a moving
-//! object's disoccluded trail. Figures are printed for the issue notes
-//! (`cargo test --release -p solari-renderer --test denoise -- --nocapture`).
+//! The fallback denoiser on ReSTIR DI frames, composed as the renderer composes them
+//! (G-buffer → light tiles → ReSTIR DI → denoiser; the DI frame is solari-restir's test
+//! harness), on lavapipe: frames against the reference tracer's direct-only image
+//! (`solari-reference`; one frame, and the long-run mean), a sharp glossy highlight, and a
+//! moving object's disoccluded trail. Figures are printed for the issue notes
+//! (`cargo test --release -p solari-denoise --test reference -- --nocapture`).
 
 use glam::{Mat4, Vec3, Vec4};
-use solari_denoise::{DenoiserKind, FallbackSettings};
-use solari_renderer::{RealtimeRenderer, RealtimeSettings};
+use solari_denoise::{Denoiser, DenoiserInputs, FallbackDenoiser, FallbackSettings, Lighting};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::{DebugView, ViewPass};
-use solari_scene::{Scene, default_scene, load_gltf};
+use solari_scene::{Camera, Scene, default_scene, load_gltf};
 
-mod common;
+#[path = "../../solari-restir/tests/common/mod.rs"]
+mod direct;
 
-use common::{SIZE, reference_direct, rgb, rmse, upload};
+use direct::{DirectLight, SIZE, di_settings, reference_direct, rgb, rmse, tile_settings};
 
-fn settings(denoiser: DenoiserKind) -> RealtimeSettings {
-    RealtimeSettings {
-        denoiser: Some(denoiser),
-        ..common::settings()
+/// ReSTIR DI's frames and the fallback denoiser over them.
+struct Denoised {
+    direct: DirectLight,
+    denoiser: FallbackDenoiser,
+}
+
+impl Denoised {
+    fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        scene: &Scene,
+        size: u32,
+        settings: FallbackSettings,
+    ) -> Self {
+        Self {
+            direct: DirectLight::new(gpu, backend, scene, size, di_settings(), tile_settings()),
+            denoiser: FallbackDenoiser::new(gpu, size, size, settings).expect("denoiser"),
+        }
+    }
+
+    /// One frame from `camera`: DI, then the denoiser on its output; submitted.
+    fn render(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.direct.encode(gpu, scene, camera, &mut encoder);
+        let inputs = DenoiserInputs {
+            lighting: Lighting::Combined(self.direct.di.output()),
+            gbuffer: &self.direct.gbuffer,
+            hit_distance: None,
+            reset: false,
+        };
+        let after = self
+            .denoiser
+            .encode(gpu, &mut encoder, None, &inputs)
+            .expect("denoise");
+        gpu.queue
+            .submit(std::iter::once(encoder.finish()).chain(after));
+    }
+
+    /// The last frame's noisy input (DI's output).
+    fn read_noisy(&self, gpu: &Gpu) -> Vec<[f32; 4]> {
+        self.direct.read_output(gpu)
+    }
+
+    /// The last frame's denoised image; panics on a non-finite value.
+    fn read_output(&self, gpu: &Gpu) -> Vec<[f32; 4]> {
+        let (w, h) = self.direct.di.size();
+        let bytes = gpu
+            .read_buffer(self.denoiser.output(), w as u64 * h as u64 * 16)
+            .expect("read back");
+        let pixels: Vec<[f32; 4]> = bytemuck::cast_slice(&bytes).to_vec();
+        assert!(
+            pixels.iter().flatten().all(|v| v.is_finite()),
+            "non-finite denoised pixel"
+        );
+        pixels
     }
 }
 
-/// The renderer with the fallback denoiser at `size × size`.
-fn fallback(
-    gpu: &Gpu,
-    backend: Backend,
-    scene: &Scene,
-    gpu_scene: &GpuScene,
-    size: u32,
-) -> RealtimeRenderer {
-    let s = settings(DenoiserKind::Fallback);
-    RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size, size, s).expect("renderer")
+/// The harness with the default fallback settings at `size × size`.
+fn fallback(gpu: &Gpu, backend: Backend, scene: &Scene, size: u32) -> Denoised {
+    Denoised::new(gpu, backend, scene, size, FallbackSettings::default())
 }
 
 fn total(a: &[[f32; 3]]) -> f64 {
@@ -46,19 +92,16 @@ fn denoised_di_is_closer_to_the_reference_and_converges() {
     let backend = gpu.backend(Default::default()).expect("backend");
     let scene = default_scene::cornell_box();
     let reference = reference_direct(&gpu, backend, &scene, SIZE, 512);
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let mut renderer = fallback(&gpu, backend, &scene, &gpu_scene, SIZE);
+    let mut renderer = fallback(&gpu, backend, &scene, SIZE);
     let camera = scene.camera(None).expect("camera");
     let frames = 200;
     let n = (SIZE * SIZE) as usize;
     let (mut raw_mean, mut den_mean) = (vec![[0.0f32; 3]; n], vec![[0.0f32; 3]; n]);
     let mut rows = Vec::new();
     for frame in 1..=frames {
-        renderer
-            .render(&gpu, &scene, &gpu_scene, &camera)
-            .expect("frame");
-        let raw = rgb(&renderer.read_noisy(&gpu).expect("noisy"));
-        let den = rgb(&renderer.read_output(&gpu).expect("output"));
+        renderer.render(&gpu, &scene, &camera);
+        let raw = rgb(&renderer.read_noisy(&gpu));
+        let den = rgb(&renderer.read_output(&gpu));
         if [1, 4, 16, 64, 200].contains(&frame) {
             rows.push((frame, rmse(&raw, &reference), rmse(&den, &reference)));
         }
@@ -105,17 +148,11 @@ fn the_first_denoised_frame_is_much_closer_to_the_reference() {
     let scene = default_scene::cornell_box();
     let size = 2 * SIZE;
     let reference = reference_direct(&gpu, backend, &scene, size, 256);
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let mut renderer = fallback(&gpu, backend, &scene, &gpu_scene, size);
+    let mut renderer = fallback(&gpu, backend, &scene, size);
     let camera = scene.camera(None).expect("camera");
-    renderer
-        .render(&gpu, &scene, &gpu_scene, &camera)
-        .expect("frame");
-    let raw = rmse(&rgb(&renderer.read_noisy(&gpu).expect("noisy")), &reference);
-    let den = rmse(
-        &rgb(&renderer.read_output(&gpu).expect("output")),
-        &reference,
-    );
+    renderer.render(&gpu, &scene, &camera);
+    let raw = rmse(&rgb(&renderer.read_noisy(&gpu)), &reference);
+    let den = rmse(&rgb(&renderer.read_output(&gpu)), &reference);
     println!("Cornell DI {size}x{size}, frame 1: RMSE raw {raw:.4}, denoised {den:.4}");
     // Measured 0.0040 against 0.0075.
     assert!(den < 0.6 * raw, "frame 1: {den} vs raw {raw}");
@@ -135,20 +172,18 @@ fn a_sharp_glossy_highlight_keeps_its_peak_on_the_first_frame() {
     // The sun on a gold sphere (metallic, roughness 0.25): the brightest pixels of the frame,
     // nearly noise-free, a few pixels wide.
     let scene = load_gltf(solari_testdata::scene("sun_boxes")).expect("scene");
-    let gpu_scene = upload(&gpu, backend, &scene);
     let camera = scene.camera(None).expect("camera");
     let size = 2 * SIZE;
     let mut peaks = Vec::new();
     for phi_lobe in [FallbackSettings::default().phi_lobe, 0.0] {
-        let mut s = settings(DenoiserKind::Fallback);
-        s.denoise.phi_lobe = phi_lobe;
-        let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, size, size, s)
-            .expect("renderer");
-        renderer
-            .render(&gpu, &scene, &gpu_scene, &camera)
-            .expect("frame");
-        let raw = peak(&rgb(&renderer.read_noisy(&gpu).expect("noisy")));
-        let den = peak(&rgb(&renderer.read_output(&gpu).expect("output")));
+        let settings = FallbackSettings {
+            phi_lobe,
+            ..Default::default()
+        };
+        let mut renderer = Denoised::new(&gpu, backend, &scene, size, settings);
+        renderer.render(&gpu, &scene, &camera);
+        let raw = peak(&rgb(&renderer.read_noisy(&gpu)));
+        let den = peak(&rgb(&renderer.read_output(&gpu)));
         println!(
             "sun_boxes {size}x{size}, frame 1, phi_lobe {phi_lobe}: highlight peak {den:.2} of raw {raw:.2}"
         );
@@ -195,12 +230,16 @@ fn moving_object_leaves_no_ghost_trail() {
     let backend = gpu.backend(Default::default()).expect("backend");
     let (mut scene, block) = blue_block_scene();
     let start = scene.instances[block].transform;
-    let mut gpu_scene = upload(&gpu, backend, &scene);
-    let mut renderer = fallback(&gpu, backend, &scene, &gpu_scene, SIZE);
+    let mut renderer = fallback(&gpu, backend, &scene, SIZE);
     let camera = scene.camera(None).expect("camera");
     // Where the block is, from the primary-ray instance view (the raw frame cannot tell: the
     // block's shadowed faces are too dark to look blue under noise).
-    let pass = ViewPass::primary(&gpu, backend, TraceVariant::for_scene(&gpu_scene)).expect("pass");
+    let pass = ViewPass::primary(
+        &gpu,
+        backend,
+        TraceVariant::for_scene(&renderer.direct.gpu_scene),
+    )
+    .expect("pass");
     let mut view = GpuView::new(&camera, SIZE, SIZE);
     view.view_mode = DebugView::Instance as u32;
     let target = pass.target(&gpu, &view).expect("target");
@@ -213,7 +252,7 @@ fn moving_object_leaves_no_ghost_trail() {
     };
     // 40 static frames build a long history everywhere, then the block slides 0.1 units (about
     // a pixel) a frame towards +x for 20 frames.
-    let covered_before = covered(&gpu_scene);
+    let covered_before = covered(&renderer.direct.gpu_scene);
     let step = 0.1;
     let moves = 20;
     let mut trail_blue = Vec::new();
@@ -222,15 +261,17 @@ fn moving_object_leaves_no_ghost_trail() {
             let k = (frame - 39) as f32;
             scene.instances[block].transform =
                 Mat4::from_translation(Vec3::new(step * k, 0.0, 0.0)) * start;
-            gpu_scene.set_instances(&gpu, &scene).expect("move");
+            renderer
+                .direct
+                .gpu_scene
+                .set_instances(&gpu, &scene)
+                .expect("move");
         }
-        renderer
-            .render(&gpu, &scene, &gpu_scene, &camera)
-            .expect("frame");
+        renderer.render(&gpu, &scene, &camera);
         if frame >= 40 {
             // The trail: pixels the block covered before it moved and no longer covers.
-            let out = rgb(&renderer.read_output(&gpu).expect("output"));
-            let now = covered(&gpu_scene);
+            let out = rgb(&renderer.read_output(&gpu));
+            let now = covered(&renderer.direct.gpu_scene);
             let trail: Vec<usize> = (0..out.len())
                 .filter(|&i| covered_before[i] && !now[i])
                 .collect();
