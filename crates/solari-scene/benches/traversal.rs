@@ -8,37 +8,14 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
-use solari_scene::gpu_timer::PassTimer;
+use solari_scene::gpu_timer::{PassTimer, full_bench};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::ViewPass;
-use std::path::PathBuf;
 use std::time::Duration;
 
-fn scenes(full: bool) -> Vec<(String, PathBuf)> {
-    let mut out: Vec<(String, PathBuf)> = ["cornell_box", "interior"]
-        .iter()
-        .map(|n| (n.to_string(), solari_testdata::scene(n)))
-        .collect();
-    let shared = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes");
-    if full && let Ok(dirs) = std::fs::read_dir(shared) {
-        let mut extra: Vec<(String, PathBuf)> = dirs
-            .flatten()
-            .flat_map(|d| std::fs::read_dir(d.path()).into_iter().flatten().flatten())
-            .map(|f| f.path())
-            .filter(|p| p.extension().is_some_and(|e| e == "gltf"))
-            .map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), p))
-            .filter(|(n, _)| !out.iter().any(|(m, _)| m == n))
-            .collect();
-        extra.sort();
-        out.extend(extra);
-    }
-    out
-}
-
 fn traversal(c: &mut Criterion) {
-    // `cargo bench` passes --bench; `cargo test` does not (criterion's test mode).
-    let full = std::env::args().any(|a| a == "--bench");
+    let full = full_bench();
     let (w, h) = if full { (1920, 1080) } else { (64, 64) };
     let gpu = Gpu::new().expect("a GPU adapter");
     let timer = match PassTimer::new(&gpu) {
@@ -47,7 +24,7 @@ fn traversal(c: &mut Criterion) {
     };
     let mut group = c.benchmark_group("traversal");
     group.sample_size(20);
-    for (name, path) in scenes(full) {
+    for (name, path) in solari_testdata::bench_scenes(full) {
         let scene = solari_scene::load_gltf(&path).expect("scene loads");
         let camera = scene.camera(None).expect("camera");
         let mut backends = vec![Backend::Software];

@@ -65,4 +65,36 @@ impl PassTimer {
         let ts: [u64; 2] = bytemuck::pod_read_unaligned(&bytes);
         Ok(ts[1].wrapping_sub(ts[0]) as f64 * self.period_ns * 1e-6)
     }
+
+    /// Times everything `record` records (any number of passes) between two timestamps
+    /// written on the encoder, submits it and returns the GPU time in milliseconds. For
+    /// components of several passes; needs `TIMESTAMP_QUERY_INSIDE_ENCODERS` (an error
+    /// naming the adapter otherwise).
+    pub fn time_span(
+        &self,
+        gpu: &Gpu,
+        record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
+    ) -> Result<f64, GpuError> {
+        if !gpu
+            .features
+            .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
+        {
+            return Err(GpuError::Validation(format!(
+                "adapter '{}' cannot write timestamps between passes: a span cannot be timed",
+                gpu.info.name
+            )));
+        }
+        self.time(gpu, |encoder, (queries, first)| {
+            encoder.write_timestamp(queries, first);
+            record(encoder)?;
+            encoder.write_timestamp(queries, first + 1);
+            Ok(())
+        })
+    }
+}
+
+/// Whether a criterion bench runs for real (`cargo bench` passes `--bench`) rather than in
+/// criterion's test mode under `cargo test`, where it must run once, small, untimed.
+pub fn full_bench() -> bool {
+    std::env::args().any(|a| a == "--bench")
 }

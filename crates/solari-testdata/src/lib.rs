@@ -106,6 +106,33 @@ pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// The scenes a criterion bench measures, by name: in criterion's test mode (`full` false:
+/// `cargo test` runs each case once) the Cornell box and `interior`; for `cargo bench`
+/// every bundled scene plus every scene in `../shared/scenes` beside the repository when it
+/// is there (benches may read it; tests may not).
+pub fn bench_scenes(full: bool) -> Vec<(String, PathBuf)> {
+    let names: &[&str] = if full {
+        &SCENES
+    } else {
+        &["cornell_box", "interior"]
+    };
+    let mut out: Vec<(String, PathBuf)> = names.iter().map(|n| (n.to_string(), scene(n))).collect();
+    let shared = root().join("../../../shared/scenes");
+    if full && let Ok(dirs) = std::fs::read_dir(shared) {
+        let mut extra: Vec<(String, PathBuf)> = dirs
+            .flatten()
+            .flat_map(|d| std::fs::read_dir(d.path()).into_iter().flatten().flatten())
+            .map(|f| f.path())
+            .filter(|p| p.extension().is_some_and(|e| e == "gltf"))
+            .filter_map(|p| Some((p.file_stem()?.to_string_lossy().into_owned(), p)))
+            .filter(|(n, _)| !out.iter().any(|(m, _)| m == n))
+            .collect();
+        extra.sort();
+        out.extend(extra);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

@@ -56,12 +56,24 @@ pub struct DirectLight {
 }
 
 impl DirectLight {
-    /// Uploads `scene` and builds the passes.
+    /// Uploads `scene` and builds the passes for `size × size` images.
     pub fn new(
         gpu: &Gpu,
         backend: Backend,
         scene: &Scene,
         size: u32,
+        di: RestirDiSettings,
+        tiles: LightTileSettings,
+    ) -> Self {
+        Self::new_sized(gpu, backend, scene, (size, size), di, tiles)
+    }
+
+    /// Uploads `scene` and builds the passes for `width × height` images.
+    pub fn new_sized(
+        gpu: &Gpu,
+        backend: Backend,
+        scene: &Scene,
+        (width, height): (u32, u32),
         di: RestirDiSettings,
         tiles: LightTileSettings,
     ) -> Self {
@@ -74,8 +86,8 @@ impl DirectLight {
         let variant = TraceVariant::for_scene(&gpu_scene);
         Self {
             backend,
-            gbuffer: GBuffer::new(gpu, backend, size, size).expect("G-buffer"),
-            di: RestirDi::new(gpu, backend, variant, size, size, di, tiles).expect("DI"),
+            gbuffer: GBuffer::new(gpu, backend, width, height).expect("G-buffer"),
+            di: RestirDi::new(gpu, backend, variant, width, height, di, tiles).expect("DI"),
             tiles: light_tiles,
             lights,
             lights_group,
@@ -110,18 +122,38 @@ impl DirectLight {
         camera: &Camera,
         encoder: &mut wgpu::CommandEncoder,
     ) -> DiPasses {
+        self.prepare(gpu, scene, camera);
+        self.encode_inputs(encoder);
+        self.encode_di(encoder)
+    }
+
+    /// The CPU side of a frame: uploads the camera and the passes' parameters.
+    pub fn prepare(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) {
         let frame = self.frame;
         self.frame += 1;
-        let count = self.lights.light_count;
         self.gbuffer.prepare(gpu, scene, camera).expect("G-buffer");
         self.tiles.prepare(gpu, frame);
         self.di
-            .prepare(gpu, frame, self.gbuffer.history_valid(), count)
+            .prepare(
+                gpu,
+                frame,
+                self.gbuffer.history_valid(),
+                self.lights.light_count,
+            )
             .expect("DI prepare");
+    }
+
+    /// Records what DI reads: the G-buffer and the light tiles.
+    pub fn encode_inputs(&self, encoder: &mut wgpu::CommandEncoder) {
         self.gbuffer.encode(encoder, &self.gpu_scene);
-        if count > 0 {
+        if self.lights.light_count > 0 {
             self.tiles.encode(encoder, &self.lights);
         }
+    }
+
+    /// Records ReSTIR DI.
+    pub fn encode_di(&mut self, encoder: &mut wgpu::CommandEncoder) -> DiPasses {
+        let count = self.lights.light_count;
         self.di
             .encode(
                 encoder,

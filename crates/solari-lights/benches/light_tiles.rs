@@ -1,0 +1,57 @@
+//! Light-tile filling's GPU time per scene (Solari's default 128 tiles × 1024 samples), from
+//! encoder timestamps around the pass ([`PassTimer::time_span`]); throughput in samples.
+//!
+//! `cargo bench -p solari-lights --bench light_tiles`: the bundled scenes and every scene in
+//! `../shared/scenes` when it is there. Under `cargo test` (CI, lavapipe) each case runs
+//! once with 4 tiles of 256 samples: the bench must run, not be timed.
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+use solari_scene::gpu::Gpu;
+use solari_scene::gpu_timer::{PassTimer, full_bench};
+use std::time::Duration;
+
+fn light_tiles(c: &mut Criterion) {
+    let full = full_bench();
+    let settings = if full {
+        LightTileSettings::default()
+    } else {
+        LightTileSettings {
+            tiles: 4,
+            samples_per_tile: 256,
+        }
+    };
+    let gpu = Gpu::new().expect("a GPU adapter");
+    let timer = PassTimer::new(&gpu).unwrap_or_else(|e| panic!("{e}"));
+    let tiles = LightTiles::new(&gpu, settings).expect("tiles");
+    let mut group = c.benchmark_group("light_tiles");
+    group.sample_size(20);
+    group.throughput(Throughput::Elements(settings.sample_count()));
+    for (name, path) in solari_testdata::bench_scenes(full) {
+        let scene = solari_scene::load_gltf(&path).expect("scene loads");
+        let list = LightList::build(&scene);
+        if list.is_empty() {
+            continue;
+        }
+        let lights = GpuLights::new(&gpu, &list, Selection::Power).expect("lights");
+        group.bench_function(format!("{name}/{}_lights", list.len()), |b| {
+            b.iter_custom(|iters| {
+                let mut ms = 0.0;
+                for frame in 0..iters {
+                    tiles.prepare(&gpu, frame as u32);
+                    ms += timer
+                        .time_span(&gpu, |e| {
+                            tiles.encode(e, &lights);
+                            Ok(())
+                        })
+                        .expect("timed tiles");
+                }
+                Duration::from_secs_f64(ms * 1e-3)
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, light_tiles);
+criterion_main!(benches);
