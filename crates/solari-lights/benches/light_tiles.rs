@@ -9,6 +9,7 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_timer::{PassTimer, full_bench};
+use solari_scene::pass::FrameContext;
 use std::time::Duration;
 
 fn light_tiles(c: &mut Criterion) {
@@ -34,14 +35,16 @@ fn light_tiles(c: &mut Criterion) {
             continue;
         }
         let lights = GpuLights::new(&gpu, &list, Selection::Power).expect("lights");
+        let camera = scene.camera(None).expect("camera");
         group.bench_function(format!("{name}/{}_lights", list.len()), |b| {
             b.iter_custom(|iters| {
                 let mut ms = 0.0;
                 for frame in 0..iters {
-                    tiles.prepare(&gpu, frame as u32);
+                    let context = FrameContext::new(frame as u32, (64, 64), &camera, None);
+                    tiles.prepare(&gpu, &context);
                     ms += timer
                         .time_span(&gpu, |e| {
-                            tiles.encode(e, &lights);
+                            tiles.encode(e, &context, &lights);
                             Ok(())
                         })
                         .expect("timed tiles");

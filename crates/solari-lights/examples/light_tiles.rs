@@ -12,6 +12,7 @@ use solari_lights::{
 };
 use solari_scene::gpu::Gpu;
 use solari_scene::load_gltf;
+use solari_scene::pass::FrameContext;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -33,9 +34,12 @@ pub fn run(_args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
         samples_per_tile: 1024,
     };
     let tiles = LightTiles::new(&gpu, settings)?;
-    tiles.prepare(&gpu, 0);
+    // The frame's shared context: index 0, seen from the scene's camera (tiles use the index).
+    let camera = scene.camera(None).ok_or("the scene has no camera")?;
+    let context = FrameContext::new(0, (64, 64), &camera, None);
+    tiles.prepare(&gpu, &context);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    tiles.encode(&mut encoder, &lights);
+    tiles.encode(&mut encoder, &context, &lights);
     gpu.queue.submit([encoder.finish()]);
     let n = settings.sample_count();
     let bytes = gpu.read_buffer(tiles.ids_buffer(), n * size_of::<LightSampleId>() as u64)?;

@@ -48,7 +48,7 @@ pub use light_list::{
     EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, sun_disk,
 };
 pub use sample::{LightSample, LightSampleId, ResolvedLightSample, unshadowed_contribution};
-pub use tiles::{LightTileSettings, LightTiles, PackedLightSample, SAMPLE_CHECK};
+pub use tiles::{LightTileSettings, LightTiles, PASS_LABELS, PackedLightSample, SAMPLE_CHECK};
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]

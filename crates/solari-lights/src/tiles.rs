@@ -20,7 +20,11 @@ use glam::Vec3;
 use solari_scene::GpuError;
 use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry};
 use solari_scene::packing::{pack_unit_vector, unpack_unit_vector};
+use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
+
+/// The pass's label (dispatch, profiler scope and report name).
+pub const PASS_LABELS: [&str; 1] = ["light_tiles"];
 
 /// How many tiles and samples the presampling pass produces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -242,10 +246,10 @@ impl LightTiles {
         self.settings
     }
 
-    /// Writes this frame's parameters (a new random stream per `frame`).
-    pub fn prepare(&self, gpu: &Gpu, frame: u32) {
+    /// Writes this frame's parameters (a new random stream per frame index).
+    pub fn prepare(&self, gpu: &Gpu, frame: &FrameContext) {
         let params = GpuTileParams {
-            frame,
+            frame: frame.index,
             sample_count: self.settings.sample_count() as u32,
             _pad: [0; 2],
         };
@@ -253,23 +257,32 @@ impl LightTiles {
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
-    /// Records the presampling dispatch. Returns whether it ran: a scene without lights has
-    /// nothing to sample, and the pass (like every consumer of the tiles) is skipped.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, lights: &GpuLights) -> bool {
+    /// Records the presampling dispatch (profiler scope [`PASS_LABELS`]`[0]`). Returns what
+    /// ran: nothing for a scene without lights, which has nothing to sample (every consumer
+    /// of the tiles is skipped too).
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        lights: &GpuLights,
+    ) -> Ran {
+        let mut ran = Ran::none();
         if lights.light_count == 0 {
-            return false;
+            return ran;
         }
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("solari_lights/presample_light_tiles"),
-            timestamp_writes: None,
+        frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| {
+            let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(PASS_LABELS[0]),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.empty, &[]);
+            pass.set_bind_group(1, &self.empty, &[]);
+            pass.set_bind_group(2, &self.out_group, &[]);
+            pass.set_bind_group(3, &lights.bind_group, &[]);
+            pass.dispatch_workgroups((self.settings.sample_count() as u32).div_ceil(64), 1, 1);
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.empty, &[]);
-        pass.set_bind_group(1, &self.empty, &[]);
-        pass.set_bind_group(2, &self.out_group, &[]);
-        pass.set_bind_group(3, &lights.bind_group, &[]);
-        pass.dispatch_workgroups((self.settings.sample_count() as u32).div_ceil(64), 1, 1);
-        true
+        ran
     }
 
     /// The layout of bind group 3 for passes that read tiles: the light list (bindings 0–3)

@@ -16,10 +16,19 @@ use solari_lights::{
 };
 use solari_scene::GpuError;
 use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::pass::FrameContext;
 use solari_scene::rng::Rng;
 use solari_scene::shaders::{Backend, compose};
 
 const FRAME: u32 = 7;
+
+/// Frame `index` of the Cornell box's camera (tiles read only the index).
+fn frame(index: u32) -> FrameContext<'static> {
+    let camera = solari_scene::default_scene::cornell_box()
+        .camera(None)
+        .expect("camera");
+    FrameContext::new(index, (64, 64), &camera, None)
+}
 
 /// Runs the presampling pass once and reads back the records and their identities.
 fn presample(
@@ -27,9 +36,11 @@ fn presample(
     tiles: &LightTiles,
     lights: &GpuLights,
 ) -> (Vec<PackedLightSample>, Vec<LightSampleId>) {
-    tiles.prepare(gpu, FRAME);
+    let context = frame(FRAME);
+    tiles.prepare(gpu, &context);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    assert!(tiles.encode(&mut encoder, lights), "the pass ran");
+    let ran = tiles.encode(&mut encoder, &context, lights);
+    assert_eq!(ran.labels(), solari_lights::PASS_LABELS, "the pass ran");
     gpu.queue.submit([encoder.finish()]);
     let n = tiles.settings().sample_count();
     let samples = gpu
@@ -257,9 +268,11 @@ fn no_lights_skip_the_pass_and_bad_settings_are_refused() {
     assert!(list.is_empty());
     let lights = GpuLights::new(&gpu, &list, Selection::Power).expect("lights");
     let tiles = LightTiles::new(&gpu, LightTileSettings::default()).expect("tiles");
-    tiles.prepare(&gpu, 0);
+    let context = frame(0);
+    tiles.prepare(&gpu, &context);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    assert!(!tiles.encode(&mut encoder, &lights), "no lights: skipped");
+    let ran = tiles.encode(&mut encoder, &context, &lights);
+    assert!(ran.is_empty(), "no lights: skipped");
     gpu.queue.submit([encoder.finish()]);
 
     for settings in [

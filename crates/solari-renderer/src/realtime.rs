@@ -16,11 +16,12 @@ use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
 };
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
-use solari_restir::{DiPasses, PASS_LABELS, RestirDi, RestirDiSettings};
+use solari_restir::{PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings};
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::{Gpu, in_scope};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
 use solari_worldcache::{CacheStats, WorldCache, WorldCacheSettings};
@@ -35,14 +36,14 @@ use solari_worldcache::PASS_LABELS as CACHE;
 /// (DLSS-RR itself records outside the profiler's reach).
 pub const PASS_NAMES: [&str; 15] = [
     "gbuffer",
-    "light_tiles",
+    solari_lights::PASS_LABELS[0],
     CACHE[0],
     CACHE[1],
     CACHE[2],
     CACHE[3],
-    PASS_LABELS[0],
-    PASS_LABELS[1],
-    PASS_LABELS[2],
+    DI_LABELS[0],
+    DI_LABELS[1],
+    DI_LABELS[2],
     CACHE[4],
     CACHE[5],
     DENOISE[0],
@@ -76,12 +77,19 @@ const SLOT_DENOISE: usize = 5;
 
 /// Which of [`PASS_NAMES`] ran this frame, marked by name (a name not in the list is
 /// ignored: it has no row in the report).
-struct Ran([bool; PASS_NAMES.len()]);
+struct Marks([bool; PASS_NAMES.len()]);
 
-impl Ran {
+impl Marks {
     fn mark(&mut self, name: &str) {
         if let Some(i) = PASS_NAMES.iter().position(|n| *n == name) {
             self.0[i] = true;
+        }
+    }
+
+    // Every pass a component's `encode` reports.
+    fn add(&mut self, ran: &Ran) {
+        for label in ran.labels() {
+            self.mark(label);
         }
     }
 }
@@ -260,6 +268,8 @@ pub struct RealtimeRenderer {
     denoiser_kind: DenoiserKind,
     denoiser_fallback: Option<String>,
     reset_next: bool,
+    // Last frame's camera, for the frame context's previous view.
+    last_camera: Option<Camera>,
     frame: u32,
     checker: Option<FiniteChecker>,
 }
@@ -366,6 +376,7 @@ impl RealtimeRenderer {
             denoiser_kind: created.kind,
             denoiser_fallback: created.fallback_reason,
             reset_next: false,
+            last_camera: None,
             frame: 0,
             checker,
         })
@@ -493,23 +504,23 @@ impl RealtimeRenderer {
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;
+        let previous = self.last_camera.replace(camera.clone());
+        let context = FrameContext::new(frame, self.di.size(), camera, previous.as_ref())
+            .with_profiler(self.profiler.as_ref());
         self.gbuffer.prepare(gpu, scene, camera)?;
-        self.tiles.prepare(gpu, frame);
-        self.di
-            .prepare(gpu, frame, self.gbuffer.history_valid(), light_count)?;
+        self.tiles.prepare(gpu, &context);
+        self.di.prepare(gpu, &context, &self.gbuffer, light_count)?;
         if let Some((cache, _)) = &mut self.cache {
-            let eye = camera.transform.w_axis.truncate().to_array();
-            cache.prepare(gpu, frame, eye, light_count, self.di.size());
+            cache.prepare(gpu, &context, light_count);
         }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let mut ran = Ran([false; PASS_NAMES.len()]);
-        let profiler = self.profiler.as_ref();
+        let mut ran = Marks([false; PASS_NAMES.len()]);
         let denoising = self.denoising();
         let checker = &mut self.checker;
         if let Some(c) = checker.as_ref() {
             c.begin_frame(&mut encoder);
         }
-        in_scope(profiler, PASS_NAMES[0], &mut encoder, |e| {
+        in_scope(context.profiler, PASS_NAMES[0], &mut encoder, |e| {
             self.gbuffer.encode(e, gpu_scene)
         });
         ran.mark(PASS_NAMES[0]);
@@ -520,12 +531,7 @@ impl RealtimeRenderer {
             c.check_depth(gpu, &mut encoder, SLOT_GBUFFER, &t.depth)?;
         }
         if light_count > 0 {
-            let encoded = in_scope(profiler, PASS_NAMES[1], &mut encoder, |e| {
-                self.tiles.encode(e, &self.lights)
-            });
-            if encoded {
-                ran.mark(PASS_NAMES[1]);
-            }
+            ran.add(&self.tiles.encode(&mut encoder, &context, &self.lights));
             if let Some(c) = checker.as_mut() {
                 let samples = self.tiles.settings().sample_count();
                 c.check_buffer(
@@ -539,10 +545,7 @@ impl RealtimeRenderer {
             }
         }
         if let Some((cache, _)) = &self.cache {
-            cache.encode(&mut encoder, profiler, gpu_scene, &self.lights_group)?;
-            for name in &CACHE[..4] {
-                ran.mark(name);
-            }
+            ran.add(&cache.encode(&mut encoder, &context, gpu_scene, &self.lights_group)?);
             if let Some(c) = checker.as_mut() {
                 let slots = cache.settings().capacity as u64;
                 let cells = cache.cells_buffer();
@@ -556,25 +559,19 @@ impl RealtimeRenderer {
                 )?;
             }
         }
-        let passes = self.di.encode(
+        let di_ran = self.di.encode(
             &mut encoder,
-            profiler,
+            &context,
             gpu_scene,
             &self.gbuffer,
             &self.lights_group,
             light_count,
         )?;
-        match passes {
-            DiPasses::Full => {
-                ran.mark(PASS_LABELS[0]);
-                ran.mark(PASS_LABELS[1]);
-            }
-            DiPasses::EmissionOnly => ran.mark(PASS_LABELS[2]),
-        }
+        ran.add(&di_ran);
         let (w, h) = self.di.size();
         let pixels = w as u64 * h as u64;
         if let Some(c) = checker.as_mut() {
-            if passes == DiPasses::Full {
+            if !di_ran.contains(DI_LABELS[2]) {
                 let reservoirs = self.di.reservoirs();
                 let cap = self.settings.di.confidence_cap;
                 let layout = solari_restir::reservoir_check(cap);
@@ -585,11 +582,9 @@ impl RealtimeRenderer {
         }
         if let Some((cache, target)) = &self.cache {
             if self.settings.view == FrameView::WorldCache {
-                cache.encode_view(&mut encoder, profiler, &self.gbuffer, target)?;
-                ran.mark(CACHE[5]);
+                ran.add(&cache.encode_view(&mut encoder, &context, &self.gbuffer, target)?);
             } else if self.settings.gi == GiMode::WorldCache {
-                cache.encode_gi(&mut encoder, profiler, &self.gbuffer, target)?;
-                ran.mark(CACHE[4]);
+                ran.add(&cache.encode_gi(&mut encoder, &context, &self.gbuffer, target)?);
             }
             if let Some(c) = checker.as_mut() {
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;
@@ -612,7 +607,7 @@ impl RealtimeRenderer {
                 hit_distance: None,
                 reset: std::mem::take(&mut self.reset_next),
             };
-            after = denoiser.encode(gpu, &mut encoder, profiler, &inputs)?;
+            after = denoiser.encode(gpu, &mut encoder, context.profiler, &inputs)?;
             for label in denoiser.pass_labels() {
                 ran.mark(label);
             }
@@ -773,8 +768,8 @@ mod tests {
     }
 
     #[test]
-    fn ran_marks_by_name_and_ignores_unknown_names() {
-        let mut ran = Ran([false; PASS_NAMES.len()]);
+    fn marks_by_name_and_ignore_unknown_names() {
+        let mut ran = Marks([false; PASS_NAMES.len()]);
         ran.mark("light_tiles");
         ran.mark("not_a_pass");
         let marked: Vec<_> = PASS_NAMES.iter().zip(ran.0).filter(|(_, r)| *r).collect();

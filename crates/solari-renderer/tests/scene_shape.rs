@@ -13,6 +13,7 @@ use solari_restir::RestirDi;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::pass::FrameContext;
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, DirectionalLight, Scene, default_scene};
 use solari_worldcache::WorldCache;
@@ -58,23 +59,25 @@ fn restir_di_and_the_world_cache_refuse_a_scene_that_outgrew_their_pipelines() {
     let lights = GpuLights::new(&gpu, &list, Selection::Power).expect("lights");
     let group = tiles.reader_group(&gpu, &lights);
     let count = list.len() as u32;
+    let camera = small.camera(None).expect("camera");
+    let frame = FrameContext::new(0, (SIZE, SIZE), &camera, None);
 
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    di.encode(&mut encoder, None, &gpu_scene, &gbuffer, &group, count)
+    di.encode(&mut encoder, &frame, &gpu_scene, &gbuffer, &group, count)
         .expect("the scene it was built for");
     cache
-        .encode(&mut encoder, None, &gpu_scene, &group)
+        .encode(&mut encoder, &frame, &gpu_scene, &group)
         .expect("the scene it was built for");
 
     gpu_scene.set_instances(&gpu, &grown).expect("grow");
     assert_eq!(gpu_scene.instance_count(), 3);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     let err = di
-        .encode(&mut encoder, None, &gpu_scene, &gbuffer, &group, count)
+        .encode(&mut encoder, &frame, &gpu_scene, &gbuffer, &group, count)
         .expect_err("DI traced a grown scene with a single-instance pipeline");
     assert!(err.to_string().contains("TraceVariant::for_scene"), "{err}");
     let err = cache
-        .encode(&mut encoder, None, &gpu_scene, &group)
+        .encode(&mut encoder, &frame, &gpu_scene, &group)
         .expect_err("the cache traced a grown scene with a single-instance pipeline");
     assert!(err.to_string().contains("3 instances"), "{err}");
 }

@@ -18,6 +18,7 @@ use solari_scene::gbuffer::{
 use solari_scene::gbuffer_input::{ExternalGBuffer, GBufferSource, GBufferViews};
 use solari_scene::gpu::{Gpu, TracerChoice, buffer_layout_entry};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::pass::FrameContext;
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::{Camera, Scene, default_scene};
 
@@ -76,6 +77,8 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             &targets[frame as usize % 2],
             &targets[1 - frame as usize % 2],
         );
+        // What every pass shares this frame (a still camera: last frame's view is the same).
+        let context = FrameContext::new(frame, SIZE, &camera, Some(&camera));
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         own.encode(&gpu, &mut encoder, &camera, now);
         external.prepare(
@@ -86,16 +89,16 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
         )?;
         solari_gbuffer.prepare(&gpu, &scene, &camera)?;
         solari_gbuffer.encode(&mut encoder, &gpu_scene);
-        tiles.prepare(&gpu, frame);
-        tiles.encode(&mut encoder, &lights);
+        tiles.prepare(&gpu, &context);
+        tiles.encode(&mut encoder, &context, &lights);
         for (di, gbuffer) in [
             (&mut di_own, &external as &dyn GBufferSource),
             (&mut di_solari, &solari_gbuffer),
         ] {
-            di.prepare(&gpu, frame, gbuffer.history_valid(), light_count)?;
+            di.prepare(&gpu, &context, gbuffer, light_count)?;
             di.encode(
                 &mut encoder,
-                None,
+                &context,
                 &gpu_scene,
                 gbuffer,
                 &lights_group,

@@ -7,19 +7,10 @@ use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
-use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
+use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
-use wgpu_profiler::GpuProfiler;
-
-/// Which of the pass's dispatches [`RestirDi::encode`] recorded.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum DiPasses {
-    /// Initial + temporal, then spatial + shade.
-    Full,
-    /// The scene has no lights: only the emission copy ran.
-    EmissionOnly,
-}
 
 /// ReSTIR DI: reads the G-buffer (group 1) and light tiles (group 3), writes shaded radiance
 /// (emission plus direct light, linear, one `vec4<f32>` per pixel) to
@@ -269,17 +260,19 @@ impl RestirDi {
         self.history = false;
     }
 
-    /// Starts frame `frame` for a scene with `light_count` lights: swaps the reservoir
-    /// buffers, uploads the light translation (the identity unless
-    /// [`RestirDi::set_light_translation`] gave one) and writes the parameters.
-    /// `gbuffer_history` is [`GBuffer::history_valid`].
+    /// Starts `frame` for a scene with `light_count` lights: swaps the reservoir buffers,
+    /// uploads the light translation (the identity unless [`RestirDi::set_light_translation`]
+    /// gave one) and writes the parameters. `gbuffer` is the G-buffer this frame reads (its
+    /// history decides whether temporal reuse may run).
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
-        frame: u32,
-        gbuffer_history: bool,
+        frame: &FrameContext,
+        gbuffer: &dyn GBufferSource,
         light_count: u32,
     ) -> Result<(), GpuError> {
+        let gbuffer_history = gbuffer.history_valid();
+        let frame = frame.index;
         match self.pending_translation.take() {
             Some(table) => {
                 self.upload_translation(gpu, &table)?;
@@ -331,30 +324,36 @@ impl RestirDi {
     }
 
     /// Records the frame's dispatches, each in a profiler scope named as in
-    /// [`PASS_LABELS`] when `profiler` is given. With `light_count == 0` only the emission
-    /// copy runs (and history is dropped); otherwise initial + temporal, then spatial +
-    /// shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles; `gbuffer` is
+    /// [`PASS_LABELS`] when `frame` carries a profiler, and returns which ran. With
+    /// `light_count == 0` only the emission copy runs (and history is dropped); otherwise
+    /// initial + temporal, then spatial + shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles; `gbuffer` is
     /// Solari's raster G-buffer or your own ([`solari_scene::gbuffer_input`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
     /// `scene` no longer has (for example one instance, and the scene has grown): they would
     /// trace instance 0 alone. Build a new `RestirDi` with [`TraceVariant::for_scene`]. Errors
-    /// too when the G-buffer's size is not this pass's.
+    /// too when the G-buffer's or the frame's size is not this pass's.
     pub fn encode(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         scene: &GpuScene,
         gbuffer: &dyn GBufferSource,
         lights: &wgpu::BindGroup,
         light_count: u32,
-    ) -> Result<DiPasses, GpuError> {
+    ) -> Result<Ran, GpuError> {
         self.variant.check(scene)?;
         if gbuffer.size() != self.size {
             return Err(GpuError::Validation(format!(
                 "ReSTIR DI: built for {:?} pixels, G-buffer is {:?}",
                 self.size,
                 gbuffer.size()
+            )));
+        }
+        if frame.size != self.size {
+            return Err(GpuError::Validation(format!(
+                "ReSTIR DI: built for {:?} pixels, the frame is {:?}",
+                self.size, frame.size
             )));
         }
         let buffers = self.buffers.as_ref().expect("resize allocates the buffers");
@@ -365,20 +364,21 @@ impl RestirDi {
             lights,
         ];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
-        let run = |encoder: &mut wgpu::CommandEncoder, label: &str, pipeline| {
-            in_scope(profiler, label, encoder, |e| {
+        let mut ran = Ran::none();
+        let mut run = |encoder: &mut wgpu::CommandEncoder, label: &'static str, pipeline| {
+            frame.scope(label, encoder, &mut ran, |e| {
                 record(e, label, pipeline, &groups, workgroups)
             })
         };
         if light_count == 0 {
             run(encoder, PASS_LABELS[2], &self.emission);
             self.history = false;
-            return Ok(DiPasses::EmissionOnly);
+        } else {
+            run(encoder, PASS_LABELS[0], &self.initial);
+            run(encoder, PASS_LABELS[1], &self.spatial);
+            self.history = true;
         }
-        run(encoder, PASS_LABELS[0], &self.initial);
-        run(encoder, PASS_LABELS[1], &self.spatial);
-        self.history = true;
-        Ok(DiPasses::Full)
+        Ok(ran)
     }
 
     /// Shaded radiance, `width × height` `vec4<f32>` row by row from the top left: rgb is

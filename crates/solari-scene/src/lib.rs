@@ -30,6 +30,7 @@ pub mod gpu_timer;
 pub mod gpu_types;
 pub mod model;
 pub mod packing;
+pub mod pass;
 pub mod render_setup;
 pub mod rng;
 pub mod shaders;

@@ -40,20 +40,22 @@ fn world_cache(c: &mut Criterion) {
         let settings = WorldCacheSettings::default();
         let mut cache = WorldCache::new(&gpu, backend, variant, settings, tiles).expect("cache");
         let target = cache.target_group(&gpu, direct.di.output());
-        let eye = camera.transform.w_axis.truncate().to_array();
         group.bench_function(format!("{name}/{}", backend.name()), |b| {
             b.iter_custom(|iters| {
                 let mut ms = 0.0;
                 for _ in 0..iters {
-                    let count = direct.lights.light_count;
-                    cache.prepare(&gpu, direct.frame(), eye, count, (w, h));
+                    direct.prepare(&gpu, &scene, &camera);
+                    let context = *direct.context();
+                    cache.prepare(&gpu, &context, direct.lights.light_count);
                     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-                    direct.encode(&gpu, &scene, &camera, &mut encoder);
+                    direct.encode_inputs(&mut encoder);
+                    direct.encode_di(&mut encoder);
                     gpu.queue.submit([encoder.finish()]);
                     ms += timer
                         .time_span(&gpu, |e| {
-                            cache.encode(e, None, &direct.gpu_scene, &direct.lights_group)?;
-                            cache.encode_gi(e, None, &direct.gbuffer, &target)
+                            cache.encode(e, &context, &direct.gpu_scene, &direct.lights_group)?;
+                            cache.encode_gi(e, &context, &direct.gbuffer, &target)?;
+                            Ok(())
                         })
                         .expect("timed cache");
                 }

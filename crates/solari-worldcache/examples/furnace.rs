@@ -13,6 +13,7 @@ use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::load_gltf;
+use solari_scene::pass::FrameContext;
 use solari_worldcache::{WorldCache, WorldCacheSettings};
 use std::path::PathBuf;
 
@@ -52,19 +53,20 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
         mapped_at_creation: false,
     });
     let target = cache.target_group(&gpu, &view);
-    let eye = camera.transform.w_axis.truncate().to_array();
 
     for frame in 0..FRAMES {
+        // What every pass shares this frame (a still camera: last frame's view is the same).
+        let context = FrameContext::new(frame, (SIZE, SIZE), &camera, Some(&camera));
         gbuffer.prepare(&gpu, &scene, &camera)?;
-        tiles.prepare(&gpu, frame);
-        cache.prepare(&gpu, frame, eye, lights.light_count, (SIZE, SIZE));
+        tiles.prepare(&gpu, &context);
+        cache.prepare(&gpu, &context, lights.light_count);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         gbuffer.encode(&mut encoder, &gpu_scene);
-        tiles.encode(&mut encoder, &lights);
+        tiles.encode(&mut encoder, &context, &lights);
         // Upkeep: age and compact the cells, then trace and blend their new samples.
-        cache.encode(&mut encoder, None, &gpu_scene, &lights_group)?;
+        cache.encode(&mut encoder, &context, &gpu_scene, &lights_group)?;
         // Pixels look their cells up (creating and renewing them) and show the irradiance.
-        cache.encode_view(&mut encoder, None, &gbuffer, &target)?;
+        cache.encode_view(&mut encoder, &context, &gbuffer, &target)?;
         gpu.queue.submit([encoder.finish()]);
     }
     gpu.check_errors()?;

@@ -9,10 +9,10 @@ use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
-use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry, in_scope};
+use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
-use wgpu_profiler::GpuProfiler;
 
 /// Profiler scope labels, in frame order: the four upkeep steps (the compaction's three
 /// dispatches share one scope), then the pixel passes (cache-only GI, or the debug view).
@@ -393,16 +393,12 @@ impl WorldCache {
         gpu.bind_buffers("solari_worldcache/target", &self.target_layout, &[target])
     }
 
-    /// Writes the frame's parameters: the camera position (levels of detail follow it),
-    /// frame index, light count (0: no direct-light samples) and the pixel passes' image size.
-    pub fn prepare(
-        &mut self,
-        gpu: &Gpu,
-        frame: u32,
-        view_position: [f32; 3],
-        light_count: u32,
-        size: (u32, u32),
-    ) {
+    /// Writes the frame's parameters: from `frame` the camera position (levels of detail
+    /// follow it), the frame index and the pixel passes' image size; and the light count (0:
+    /// no direct-light samples).
+    pub fn prepare(&mut self, gpu: &Gpu, frame: &FrameContext, light_count: u32) {
+        let (view_position, size) = (frame.eye(), frame.size);
+        let frame = frame.index;
         let s = self.settings;
         let grid = CellGrid::new(s.cell_size, s.lod_distance, s.capacity);
         let mut bits = 0;
@@ -443,15 +439,12 @@ impl WorldCache {
 
     /// Records decay and compaction: cells lose a frame of life (dead ones free their
     /// slots) and the live ones are listed densely for the update passes.
-    pub fn encode_maintain(
-        &self,
-        encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
-    ) {
+    pub fn encode_maintain(&self, encoder: &mut wgpu::CommandEncoder, frame: &FrameContext) -> Ran {
+        let mut ran = Ran::none();
         let own = [(2, &self.group)];
         let slots = self.settings.capacity;
         let p = &self.pipelines;
-        in_scope(profiler, PASS_LABELS[0], encoder, |e| {
+        frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| {
             record(
                 e,
                 PASS_LABELS[0],
@@ -460,7 +453,7 @@ impl WorldCache {
                 Dispatch::Direct(slots / 256, 1),
             )
         });
-        in_scope(profiler, PASS_LABELS[1], encoder, |e| {
+        frame.scope(PASS_LABELS[1], encoder, &mut ran, |e| {
             let blocks = slots / 1024;
             record(
                 e,
@@ -484,6 +477,7 @@ impl WorldCache {
                 Dispatch::Direct(blocks, 1),
             );
         });
+        ran
     }
 
     /// Records the update (a new sample per live cell, stochastic past the budget) and the
@@ -496,14 +490,15 @@ impl WorldCache {
     pub fn encode_update(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         scene: &GpuScene,
         lights: &wgpu::BindGroup,
-    ) -> Result<(), GpuError> {
+    ) -> Result<Ran, GpuError> {
         self.variant.check(scene)?;
+        let mut ran = Ran::none();
         let p = &self.pipelines;
         let size = Dispatch::Indirect(&self.dispatch);
-        in_scope(profiler, PASS_LABELS[2], encoder, |e| {
+        frame.scope(PASS_LABELS[2], encoder, &mut ran, |e| {
             record(
                 e,
                 PASS_LABELS[2],
@@ -512,25 +507,26 @@ impl WorldCache {
                 size,
             )
         });
-        in_scope(profiler, PASS_LABELS[3], encoder, |e| {
+        frame.scope(PASS_LABELS[3], encoder, &mut ran, |e| {
             record(e, PASS_LABELS[3], &p.blend, &[(2, &self.group)], size)
         });
-        Ok(())
+        Ok(ran)
     }
 
     /// Records the whole upkeep: [`WorldCache::encode_maintain`] then
     /// [`WorldCache::encode_update`], refusing (before recording anything) a scene the
-    /// update pipeline cannot trace.
+    /// update pipeline cannot trace. Returns the four upkeep labels.
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         scene: &GpuScene,
         lights: &wgpu::BindGroup,
-    ) -> Result<(), GpuError> {
+    ) -> Result<Ran, GpuError> {
         self.variant.check(scene)?;
-        self.encode_maintain(encoder, profiler);
-        self.encode_update(encoder, profiler, scene, lights)
+        let mut ran = self.encode_maintain(encoder, frame);
+        ran.extend(self.encode_update(encoder, frame, scene, lights)?);
+        Ok(ran)
     }
 
     /// Records cache-only GI: every G-buffer pixel adds its diffuse albedo × the cache's
@@ -541,11 +537,11 @@ impl WorldCache {
     pub fn encode_gi(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
-    ) -> Result<(), GpuError> {
-        self.pixels(encoder, profiler, 4, &self.pipelines.gi, gbuffer, target)
+    ) -> Result<Ran, GpuError> {
+        self.pixels(encoder, frame, 4, &self.pipelines.gi, gbuffer, target)
     }
 
     /// Records the debug view: every pixel of `target` shows its cell's irradiance, tinted
@@ -554,22 +550,22 @@ impl WorldCache {
     pub fn encode_view(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
-    ) -> Result<(), GpuError> {
-        self.pixels(encoder, profiler, 5, &self.pipelines.view, gbuffer, target)
+    ) -> Result<Ran, GpuError> {
+        self.pixels(encoder, frame, 5, &self.pipelines.view, gbuffer, target)
     }
 
     fn pixels(
         &self,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         label: usize,
         pipeline: &wgpu::ComputePipeline,
         gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
-    ) -> Result<(), GpuError> {
+    ) -> Result<Ran, GpuError> {
         if gbuffer.size() != self.size {
             return Err(GpuError::Validation(format!(
                 "world cache: built for {:?} pixels, G-buffer is {:?}",
@@ -579,10 +575,11 @@ impl WorldCache {
         }
         let groups = [(1, gbuffer.bind_group()?), (2, &self.group), (3, target)];
         let size = Dispatch::Direct(self.size.0.div_ceil(8), self.size.1.div_ceil(8));
-        in_scope(profiler, PASS_LABELS[label], encoder, |e| {
+        let mut ran = Ran::none();
+        frame.scope(PASS_LABELS[label], encoder, &mut ran, |e| {
             record(e, PASS_LABELS[label], pipeline, &groups, size)
         });
-        Ok(())
+        Ok(ran)
     }
 
     /// The last frame's counters. Blocks until the GPU is done.

@@ -77,20 +77,21 @@ impl Setup {
     /// One frame from `camera`, submitted; panics if the cells or the image hold a NaN, an
     /// infinity or a negative value.
     fn frame(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) {
-        let eye = camera.transform.w_axis.truncate().to_array();
-        let (frame, count) = (self.direct.frame(), self.direct.lights.light_count);
+        self.direct.prepare(gpu, scene, camera);
+        let context = *self.direct.context();
         self.cache
-            .prepare(gpu, frame, eye, count, self.direct.di.size());
+            .prepare(gpu, &context, self.direct.lights.light_count);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         self.checker.begin_frame(&mut encoder);
-        self.direct.encode(gpu, scene, camera, &mut encoder);
+        self.direct.encode_inputs(&mut encoder);
+        self.direct.encode_di(&mut encoder);
         let d = &self.direct;
         self.cache
-            .encode(&mut encoder, None, &d.gpu_scene, &d.lights_group)
+            .encode(&mut encoder, &context, &d.gpu_scene, &d.lights_group)
             .expect("cache upkeep");
         if self.gi == Gi::WorldCache {
             self.cache
-                .encode_gi(&mut encoder, None, &d.gbuffer, &self.target)
+                .encode_gi(&mut encoder, &context, &d.gbuffer, &self.target)
                 .expect("cache GI");
         }
         let slots = self.cache.settings().capacity as u64;

@@ -8,6 +8,8 @@ use rand_pcg::Pcg32;
 use solari_lights::LightTileSettings;
 use solari_scene::gpu::{Gpu, ShaderChecks, test_gpu};
 use solari_scene::gpu_scene::TraceVariant;
+use solari_scene::gpu_types::GpuView;
+use solari_scene::pass::FrameContext;
 use solari_scene::shaders::compose;
 use solari_worldcache::hash::{CellGrid, EMPTY_CHECKSUM, Probe, insert, probe_sequence};
 use solari_worldcache::{GpuCacheCell, WorldCache, WorldCacheSettings};
@@ -44,8 +46,23 @@ fn cache(gpu: &Gpu, settings: WorldCacheSettings) -> WorldCache {
         LightTileSettings::default(),
     )
     .expect("world cache");
-    c.prepare(gpu, 0, VIEW, 0, (1, 1));
+    c.prepare(gpu, &frame(), 0);
     c
+}
+
+/// Frame 0 of a 1×1 image seen from `VIEW` (the cache reads the index, eye and size).
+fn frame() -> FrameContext<'static> {
+    let view = GpuView {
+        origin: VIEW,
+        ..Default::default()
+    };
+    FrameContext {
+        index: 0,
+        size: (1, 1),
+        view,
+        previous_view: view,
+        profiler: None,
+    }
 }
 
 // Runs the find kernel over `cases` against `cache`'s table.
@@ -273,7 +290,7 @@ fn compaction_equals_a_cpu_prefix_sum_on_random_occupancy() {
             .collect();
         c.write_cells(&gpu, &slots).unwrap();
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        c.encode_maintain(&mut encoder, None);
+        c.encode_maintain(&mut encoder, &frame());
         gpu.queue.submit([encoder.finish()]);
         let active = c.read_active(&gpu).unwrap();
         // Decay first: a cell with one frame left dies and is not listed.

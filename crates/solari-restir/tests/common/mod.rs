@@ -7,10 +7,11 @@ use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selecti
 #[allow(unused_imports)] // not every including test compares images
 pub use solari_reference::rmse;
 use solari_reference::{ReferenceSettings, reference_image};
-use solari_restir::{DiPasses, RestirDi, RestirDiSettings};
+use solari_restir::{RestirDi, RestirDiSettings};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, Scene};
 
@@ -53,6 +54,8 @@ pub struct DirectLight {
     pub di: RestirDi,
     list: LightList,
     frame: u32,
+    last_camera: Option<Camera>,
+    context: Option<FrameContext<'static>>,
 }
 
 impl DirectLight {
@@ -94,6 +97,8 @@ impl DirectLight {
             gpu_scene,
             list,
             frame: 0,
+            last_camera: None,
+            context: None,
         }
     }
 
@@ -108,9 +113,11 @@ impl DirectLight {
         self.list = list;
     }
 
-    /// The frame index the next [`DirectLight::encode`] uses.
-    pub fn frame(&self) -> u32 {
-        self.frame
+    /// The context of the frame last prepared.
+    pub fn context(&self) -> &FrameContext<'static> {
+        self.context
+            .as_ref()
+            .expect("DirectLight::prepare made a frame context")
     }
 
     /// Prepares and records one frame's G-buffer, tiles and DI from `camera` into
@@ -121,43 +128,39 @@ impl DirectLight {
         scene: &Scene,
         camera: &Camera,
         encoder: &mut wgpu::CommandEncoder,
-    ) -> DiPasses {
+    ) -> Ran {
         self.prepare(gpu, scene, camera);
         self.encode_inputs(encoder);
         self.encode_di(encoder)
     }
 
-    /// The CPU side of a frame: uploads the camera and the passes' parameters.
+    /// The CPU side of a frame: the frame context, then the passes' parameters.
     pub fn prepare(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) {
-        let frame = self.frame;
+        let previous = self.last_camera.replace(camera.clone());
+        let context = FrameContext::new(self.frame, self.di.size(), camera, previous.as_ref());
         self.frame += 1;
         self.gbuffer.prepare(gpu, scene, camera).expect("G-buffer");
-        self.tiles.prepare(gpu, frame);
+        self.tiles.prepare(gpu, &context);
         self.di
-            .prepare(
-                gpu,
-                frame,
-                self.gbuffer.history_valid(),
-                self.lights.light_count,
-            )
+            .prepare(gpu, &context, &self.gbuffer, self.lights.light_count)
             .expect("DI prepare");
+        self.context = Some(context);
     }
 
     /// Records what DI reads: the G-buffer and the light tiles.
     pub fn encode_inputs(&self, encoder: &mut wgpu::CommandEncoder) {
         self.gbuffer.encode(encoder, &self.gpu_scene);
-        if self.lights.light_count > 0 {
-            self.tiles.encode(encoder, &self.lights);
-        }
+        self.tiles.encode(encoder, self.context(), &self.lights);
     }
 
     /// Records ReSTIR DI.
-    pub fn encode_di(&mut self, encoder: &mut wgpu::CommandEncoder) -> DiPasses {
+    pub fn encode_di(&mut self, encoder: &mut wgpu::CommandEncoder) -> Ran {
         let count = self.lights.light_count;
+        let context = *self.context();
         self.di
             .encode(
                 encoder,
-                None,
+                &context,
                 &self.gpu_scene,
                 &self.gbuffer,
                 &self.lights_group,
