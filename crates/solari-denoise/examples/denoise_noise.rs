@@ -15,6 +15,7 @@ use solari_scene::default_scene;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::pass::FrameContext;
 
 const SIZE: u32 = 96;
 const FRAMES: u32 = 8;
@@ -67,9 +68,10 @@ pub fn run(_args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             hit_distance: None,
             reset: false,
         };
-        let after = denoiser.encode(&gpu, &mut encoder, None, &inputs)?;
+        let context = FrameContext::new(frame, (SIZE, SIZE), &camera, Some(&camera));
+        let encoded = denoiser.encode(&gpu, &mut encoder, &context, &inputs)?;
         gpu.queue
-            .submit(std::iter::once(encoder.finish()).chain(after));
+            .submit(std::iter::once(encoder.finish()).chain(encoded.after));
         let bytes = gpu.read_buffer(denoiser.output(), pixels as u64 * 16)?;
         let out: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
         let rms = |img: &[[f32; 4]]| {

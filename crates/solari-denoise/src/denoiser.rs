@@ -4,7 +4,7 @@
 use solari_scene::GpuError;
 use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::Gpu;
-use wgpu_profiler::GpuProfiler;
+use solari_scene::pass::{FrameContext, Ran};
 
 /// Noisy lighting as the renderer produced it: linear radiance, one `vec4<f32>` per pixel at
 /// the render resolution, row by row from the top left; `w` is 1 on surfaces and 0 on the
@@ -143,16 +143,15 @@ pub trait Denoiser {
     /// Profiler scope names of its passes, in the order they run.
     fn pass_labels(&self) -> &'static [&'static str];
 
-    /// Records one frame. Returns command buffers that must be submitted right after
-    /// `encoder`'s, in order and in the same submission (denoisers that record outside wgpu,
-    /// as DLSS-RR does, need them; the fallback returns none).
+    /// Records one frame (each pass in a profiler scope named by its label when `frame`
+    /// carries a profiler): what ran, and command buffers to submit after `encoder`'s.
     fn encode(
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         inputs: &DenoiserInputs,
-    ) -> Result<Vec<wgpu::CommandBuffer>, GpuError>;
+    ) -> Result<Encoded, GpuError>;
 
     /// The denoised image: one `vec4<f32>` per output pixel (linear radiance, `w` as in the
     /// input), row by row from the top left.
@@ -160,6 +159,17 @@ pub trait Denoiser {
 
     /// GPU memory it holds, in bytes.
     fn memory_bytes(&self) -> u64;
+}
+
+/// What [`Denoiser::encode`] recorded.
+#[derive(Debug)]
+pub struct Encoded {
+    /// The passes it ran, by label (from [`Denoiser::pass_labels`]).
+    pub ran: Ran,
+    /// Command buffers that must be submitted right after the encoder's, in order and in the
+    /// same submission (denoisers that record outside wgpu, as DLSS-RR does, need them; the
+    /// fallback gives none).
+    pub after: Vec<wgpu::CommandBuffer>,
 }
 
 /// Which denoiser `--denoiser` names.

@@ -1,14 +1,14 @@
 //! The portable spatiotemporal denoiser (after SVGF): temporal accumulation with
 //! reprojection, variance estimation and an edge-aware à-trous wavelet filter, per signal.
 
-use crate::denoiser::{Denoiser, DenoiserInputs, Inputs, Lighting, Requirements};
+use crate::denoiser::{Denoiser, DenoiserInputs, Encoded, Inputs, Lighting, Requirements};
 use crate::settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, ShaderChecks, in_scope};
+use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
-use wgpu_profiler::GpuProfiler;
 
 /// Profiler scopes of the fallback's passes: temporal accumulation, variance, and all à-trous
 /// iterations together (per signal, so split lighting records each twice).
@@ -293,9 +293,9 @@ impl Denoiser for FallbackDenoiser {
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         inputs: &DenoiserInputs,
-    ) -> Result<Vec<wgpu::CommandBuffer>, GpuError> {
+    ) -> Result<Encoded, GpuError> {
         if inputs.gbuffer.size() != self.size {
             return Err(GpuError::Validation(format!(
                 "fallback denoiser: built for {:?}, G-buffer is {:?}",
@@ -312,6 +312,7 @@ impl Denoiser for FallbackDenoiser {
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let workgroups = [w.div_ceil(8), h.div_ceil(8)];
         let gbuffer = inputs.gbuffer.bind_group()?;
+        let mut ran = Ran::none();
         for signal in &self.signals {
             let groups = &signal.groups[self.parity];
             let run = |e: &mut wgpu::CommandEncoder, label, pipeline, group| {
@@ -324,20 +325,23 @@ impl Denoiser for FallbackDenoiser {
                 pass.set_bind_group(1, gbuffer, &[]);
                 pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
             };
-            in_scope(profiler, PASS_LABELS[0], encoder, |e| {
+            frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| {
                 run(e, PASS_LABELS[0], &self.temporal, &groups[0])
             });
-            in_scope(profiler, PASS_LABELS[1], encoder, |e| {
+            frame.scope(PASS_LABELS[1], encoder, &mut ran, |e| {
                 run(e, PASS_LABELS[1], &self.variance, &groups[1])
             });
-            in_scope(profiler, PASS_LABELS[2], encoder, |e| {
+            frame.scope(PASS_LABELS[2], encoder, &mut ran, |e| {
                 for group in &groups[2..] {
                     run(e, PASS_LABELS[2], &self.atrous, group);
                 }
             });
         }
         self.history = true;
-        Ok(Vec::new())
+        Ok(Encoded {
+            ran,
+            after: Vec::new(),
+        })
     }
 
     fn output(&self) -> &wgpu::Buffer {

@@ -94,8 +94,10 @@
 //! let mut encoder = gpu.device.create_command_encoder(&Default::default());
 //! // ... record the G-buffer and the lighting passes that fill `noisy` ...
 //! let inputs = DenoiserInputs { lighting: Lighting::Combined(&noisy), gbuffer: &gbuffer, hit_distance: None, reset: false };
-//! let extra = denoiser.encode(&gpu, &mut encoder, None, &inputs)?;
-//! gpu.queue.submit(std::iter::once(encoder.finish()).chain(extra));
+//! # let camera = solari_scene::default_scene::cornell_box().camera(None).unwrap();
+//! let frame = solari_scene::pass::FrameContext::new(0, (64, 64), &camera, None);
+//! let encoded = denoiser.encode(&gpu, &mut encoder, &frame, &inputs)?;
+//! gpu.queue.submit(std::iter::once(encoder.finish()).chain(encoded.after));
 //! // `denoiser.output()` now holds one vec4<f32> per pixel.
 //! # Ok(()) }
 //! ```
@@ -110,7 +112,9 @@ pub mod fallback;
 pub mod select;
 pub mod settings;
 
-pub use denoiser::{Denoiser, DenoiserInputs, DenoiserKind, Inputs, Lighting, Requirements};
+pub use denoiser::{
+    Denoiser, DenoiserInputs, DenoiserKind, Encoded, Inputs, Lighting, Requirements,
+};
 pub use fallback::{FallbackDenoiser, GpuHistory};
 pub use select::{Created, DlssAvailability, create, create_gpu};
 pub use settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};

@@ -10,6 +10,7 @@ use solari_denoise::{Denoiser, DenoiserInputs, FallbackDenoiser, FallbackSetting
 use solari_scene::gbuffer::{DEPTH_FORMAT, EMISSION_FORMAT, GBUFFER_FORMAT, MOTION_FORMAT};
 use solari_scene::gbuffer_input::{ExternalGBuffer, GBufferViews};
 use solari_scene::gpu::Gpu;
+use solari_scene::pass::FrameContext;
 
 mod common;
 
@@ -108,11 +109,9 @@ fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
                 hit_distance: None,
                 reset: false,
             };
-            after.extend(
-                denoiser
-                    .encode(&h.gpu, &mut encoder, None, &inputs)
-                    .expect("encode"),
-            );
+            let context = FrameContext::new(frame as u32, (SIZE, SIZE), &camera, None);
+            let encoded = denoiser.encode(&h.gpu, &mut encoder, &context, &inputs);
+            after.extend(encoded.expect("encode").after);
         }
         h.gpu
             .queue

@@ -49,12 +49,13 @@ impl Denoised {
             hit_distance: None,
             reset: false,
         };
-        let after = self
+        let frame = *self.direct.context();
+        let encoded = self
             .denoiser
-            .encode(gpu, &mut encoder, None, &inputs)
+            .encode(gpu, &mut encoder, &frame, &inputs)
             .expect("denoise");
         gpu.queue
-            .submit(std::iter::once(encoder.finish()).chain(after));
+            .submit(std::iter::once(encoder.finish()).chain(encoded.after));
     }
 
     /// The last frame's noisy input (DI's output).

@@ -607,10 +607,9 @@ impl RealtimeRenderer {
                 hit_distance: None,
                 reset: std::mem::take(&mut self.reset_next),
             };
-            after = denoiser.encode(gpu, &mut encoder, context.profiler, &inputs)?;
-            for label in denoiser.pass_labels() {
-                ran.mark(label);
-            }
+            let encoded = denoiser.encode(gpu, &mut encoder, &context, &inputs)?;
+            ran.add(&encoded.ran);
+            after = encoded.after;
         }
         if let Some(p) = &mut self.profiler {
             p.resolve_queries(&mut encoder);

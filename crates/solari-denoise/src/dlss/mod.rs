@@ -14,7 +14,7 @@
 
 mod ngx;
 
-use crate::denoiser::{Denoiser, DenoiserInputs, Inputs, Lighting, Requirements};
+use crate::denoiser::{Denoiser, DenoiserInputs, Encoded, Inputs, Lighting, Requirements};
 use crate::dlss_io::{COPY_LABELS, DlssTextures};
 use crate::select::DlssAvailability;
 use ngx::{
@@ -24,8 +24,8 @@ use ngx::{
 };
 use solari_scene::GpuError;
 use solari_scene::gpu::Gpu;
+use solari_scene::pass::{FrameContext, Ran};
 use std::sync::{Arc, Mutex};
-use wgpu_profiler::GpuProfiler;
 
 /// Solari's NGX project id (any fixed UUID identifies an application to NGX).
 pub const PROJECT_ID: &str = "6f1c3a52-8d0e-4f7b-9a1e-2c5b7d9e4f10";
@@ -151,16 +151,18 @@ impl Denoiser for DlssRrDenoiser {
         &mut self,
         gpu: &Gpu,
         encoder: &mut wgpu::CommandEncoder,
-        profiler: Option<&GpuProfiler>,
+        frame: &FrameContext,
         inputs: &DenoiserInputs,
-    ) -> Result<Vec<wgpu::CommandBuffer>, GpuError> {
+    ) -> Result<Encoded, GpuError> {
         let Lighting::Combined(lighting) = inputs.lighting else {
             return Err(GpuError::Validation(
                 "DLSS-RR takes combined lighting (it separates signals itself)".into(),
             ));
         };
         self.textures
-            .encode_inputs(gpu, encoder, profiler, lighting, inputs.gbuffer)?;
+            .encode_inputs(gpu, encoder, frame.profiler, lighting, inputs.gbuffer)?;
+        let mut ran = Ran::none();
+        ran.mark(PASS_LABELS[0]);
         let (rw, rh) = self.textures.render_size();
         let t = &self.textures;
         let parameters = DlssRayReconstructionRenderParameters {
@@ -195,7 +197,10 @@ impl Denoiser for DlssRrDenoiser {
             .map_err(|e| GpuError::Validation(format!("DLSS-RR: {e}")))?;
         let mut after = gpu.device.create_command_encoder(&Default::default());
         self.textures.encode_output(&mut after, None);
-        Ok(vec![dlss, after.finish()])
+        Ok(Encoded {
+            ran,
+            after: vec![dlss, after.finish()],
+        })
     }
 
     fn output(&self) -> &wgpu::Buffer {

@@ -8,6 +8,7 @@ use solari_denoise::{Denoiser, DenoiserInputs, Lighting};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::pass::FrameContext;
 use solari_scene::{Scene, default_scene};
 
 /// Image side.
@@ -141,12 +142,14 @@ impl Harness {
             hit_distance: None,
             reset,
         };
-        let after = denoiser
-            .encode(&self.gpu, &mut encoder, None, &inputs)
+        let camera = self.scene.camera(None).expect("camera");
+        let frame = FrameContext::new(0, (SIZE, SIZE), &camera, None);
+        let encoded = denoiser
+            .encode(&self.gpu, &mut encoder, &frame, &inputs)
             .expect("encode");
         self.gpu
             .queue
-            .submit(std::iter::once(encoder.finish()).chain(after));
+            .submit(std::iter::once(encoder.finish()).chain(encoded.after));
         let bytes = self
             .gpu
             .read_buffer(denoiser.output(), (SIZE * SIZE * 16) as u64)
