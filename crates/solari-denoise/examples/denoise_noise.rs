@@ -59,16 +59,17 @@ pub fn run(_args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             .collect();
         gpu.queue
             .write_buffer(&lighting, 0, bytemuck::cast_slice(&noisy));
+        // What every pass shares this frame (a still camera: last frame's view is the same).
+        let context = FrameContext::new(frame, (SIZE, SIZE), &camera, Some(&camera));
         gbuffer.prepare(&gpu, &scene, &camera)?;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        gbuffer.encode(&mut encoder, &gpu_scene);
+        gbuffer.encode(&mut encoder, &context, &gpu_scene);
         let inputs = DenoiserInputs {
             lighting: Lighting::Combined(&lighting),
             gbuffer: &gbuffer,
             hit_distance: None,
             reset: false,
         };
-        let context = FrameContext::new(frame, (SIZE, SIZE), &camera, Some(&camera));
         let encoded = denoiser.encode(&gpu, &mut encoder, &context, &inputs)?;
         gpu.queue
             .submit(std::iter::once(encoder.finish()).chain(encoded.after));

@@ -19,7 +19,7 @@ use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selecti
 use solari_restir::{PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings};
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, in_scope};
+use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::Backend;
@@ -35,7 +35,7 @@ use solari_worldcache::PASS_LABELS as CACHE;
 /// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
 /// (DLSS-RR itself records outside the profiler's reach).
 pub const PASS_NAMES: [&str; 15] = [
-    "gbuffer",
+    solari_scene::gbuffer::PASS_LABELS[0],
     solari_lights::PASS_LABELS[0],
     CACHE[0],
     CACHE[1],
@@ -520,10 +520,7 @@ impl RealtimeRenderer {
         if let Some(c) = checker.as_ref() {
             c.begin_frame(&mut encoder);
         }
-        in_scope(context.profiler, PASS_NAMES[0], &mut encoder, |e| {
-            self.gbuffer.encode(e, gpu_scene)
-        });
-        ran.mark(PASS_NAMES[0]);
+        ran.add(&self.gbuffer.encode(&mut encoder, &context, gpu_scene));
         if let Some(c) = checker.as_mut() {
             let t = self.gbuffer.current();
             c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;

@@ -88,7 +88,7 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             (frame > 0).then(|| before.views()),
         )?;
         solari_gbuffer.prepare(&gpu, &scene, &camera)?;
-        solari_gbuffer.encode(&mut encoder, &gpu_scene);
+        solari_gbuffer.encode(&mut encoder, &context, &gpu_scene);
         tiles.prepare(&gpu, &context);
         tiles.encode(&mut encoder, &context, &lights);
         for (di, gbuffer) in [

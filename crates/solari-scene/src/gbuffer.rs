@@ -23,9 +23,13 @@ use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::GpuScene;
 use crate::gpu_types::GpuView;
 use crate::model::{Camera, Scene};
+use crate::pass::{FrameContext, Ran};
 use crate::shaders::{Backend, compose};
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
+
+/// The pass's label (render pass, profiler scope and report name).
+pub const PASS_LABELS: [&str; 1] = ["gbuffer"];
 
 /// Format of the packed material-and-normals target.
 pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
@@ -392,9 +396,21 @@ impl GBuffer {
         Ok(())
     }
 
-    /// Records the raster pass into this frame's targets. `scene` must be the scene passed to
+    /// Records the raster pass into this frame's targets (profiler scope
+    /// [`PASS_LABELS`]`[0]`) and returns what ran. `scene` must be the scene passed to
     /// [`GBuffer::prepare`], uploaded with the backend the pass was built for.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        scene: &GpuScene,
+    ) -> Ran {
+        let mut ran = Ran::none();
+        frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| self.record(e, scene));
+        ran
+    }
+
+    fn record(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
         let [gbuffer, emission, motion, depth] = &self.current().views;
         let attachment = |v| {
             Some(wgpu::RenderPassColorAttachment {
@@ -408,7 +424,7 @@ impl GBuffer {
             })
         };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("solari_scene/gbuffer"),
+            label: Some(PASS_LABELS[0]),
             color_attachments: &[
                 attachment(gbuffer),
                 attachment(emission),

@@ -8,6 +8,7 @@ use solari_scene::gbuffer::{GBuffer, view_projection};
 use solari_scene::gpu::{Gpu, ShaderChecks, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::gpu_types::GpuView;
+use solari_scene::pass::FrameContext;
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::*;
 
@@ -143,8 +144,9 @@ impl Probe {
 
 fn render(gpu: &Gpu, gb: &mut GBuffer, gs: &GpuScene, scene: &Scene, camera: &Camera) {
     gb.prepare(gpu, scene, camera).expect("prepare");
+    let frame = FrameContext::new(0, gb.size(), camera, None);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    gb.encode(&mut encoder, gs);
+    assert!(gb.encode(&mut encoder, &frame, gs).contains("gbuffer"));
     gpu.queue.submit([encoder.finish()]);
 }
 
