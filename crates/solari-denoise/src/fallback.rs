@@ -5,10 +5,28 @@ use crate::denoiser::{Denoiser, DenoiserInputs, Encoded, Inputs, Lighting, Requi
 use crate::settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
+use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
+
+/// Bind group 0 of the fallback denoiser's shaders (`denoise_common.wesl`), by WGSL name.
+pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
+    0,
+    0,
+    &[
+        ("params", Buf::Uniform),
+        ("noisy", Buf::Read),
+        ("history_before", Buf::Read),
+        ("history_now", Buf::ReadWrite),
+        ("filter_in", Buf::Read),
+        ("filter_out", Buf::ReadWrite),
+        ("guide", Buf::ReadWrite),
+        ("denoised", Buf::ReadWrite),
+        ("pass_params", Buf::Uniform),
+    ],
+);
 
 /// Profiler scopes of the fallback's passes: temporal accumulation, variance, and all à-trous
 /// iterations together (per signal, so split lighting records each twice).
@@ -86,15 +104,7 @@ impl FallbackDenoiser {
                  the device's {limit}-byte binding limit"
             )));
         }
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
-        let write = wgpu::BufferBindingType::Storage { read_only: false };
-        let uniform = wgpu::BufferBindingType::Uniform;
-        let layout = gpu.buffer_layout(
-            "solari_denoise/fallback",
-            &[
-                uniform, read, read, write, read, write, write, write, uniform,
-            ],
-        );
+        let layout = FALLBACK_BINDINGS.layout(gpu, "solari_denoise/fallback");
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let modules = crate::modules();
         let pipeline = |entry: &str| -> Result<_, GpuError> {
@@ -209,19 +219,20 @@ impl FallbackDenoiser {
                                 d => (&self.filters[d % 2], &self.filters[(d + 1) % 2]),
                             };
                             let params = &self.pass_params[slot][dispatch];
-                            gpu.bind_buffers(
+                            FALLBACK_BINDINGS.bind(
+                                gpu,
                                 "solari_denoise/fallback",
                                 &self.layout,
                                 &[
-                                    &self.params,
-                                    input,
-                                    before,
-                                    now,
-                                    from,
-                                    to,
-                                    &self.guide,
-                                    &self.output,
-                                    params,
+                                    ("params", &self.params),
+                                    ("noisy", input),
+                                    ("history_before", before),
+                                    ("history_now", now),
+                                    ("filter_in", from),
+                                    ("filter_out", to),
+                                    ("guide", &self.guide),
+                                    ("denoised", &self.output),
+                                    ("pass_params", params),
                                 ],
                             )
                         })

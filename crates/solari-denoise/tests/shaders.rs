@@ -55,3 +55,19 @@ fn rust_mirrors_match_naga_layouts() {
         ],
     );
 }
+
+#[test]
+fn bindings_are_bound_by_their_wgsl_names() {
+    use solari_denoise::fallback::FALLBACK_BINDINGS;
+    use solari_scene::bindings::check_groups;
+    let own = [&FALLBACK_BINDINGS];
+    check_groups(
+        &[
+            ("denoise_temporal", &own),
+            ("denoise_variance", &own),
+            ("denoise_atrous", &own),
+        ],
+        &modules(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}

@@ -3,7 +3,20 @@
 use crate::light_list::{Light, LightList, Selection, sun_disk};
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
-use solari_scene::gpu::{Gpu, buffer_layout_entry};
+use solari_scene::bindings::{Buf, BufferGroup};
+use solari_scene::gpu::Gpu;
+
+/// Bindings 0–3 of group 3 (`light_sampling.wesl`), by WGSL name: the light list.
+pub const LIGHT_BINDINGS: BufferGroup = BufferGroup::new(
+    3,
+    0,
+    &[
+        ("lights", Buf::Read),
+        ("emissive_triangles", Buf::Read),
+        ("light_info", Buf::Uniform),
+        ("instance_lights", Buf::Read),
+    ],
+);
 
 /// WGSL twin: `GpuLight` in `light_sampling.wesl`.
 #[repr(C)]
@@ -155,15 +168,10 @@ impl GpuLights {
             })
     }
 
-    /// Bindings 0–3 of group 3, for layouts that extend it (light tiles).
+    /// Bindings 0–3 of group 3 ([`LIGHT_BINDINGS`]), for layouts that extend it (light
+    /// tiles).
     pub fn layout_entries(stages: wgpu::ShaderStages) -> Vec<wgpu::BindGroupLayoutEntry> {
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
-        vec![
-            buffer_layout_entry(0, read, stages),
-            buffer_layout_entry(1, read, stages),
-            buffer_layout_entry(2, wgpu::BufferBindingType::Uniform, stages),
-            buffer_layout_entry(3, read, stages),
-        ]
+        LIGHT_BINDINGS.layout_entries(stages)
     }
 
     /// The buffers behind bindings 0–3, in binding order.
@@ -214,11 +222,16 @@ impl GpuLights {
         };
         let info_buf = gpu.uniform_buffer("solari_lights/info", &info);
         let layout = Self::layout(gpu);
-        let bind_group = gpu.bind_buffers(
-            "solari_lights/lights",
-            &layout,
-            &[&light_buf, &tri_buf, &info_buf, &map_buf],
-        );
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_lights/lights"),
+            layout: &layout,
+            entries: &LIGHT_BINDINGS.entries(&[
+                ("lights", &light_buf),
+                ("emissive_triangles", &tri_buf),
+                ("light_info", &info_buf),
+                ("instance_lights", &map_buf),
+            ]),
+        });
         Ok(Self {
             layout,
             bind_group,

@@ -43,12 +43,15 @@ pub mod sample;
 pub mod tiles;
 
 pub use alias::{AliasEntry, AliasTable};
-pub use gpu::{GpuLights, MODULES};
+pub use gpu::{GpuLights, LIGHT_BINDINGS, MODULES};
 pub use light_list::{
     EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, sun_disk,
 };
 pub use sample::{LightSample, LightSampleId, ResolvedLightSample, unshadowed_contribution};
-pub use tiles::{LightTileSettings, LightTiles, PASS_LABELS, PackedLightSample, SAMPLE_CHECK};
+pub use tiles::{
+    LightTileSettings, LightTiles, PASS_LABELS, PRESAMPLE_BINDINGS, PackedLightSample,
+    SAMPLE_CHECK, TILE_BINDINGS,
+};
 
 /// The README's examples, compiled and run as doc tests.
 #[cfg(doctest)]

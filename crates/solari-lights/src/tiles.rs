@@ -18,10 +18,33 @@ use crate::sample::ResolvedLightSample;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use solari_scene::GpuError;
-use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry};
+use solari_scene::bindings::{Buf, BufferGroup};
+use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::packing::{pack_unit_vector, unpack_unit_vector};
 use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
+
+/// Bind group 2 of the presampling shader (`presample_light_tiles.wesl`), by WGSL name.
+pub const PRESAMPLE_BINDINGS: BufferGroup = BufferGroup::new(
+    2,
+    0,
+    &[
+        ("params", Buf::Uniform),
+        ("out_samples", Buf::ReadWrite),
+        ("out_ids", Buf::ReadWrite),
+    ],
+);
+
+/// Bindings 4–5 of group 3 for tile readers (`light_tiles.wesl`), after the light list's
+/// [`crate::LIGHT_BINDINGS`].
+pub const TILE_BINDINGS: BufferGroup = BufferGroup::new(
+    3,
+    4,
+    &[
+        ("light_tile_samples", Buf::Read),
+        ("light_tile_ids", Buf::Read),
+    ],
+);
 
 /// The pass's label (dispatch, profiler scope and report name).
 pub const PASS_LABELS: [&str; 1] = ["light_tiles"];
@@ -200,15 +223,16 @@ impl LightTiles {
             count * size_of::<crate::LightSampleId>() as u64,
         );
         let params = gpu.uniform_buffer("solari_lights/tile_params", &GpuTileParams::zeroed());
-        let write = wgpu::BufferBindingType::Storage { read_only: false };
-        let out_layout = gpu.buffer_layout(
-            "solari_lights/presample",
-            &[wgpu::BufferBindingType::Uniform, write, write],
-        );
-        let out_group = gpu.bind_buffers(
+        let out_layout = PRESAMPLE_BINDINGS.layout(gpu, "solari_lights/presample");
+        let out_group = PRESAMPLE_BINDINGS.bind(
+            gpu,
             "solari_lights/presample",
             &out_layout,
-            &[&params, &samples, &ids],
+            &[
+                ("params", &params),
+                ("out_samples", &samples),
+                ("out_ids", &ids),
+            ],
         );
         let (empty_layout, empty) = gpu.empty_group();
         let wgsl = compose(
@@ -290,9 +314,7 @@ impl LightTiles {
     pub fn reader_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
         let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
         let mut entries = GpuLights::layout_entries(stages);
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
-        entries.push(buffer_layout_entry(4, read, stages));
-        entries.push(buffer_layout_entry(5, read, stages));
+        entries.extend(TILE_BINDINGS.layout_entries(stages));
         gpu.device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("solari_lights/lights_and_tiles"),
@@ -303,14 +325,22 @@ impl LightTiles {
     /// Bind group 3 for tile readers (see [`LightTiles::reader_layout`]). Rebuild it when the
     /// light list is re-uploaded.
     pub fn reader_group(&self, gpu: &Gpu, lights: &GpuLights) -> wgpu::BindGroup {
-        let mut buffers: Vec<&wgpu::Buffer> = lights.buffers().iter().collect();
-        buffers.push(&self.samples);
-        buffers.push(&self.ids);
-        gpu.bind_buffers(
-            "solari_lights/lights_and_tiles",
-            &self.reader_layout,
-            &buffers,
-        )
+        let [lights_buf, triangles, info, instances] = lights.buffers();
+        let mut entries = crate::LIGHT_BINDINGS.entries(&[
+            ("lights", lights_buf),
+            ("emissive_triangles", triangles),
+            ("light_info", info),
+            ("instance_lights", instances),
+        ]);
+        entries.extend(TILE_BINDINGS.entries(&[
+            ("light_tile_samples", &self.samples),
+            ("light_tile_ids", &self.ids),
+        ]));
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_lights/lights_and_tiles"),
+            layout: &self.reader_layout,
+            entries: &entries,
+        })
     }
 
     /// The packed samples (for tests and tools; needs a read-back copy).

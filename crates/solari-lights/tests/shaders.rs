@@ -61,3 +61,18 @@ fn rust_mirrors_match_naga_layouts() {
     mirror!("LightSampleId", LightSampleId, [light, triangle, point]);
     mirror!("TileParams", GpuTileParams, [frame, sample_count]);
 }
+
+#[test]
+fn bindings_are_bound_by_their_wgsl_names() {
+    use solari_lights::{LIGHT_BINDINGS, PRESAMPLE_BINDINGS};
+    use solari_scene::bindings::check_groups;
+    let all = [MODULES, ENTRY_POINTS].concat();
+    check_groups(
+        &[(
+            "presample_light_tiles",
+            &[&PRESAMPLE_BINDINGS, &LIGHT_BINDINGS],
+        )],
+        &all,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}

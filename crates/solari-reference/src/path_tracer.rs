@@ -4,10 +4,12 @@
 
 use bytemuck::{Pod, Zeroable};
 use solari_lights::{GpuLights, LightList, Selection};
+use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::shaders::{Backend, compose};
+use solari_scene::view_pass::VIEW_BINDINGS;
 use solari_scene::{Camera, GpuError};
 use std::time::Instant;
 
@@ -80,6 +82,18 @@ const _: () = assert!(size_of::<ReferenceParams>() == 16);
 /// The app's own WESL modules.
 pub const MODULES: &[(&str, &str)] = &[("reference", include_str!("../shaders/reference.wesl"))];
 
+/// Group 2 of `reference.wesl`, by WGSL name: the running sums, the path counters and the
+/// parameters (group 1 is the camera, [`VIEW_BINDINGS`]).
+pub const REFERENCE_BINDINGS: BufferGroup = BufferGroup::new(
+    2,
+    0,
+    &[
+        ("accumulation", Buf::ReadWrite),
+        ("counters", Buf::ReadWrite),
+        ("params", Buf::Uniform),
+    ],
+);
+
 /// The compiled path tracer for one backend.
 pub struct ReferenceRenderer {
     pipeline: wgpu::ComputePipeline,
@@ -91,10 +105,8 @@ pub struct ReferenceRenderer {
 impl ReferenceRenderer {
     /// Composes and compiles the path tracer for `backend`.
     pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
-        let uniform = wgpu::BufferBindingType::Uniform;
-        let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let view_layout = gpu.buffer_layout("solari_reference/reference_view", &[uniform]);
-        let io_layout = gpu.buffer_layout("solari_reference/reference_io", &[rw, rw, uniform]);
+        let view_layout = VIEW_BINDINGS.layout(gpu, "solari_reference/reference_view");
+        let io_layout = REFERENCE_BINDINGS.layout(gpu, "solari_reference/reference_io");
         let extra: Vec<(&str, &str)> = solari_lights::MODULES
             .iter()
             .chain(MODULES)
@@ -166,15 +178,21 @@ impl ReferenceRenderer {
             "solari_reference/reference_params",
             &ReferenceParams::zeroed(),
         );
-        let view_group = gpu.bind_buffers(
+        let view_group = VIEW_BINDINGS.bind(
+            gpu,
             "solari_reference/reference_view",
             &self.view_layout,
-            &[&view_buf],
+            &[("view", &view_buf)],
         );
-        let io_group = gpu.bind_buffers(
+        let io_group = REFERENCE_BINDINGS.bind(
+            gpu,
             "solari_reference/reference_io",
             &self.io_layout,
-            &[&accumulation, &counters, &params],
+            &[
+                ("accumulation", &accumulation),
+                ("counters", &counters),
+                ("params", &params),
+            ],
         );
         Ok(ReferenceAccumulation {
             width,

@@ -53,3 +53,21 @@ fn reference_params_match_naga_layout() {
         );
     }
 }
+
+#[test]
+fn bindings_are_bound_by_their_wgsl_names() {
+    use solari_reference::path_tracer::REFERENCE_BINDINGS;
+    use solari_scene::bindings::check_groups;
+    use solari_scene::view_pass::VIEW_BINDINGS;
+    let extra: Vec<(&str, &str)> = solari_lights::MODULES
+        .iter()
+        .chain(MODULES)
+        .copied()
+        .collect();
+    let groups = [
+        &VIEW_BINDINGS,
+        &REFERENCE_BINDINGS,
+        &solari_lights::LIGHT_BINDINGS,
+    ];
+    check_groups(&[("reference", &groups)], &extra).unwrap_or_else(|e| panic!("{e}"));
+}

@@ -5,6 +5,7 @@ use crate::settings::{GpuDiParams, RestirDiSettings, flags};
 use bytemuck::Zeroable;
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
+use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::{Gpu, ShaderChecks};
@@ -45,6 +46,20 @@ struct PixelBuffers {
     groups: [wgpu::BindGroup; 2],
 }
 
+/// Bind group 2 of the DI shaders (`restir_di.wesl`), by WGSL name.
+pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
+    2,
+    0,
+    &[
+        ("params", Buf::Uniform),
+        ("reservoirs_previous", Buf::Read),
+        ("reservoirs_initial", Buf::ReadWrite),
+        ("reservoirs_final", Buf::ReadWrite),
+        ("di_output", Buf::ReadWrite),
+        ("light_translation", Buf::Read),
+    ],
+);
+
 /// Labels of the dispatches (and profiler scopes): initial + temporal, spatial + shade, and
 /// the emission copy that replaces both when a scene has no lights.
 pub const PASS_LABELS: [&str; 3] = ["di_initial_temporal", "di_spatial_shade", "emission_only"];
@@ -82,19 +97,7 @@ impl RestirDi {
     ) -> Result<Self, GpuError> {
         settings.validate()?;
         let variant = variant.for_backend(backend);
-        let read = wgpu::BufferBindingType::Storage { read_only: true };
-        let write = wgpu::BufferBindingType::Storage { read_only: false };
-        let own_layout = gpu.buffer_layout(
-            "solari_restir/di",
-            &[
-                wgpu::BufferBindingType::Uniform,
-                read,
-                write,
-                write,
-                write,
-                read,
-            ],
-        );
+        let own_layout = DI_BINDINGS.layout(gpu, "solari_restir/di");
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let lights_layout = LightTiles::reader_layout(gpu);
@@ -203,16 +206,17 @@ impl RestirDi {
         let output = buffer("solari_restir/di_output", output_bytes);
         // Group p writes final[p] and reads final[1 - p], last frame's.
         let groups = [0, 1].map(|p| {
-            gpu.bind_buffers(
+            DI_BINDINGS.bind(
+                gpu,
                 "solari_restir/di",
                 &self.own_layout,
                 &[
-                    &self.params,
-                    &finals[p ^ 1],
-                    &initial,
-                    &finals[p],
-                    &output,
-                    &self.translation,
+                    ("params", &self.params),
+                    ("reservoirs_previous", &finals[p ^ 1]),
+                    ("reservoirs_initial", &initial),
+                    ("reservoirs_final", &finals[p]),
+                    ("di_output", &output),
+                    ("light_translation", &self.translation),
                 ],
             )
         });

@@ -50,7 +50,7 @@ pub mod di;
 pub mod reservoir;
 pub mod settings;
 
-pub use di::{PASS_LABELS, RestirDi};
+pub use di::{DI_BINDINGS, PASS_LABELS, RestirDi};
 pub use reservoir::{GpuReservoir, reservoir_check};
 pub use settings::{GpuDiParams, RestirDiSettings};
 

@@ -58,3 +58,26 @@ fn rust_mirrors_match_naga_layouts() {
         &[("znear", offset_of!(solari_scene::gpu_types::GpuView, znear))],
     );
 }
+
+#[test]
+fn bindings_are_bound_by_their_wgsl_names() {
+    use solari_restir::DI_BINDINGS;
+    use solari_scene::bindings::check_groups;
+    let own = [&DI_BINDINGS][..].to_vec();
+    let tiles = [
+        &solari_lights::LIGHT_BINDINGS,
+        &solari_lights::TILE_BINDINGS,
+    ];
+    let initial: Vec<_> = own.iter().chain(&tiles).copied().collect();
+    // The spatial pass reads the light list, not the tiles.
+    let spatial: Vec<_> = own.iter().chain(&tiles[..1]).copied().collect();
+    check_groups(
+        &[
+            ("restir_di_initial", &initial),
+            ("restir_di_spatial", &spatial),
+            ("restir_di_emission", &own),
+        ],
+        &modules(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}

@@ -17,6 +17,7 @@
 //! `view_z_from_depth`); vertices are pulled from bind group 0, so the adapter must allow
 //! storage buffers in vertex shaders (every Vulkan, Metal and D3D12 adapter does).
 
+use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
 use crate::gbuffer_input::{GBufferSource, GBufferViews};
 use crate::gpu::{Gpu, ShaderChecks};
@@ -27,6 +28,13 @@ use crate::pass::{FrameContext, Ran};
 use crate::shaders::{Backend, compose};
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
+
+/// Group 1 of the raster pass (`gbuffer_raster.wesl`): this and last frame's matrices.
+pub const RASTER_VIEW_BINDINGS: BufferGroup =
+    BufferGroup::new(1, 0, &[("raster_view", Buf::Uniform)]);
+/// Group 2 of the raster pass: last frame's instance transforms, for motion vectors.
+pub const TRANSFORMS_BINDINGS: BufferGroup =
+    BufferGroup::new(2, 0, &[("previous_transforms", Buf::Read)]);
 
 /// The pass's label (render pass, profiler scope and report name).
 pub const PASS_LABELS: [&str; 1] = ["gbuffer"];
@@ -189,26 +197,16 @@ impl GBuffer {
     pub fn new(gpu: &Gpu, backend: Backend, width: u32, height: u32) -> Result<Self, GpuError> {
         check_size(gpu, width, height)?;
         let wgsl = compose("gbuffer_raster", backend, &[])?;
-        let view_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_scene/gbuffer_view"),
-                entries: &[crate::gpu::buffer_layout_entry(
-                    0,
-                    wgpu::BufferBindingType::Uniform,
-                    wgpu::ShaderStages::VERTEX,
-                )],
-            });
-        let transforms_layout =
+        let vertex_layout = |label, group: &BufferGroup| {
             gpu.device
                 .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some("solari_scene/gbuffer_transforms"),
-                    entries: &[crate::gpu::buffer_layout_entry(
-                        0,
-                        wgpu::BufferBindingType::Storage { read_only: true },
-                        wgpu::ShaderStages::VERTEX,
-                    )],
-                });
+                    label: Some(label),
+                    entries: &group.layout_entries(wgpu::ShaderStages::VERTEX),
+                })
+        };
+        let view_layout = vertex_layout("solari_scene/gbuffer_view", &RASTER_VIEW_BINDINGS);
+        let transforms_layout =
+            vertex_layout("solari_scene/gbuffer_transforms", &TRANSFORMS_BINDINGS);
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let pipeline = gpu.scoped(|| {
             let module = gpu.shader_module("solari_scene/gbuffer", &wgsl, ShaderChecks::BoundsOnly);
@@ -266,8 +264,12 @@ impl GBuffer {
                 })
         })?;
         let view_buffer = gpu.uniform_buffer("solari_scene/gbuffer_view", &GpuRasterView::zeroed());
-        let view_group =
-            gpu.bind_buffers("solari_scene/gbuffer_view", &view_layout, &[&view_buffer]);
+        let view_group = RASTER_VIEW_BINDINGS.bind(
+            gpu,
+            "solari_scene/gbuffer_view",
+            &view_layout,
+            &[("raster_view", &view_buffer)],
+        );
         let targets = [
             GBufferTargets::new(gpu, width, height, 0),
             GBufferTargets::new(gpu, width, height, 1),
@@ -353,10 +355,11 @@ impl GBuffer {
                 bytes,
                 wgpu::BufferUsages::empty(),
             )?;
-            let group = gpu.bind_buffers(
+            let group = TRANSFORMS_BINDINGS.bind(
+                gpu,
                 "solari_scene/gbuffer_previous_transforms",
                 &self.transforms_layout,
-                &[&buffer],
+                &[("previous_transforms", &buffer)],
             );
             self.transforms = Some((buffer, group));
         } else if let Some((buffer, _)) = &self.transforms

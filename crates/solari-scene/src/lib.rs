@@ -14,6 +14,7 @@
 //! ```
 
 pub mod asset_io;
+pub mod bindings;
 pub mod brdf;
 pub mod bvh;
 pub mod default_scene;

@@ -9,6 +9,13 @@
 //! Labels: every GPU object is labelled `<crate>/<name>` (`solari_restir/di`), and every
 //! dispatch and profiler scope by the pass's name alone (`di_initial_temporal`), which is
 //! also the name reports and CSV columns use; each crate lists its names in `PASS_LABELS`.
+//!
+//! Bindings: a pass declares its bind groups of buffers as [`crate::bindings::BufferGroup`]
+//! constants by WGSL name (`DI_BINDINGS`, `CACHE_BINDINGS`, …) and binds buffers by those
+//! names; each crate's shader tests check the names and access modes against the composed
+//! shaders ([`crate::bindings::check_groups`]). Groups that mix textures (the scene, the
+//! G-buffer reader) list their names beside their layout instead
+//! ([`crate::gbuffer_input::READER_BINDINGS`]).
 
 use crate::gpu_types::GpuView;
 use crate::model::Camera;

@@ -1,11 +1,17 @@
 //! `TraceRaysPass`: traces a list of rays on the GPU and reads the hits back. Tests compare it
 //! with [`crate::trace_cpu::CpuTracer`]; tools use it to probe a scene.
 
+use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
 use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::{GpuScene, TraceVariant};
 use crate::gpu_types::{GpuRay, GpuRayHit};
 use crate::shaders::{Backend, compose};
+
+/// Group 2 of `trace_rays.wesl`: the rays in, one hit out per ray (bound by
+/// [`crate::gpu::Gpu::run_cases`], which binds input then output).
+pub const TRACE_RAYS_BINDINGS: BufferGroup =
+    BufferGroup::new(2, 0, &[("rays", Buf::Read), ("hits", Buf::ReadWrite)]);
 
 /// Compute pipeline for `trace_rays.wesl`.
 pub struct TraceRaysPass {
@@ -19,14 +25,7 @@ pub struct TraceRaysPass {
 impl TraceRaysPass {
     /// Builds the pipeline for `backend`.
     pub fn new(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
-        // binding 0: rays, binding 1: hits
-        let layout = gpu.buffer_layout(
-            "solari_scene/trace_rays",
-            &[
-                wgpu::BufferBindingType::Storage { read_only: true },
-                wgpu::BufferBindingType::Storage { read_only: false },
-            ],
-        );
+        let layout = TRACE_RAYS_BINDINGS.layout(gpu, "solari_scene/trace_rays");
         let (empty_layout, empty) = gpu.empty_group();
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let wgsl = compose("trace_rays", backend, &[])?;

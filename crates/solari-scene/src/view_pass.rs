@@ -1,6 +1,7 @@
 //! Per-pixel passes over a camera view: the primary-ray debug views and the ray-throughput
 //! benchmark. Both bind group 0 (scene), 1 (view uniform) and 2 (one output buffer).
 
+use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
 use crate::gpu::{Gpu, ShaderChecks};
 use crate::gpu_scene::{GpuScene, TraceVariant};
@@ -33,11 +34,43 @@ impl DebugView {
     }
 }
 
+/// Group 1 of the view passes (`view.wesl`): the camera.
+pub const VIEW_BINDINGS: BufferGroup = BufferGroup::new(1, 0, &[("view", Buf::Uniform)]);
+/// Group 2 of `primary.wesl`: one `vec4<f32>` per pixel.
+pub const PRIMARY_BINDINGS: BufferGroup = BufferGroup::new(2, 0, &[("out_pixels", Buf::ReadWrite)]);
+/// Group 2 of `ray_bench.wesl`: one ray count per pixel.
+pub const RAY_BENCH_BINDINGS: BufferGroup =
+    BufferGroup::new(2, 0, &[("out_counts", Buf::ReadWrite)]);
+
+// What distinguishes the view passes: entry point, label, output group, bytes per pixel.
+#[derive(Clone, Copy)]
+struct Shape {
+    entry: &'static str,
+    label: &'static str,
+    out: &'static BufferGroup,
+    element_size: u64,
+}
+
+const PRIMARY: Shape = Shape {
+    entry: "primary",
+    label: "solari_scene/primary",
+    out: &PRIMARY_BINDINGS,
+    element_size: 16,
+};
+
+const RAY_BENCH: Shape = Shape {
+    entry: "ray_bench",
+    label: "solari_scene/ray_bench",
+    out: &RAY_BENCH_BINDINGS,
+    element_size: 4,
+};
+
 /// A compute pass over every pixel of a view, writing one output element per pixel.
 pub struct ViewPass {
     pipeline: wgpu::ComputePipeline,
     view_layout: wgpu::BindGroupLayout,
     out_layout: wgpu::BindGroupLayout,
+    out: &'static BufferGroup,
     element_size: u64,
     label: &'static str,
     variant: TraceVariant,
@@ -46,15 +79,7 @@ pub struct ViewPass {
 impl ViewPass {
     /// The primary-ray debug-view pass (`primary.wesl`, 16 bytes per pixel).
     pub fn primary(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
-        Self::new(
-            gpu,
-            backend,
-            "primary",
-            "solari_scene/primary",
-            16,
-            ShaderChecks::BoundsOnly,
-            variant,
-        )
+        Self::new(gpu, backend, &PRIMARY, ShaderChecks::BoundsOnly, variant)
     }
 
     /// Rays a run of the [`ViewPass::ray_bench`] pass traced, from its output (one `u32` per
@@ -72,34 +97,24 @@ impl ViewPass {
         checks: ShaderChecks,
         variant: TraceVariant,
     ) -> Result<Self, GpuError> {
-        Self::new(
-            gpu,
-            backend,
-            "ray_bench",
-            "solari_scene/ray_bench",
-            4,
-            checks,
-            variant,
-        )
+        Self::new(gpu, backend, &RAY_BENCH, checks, variant)
     }
 
     fn new(
         gpu: &Gpu,
         backend: Backend,
-        entry: &str,
-        label: &'static str,
-        element_size: u64,
+        shape: &'static Shape,
         checks: ShaderChecks,
         variant: TraceVariant,
     ) -> Result<Self, GpuError> {
-        // binding 0: view
-        let view_layout =
-            gpu.buffer_layout("solari_scene/view", &[wgpu::BufferBindingType::Uniform]);
-        // binding 0: out_pixels / out_counts
-        let out_layout = gpu.buffer_layout(
+        let Shape {
+            entry,
             label,
-            &[wgpu::BufferBindingType::Storage { read_only: false }],
-        );
+            out,
+            element_size,
+        } = *shape;
+        let view_layout = VIEW_BINDINGS.layout(gpu, "solari_scene/view");
+        let out_layout = out.layout(gpu, label);
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let wgsl = compose(entry, backend, &[])?;
         let pipeline = gpu.compute_pipeline(
@@ -113,6 +128,7 @@ impl ViewPass {
             pipeline,
             view_layout,
             out_layout,
+            out,
             element_size,
             label,
             variant: variant.for_backend(backend),
@@ -138,22 +154,16 @@ impl ViewPass {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let view_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_scene/view"),
-            layout: &self.view_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            }],
-        });
-        let out_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(self.label),
-            layout: &self.out_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: output.as_entire_binding(),
-            }],
-        });
+        let view_group = VIEW_BINDINGS.bind(
+            gpu,
+            "solari_scene/view",
+            &self.view_layout,
+            &[("view", &uniform)],
+        );
+        let name = self.out.bindings[0].0;
+        let out_group = self
+            .out
+            .bind(gpu, self.label, &self.out_layout, &[(name, &output)]);
         Ok(ViewTarget {
             uniform,
             output,

@@ -52,3 +52,24 @@ fn crate_shader_check_refuses_an_unbounded_loop_and_a_wrong_layout() {
     assert!(check(&layouts, "S", 8, &[("b", 0)]).is_err());
     assert!(check(&layouts, "T", 8, &[]).is_err());
 }
+
+#[test]
+fn bindings_are_bound_by_their_wgsl_names() {
+    use solari_scene::bindings::check_groups;
+    use solari_scene::gbuffer::{RASTER_VIEW_BINDINGS, TRANSFORMS_BINDINGS};
+    use solari_scene::trace_pass::TRACE_RAYS_BINDINGS;
+    use solari_scene::view_pass::{PRIMARY_BINDINGS, RAY_BENCH_BINDINGS, VIEW_BINDINGS};
+    check_groups(
+        &[
+            ("primary", &[&VIEW_BINDINGS, &PRIMARY_BINDINGS]),
+            ("ray_bench", &[&VIEW_BINDINGS, &RAY_BENCH_BINDINGS]),
+            ("trace_rays", &[&TRACE_RAYS_BINDINGS]),
+            (
+                "gbuffer_raster",
+                &[&RASTER_VIEW_BINDINGS, &TRANSFORMS_BINDINGS],
+            ),
+        ],
+        &[],
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}

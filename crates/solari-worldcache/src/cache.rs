@@ -7,9 +7,10 @@ use crate::settings::{
 use bytemuck::Zeroable;
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
+use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
-use solari_scene::gpu::{Gpu, ShaderChecks, buffer_layout_entry};
+use solari_scene::gpu::{Gpu, ShaderChecks};
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::{Backend, compose};
@@ -27,6 +28,28 @@ pub const PASS_LABELS: [&str; 6] = [
 
 /// First binding of the cache in bind group 2 (a consumer's own bindings go below it).
 pub const FIRST_BINDING: u32 = 16;
+
+/// The cache's bindings in group 2 (`world_cache.wesl`), by WGSL name.
+pub const CACHE_BINDINGS: BufferGroup = BufferGroup::new(
+    2,
+    FIRST_BINDING,
+    &[
+        ("cache_params", Buf::Uniform),
+        ("cache_checksums", Buf::ReadWrite),
+        ("cache_life", Buf::ReadWrite),
+        ("cache_cells", Buf::ReadWrite),
+        ("cache_active", Buf::ReadWrite),
+        ("cache_new_samples", Buf::ReadWrite),
+        ("cache_control", Buf::ReadWrite),
+    ],
+);
+
+/// Group 3 of the compaction's offsets pass: the indirect dispatch arguments.
+pub const DISPATCH_BINDINGS: BufferGroup =
+    BufferGroup::new(3, 0, &[("dispatch_args", Buf::ReadWrite)]);
+
+/// Group 3 of the pixel passes (cache GI, the debug view): the image they add to.
+pub const TARGET_BINDINGS: BufferGroup = BufferGroup::new(3, 0, &[("lit", Buf::ReadWrite)]);
 
 /// Counters of the last frame, read back by [`WorldCache::read_stats`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -170,9 +193,8 @@ impl WorldCache {
                 label: Some("solari_worldcache/cache"),
                 entries: &Self::layout_entries(wgpu::ShaderStages::COMPUTE),
             });
-        let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        let dispatch_layout = gpu.buffer_layout("solari_worldcache/dispatch", &[rw]);
-        let target_layout = gpu.buffer_layout("solari_worldcache/target", &[rw]);
+        let dispatch_layout = DISPATCH_BINDINGS.layout(gpu, "solari_worldcache/dispatch");
+        let target_layout = TARGET_BINDINGS.layout(gpu, "solari_worldcache/target");
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let lights_layout = LightTiles::reader_layout(gpu);
@@ -239,8 +261,12 @@ impl WorldCache {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
             mapped_at_creation: false,
         });
-        let dispatch_group =
-            gpu.bind_buffers("solari_worldcache/dispatch", &dispatch_layout, &[&dispatch]);
+        let dispatch_group = DISPATCH_BINDINGS.bind(
+            gpu,
+            "solari_worldcache/dispatch",
+            &dispatch_layout,
+            &[("dispatch_args", &dispatch)],
+        );
         let t = table(gpu, settings.capacity)?;
         let group = Self::group_for(gpu, &layout, &params, &t);
         Ok(Self {
@@ -282,37 +308,34 @@ impl WorldCache {
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_worldcache/cache"),
             layout,
-            entries: &Self::entries_of(&buffers),
+            entries: &Self::entries_of(buffers),
         })
     }
 
-    fn entries_of<'a>(buffers: &[&'a wgpu::Buffer; 7]) -> Vec<wgpu::BindGroupEntry<'a>> {
-        buffers
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: FIRST_BINDING + i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect()
+    fn entries_of(buffers: [&wgpu::Buffer; 7]) -> Vec<wgpu::BindGroupEntry<'_>> {
+        let [params, checksums, life, cells, active, new_samples, control] = buffers;
+        CACHE_BINDINGS.entries(&[
+            ("cache_params", params),
+            ("cache_checksums", checksums),
+            ("cache_life", life),
+            ("cache_cells", cells),
+            ("cache_active", active),
+            ("cache_new_samples", new_samples),
+            ("cache_control", control),
+        ])
     }
 
     /// Layout entries of the cache's bindings (group 2, bindings 16–22: the parameters
     /// uniform, then checksums, life, cells, active list, new samples, control), for a pass
     /// that reads the cache with `world_cache.wesl` and keeps its own bindings below 16.
     pub fn layout_entries(visibility: wgpu::ShaderStages) -> Vec<wgpu::BindGroupLayoutEntry> {
-        let rw = wgpu::BufferBindingType::Storage { read_only: false };
-        std::iter::once(wgpu::BufferBindingType::Uniform)
-            .chain([rw; 6])
-            .enumerate()
-            .map(|(i, ty)| buffer_layout_entry(FIRST_BINDING + i as u32, ty, visibility))
-            .collect()
+        CACHE_BINDINGS.layout_entries(visibility)
     }
 
     /// Bind group entries matching [`WorldCache::layout_entries`]. They stay valid until
     /// [`WorldCache::set_settings`] changes the capacity.
     pub fn bind_group_entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
-        Self::entries_of(&[
+        Self::entries_of([
             &self.params,
             &self.checksums,
             &self.life,
@@ -390,7 +413,12 @@ impl WorldCache {
     /// A group-3 bind group for the pixel passes around `target`: `width × height`
     /// `vec4<f32>` (row by row from the top left, the layout of ReSTIR DI's output).
     pub fn target_group(&self, gpu: &Gpu, target: &wgpu::Buffer) -> wgpu::BindGroup {
-        gpu.bind_buffers("solari_worldcache/target", &self.target_layout, &[target])
+        TARGET_BINDINGS.bind(
+            gpu,
+            "solari_worldcache/target",
+            &self.target_layout,
+            &[("lit", target)],
+        )
     }
 
     /// Writes the frame's parameters: from `frame` the camera position (levels of detail

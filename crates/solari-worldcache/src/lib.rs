@@ -75,7 +75,10 @@ pub mod cache;
 pub mod hash;
 pub mod settings;
 
-pub use cache::{CacheStats, FIRST_BINDING, PASS_LABELS, WorldCache};
+pub use cache::{
+    CACHE_BINDINGS, CacheStats, DISPATCH_BINDINGS, FIRST_BINDING, PASS_LABELS, TARGET_BINDINGS,
+    WorldCache,
+};
 pub use settings::{CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, WorldCacheSettings};
 
 /// The crate's importable WGSL modules, by module name: `world_cache` (bindings, lookup,

@@ -54,3 +54,29 @@ fn rust_mirrors_match_naga_layouts() {
         ],
     );
 }
+
+#[test]
+fn bindings_are_bound_by_their_wgsl_names() {
+    use solari_scene::bindings::check_groups;
+    use solari_worldcache::{CACHE_BINDINGS, DISPATCH_BINDINGS, TARGET_BINDINGS};
+    let cache = [&CACHE_BINDINGS];
+    // The update reads light samples from the tiles, not the light list.
+    let update = [&CACHE_BINDINGS, &solari_lights::TILE_BINDINGS];
+    check_groups(
+        &[
+            ("world_cache_decay", &cache),
+            ("world_cache_count", &cache),
+            (
+                "world_cache_offsets",
+                &[&CACHE_BINDINGS, &DISPATCH_BINDINGS],
+            ),
+            ("world_cache_compact", &cache),
+            ("world_cache_update", &update),
+            ("world_cache_blend", &cache),
+            ("world_cache_gi", &[&CACHE_BINDINGS, &TARGET_BINDINGS]),
+            ("world_cache_view", &[&CACHE_BINDINGS, &TARGET_BINDINGS]),
+        ],
+        &modules(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}
