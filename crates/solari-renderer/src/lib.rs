@@ -6,8 +6,10 @@
 //! [`RealtimeRenderer::render`] call, with a report of the passes that ran, their GPU times
 //! and (optionally) the non-finite detector's counts per pass.
 
+pub mod present;
 pub mod realtime;
 
+pub use present::Presenter;
 pub use realtime::{
     CameraPath, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES, PassRun,
     RealtimeRenderer, RealtimeSettings,

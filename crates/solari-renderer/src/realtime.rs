@@ -11,6 +11,7 @@
 //! infinite and negative values on the GPU every frame ([`solari_scene::finite_check`]), and
 //! the counts per pass ([`FINITE_SLOTS`]) come with the frame's report.
 
+use crate::present::Presenter;
 use glam::{Mat4, Vec3};
 use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
@@ -270,6 +271,8 @@ pub struct RealtimeRenderer {
     reset_next: bool,
     // Last frame's camera, for the frame context's previous view.
     last_camera: Option<Camera>,
+    // Made on the first `present`.
+    presenter: Option<Presenter>,
     frame: u32,
     checker: Option<FiniteChecker>,
 }
@@ -377,6 +380,7 @@ impl RealtimeRenderer {
             denoiser_fallback: created.fallback_reason,
             reset_next: false,
             last_camera: None,
+            presenter: None,
             frame: 0,
             checker,
         })
@@ -688,6 +692,32 @@ impl RealtimeRenderer {
             }
             _ => self.read_noisy(gpu),
         }
+    }
+
+    /// Draws the last frame into `target`, a texture of the caller's (a window's surface
+    /// texture or any render target of [`RealtimeRenderer::size`] with `RENDER_ATTACHMENT`
+    /// usage), scaled by 2^`exposure_ev`: linear for float formats, tone-mapped for 8- and
+    /// 10-bit ones ([`crate::present`] states the curve). Submits its own small command
+    /// buffer after the frame's. Errors on a target of another size, usage or format.
+    pub fn present(
+        &mut self,
+        gpu: &Gpu,
+        target: &wgpu::TextureView,
+        exposure_ev: f32,
+    ) -> Result<(), GpuError> {
+        if self.presenter.is_none() {
+            self.presenter = Some(Presenter::new(gpu)?);
+        }
+        let size = self.size();
+        let source = match &self.denoiser {
+            Some(d) if self.denoising() => d.output(),
+            _ => self.di.output(),
+        };
+        let presenter = self.presenter.as_mut().expect("made above");
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        presenter.encode(gpu, &mut encoder, source, size, target, exposure_ev)?;
+        gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
+        Ok(())
     }
 
     /// Output image size in pixels.
