@@ -13,7 +13,7 @@ pub mod scene_image;
 
 pub use metrics::rmse;
 pub use path_tracer::{ReferenceImage, ReferenceRenderer, ReferenceSettings};
-pub use scene_image::reference_image;
+pub use scene_image::{centre_image, reference_image};
 
 /// The README's example, compiled and run as a doc test.
 #[cfg(doctest)]

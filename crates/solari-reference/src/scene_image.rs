@@ -8,6 +8,27 @@ use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::shaders::Backend;
 use solari_scene::{GpuError, Scene};
 
+/// The image component tests compare with: `scene` from its first camera at `size × size`,
+/// one path per sample through each pixel's centre (what a G-buffer sees), `spp` paths per
+/// pixel of at most `max_bounces` scattering events (`u32::MAX`: Russian roulette alone ends
+/// them; 1: direct light only), lights chosen by power.
+pub fn centre_image(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+    max_bounces: u32,
+) -> Result<Vec<[f32; 3]>, GpuError> {
+    let settings = ReferenceSettings {
+        spp,
+        max_bounces,
+        selection: solari_lights::Selection::Power,
+        pixel_centre: true,
+    };
+    Ok(reference_image(gpu, backend, scene, size, size, &settings)?.pixels)
+}
+
 /// Renders `scene` from its first camera (or the framing camera made for it) at
 /// `width × height` with the reference path tracer: the scene is uploaded, its lights are
 /// listed and the traversal is specialised for its shape.

@@ -12,7 +12,6 @@
 //! the counts per pass ([`FINITE_SLOTS`]) come with the frame's report.
 
 use crate::present::Presenter;
-use glam::{Mat4, Vec3};
 use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
 };
@@ -754,22 +753,7 @@ impl CameraPath {
     pub fn camera(self, start: &Camera, scene: &Scene, frame: u32) -> Camera {
         match self {
             Self::Fixed => start.clone(),
-            Self::Orbit => {
-                let (lo, hi) = scene.bounds();
-                let pivot = if lo.is_finite() && hi.is_finite() {
-                    (lo + hi) * 0.5
-                } else {
-                    Vec3::ZERO
-                };
-                let phase = frame as f32 / 240.0 * std::f32::consts::TAU;
-                let angle = 20f32.to_radians() * phase.sin();
-                let about = Mat4::from_translation(pivot)
-                    * Mat4::from_rotation_y(angle)
-                    * Mat4::from_translation(-pivot);
-                let mut camera = start.clone();
-                camera.transform = about * start.transform;
-                camera
-            }
+            Self::Orbit => start.orbit(scene, frame),
         }
     }
 }

@@ -259,6 +259,27 @@ pub struct Camera {
 }
 
 impl Camera {
+    /// Frame `frame` of the orbit path (`--camera-path orbit`): this camera swung ±20° about
+    /// the vertical through the centre of `scene`'s bounds (the origin for unbounded scenes),
+    /// one period every 240 frames: sideways motion, as when a player strafes, that never
+    /// leaves a closed room like the Cornell box.
+    pub fn orbit(&self, scene: &Scene, frame: u32) -> Camera {
+        let (lo, hi) = scene.bounds();
+        let pivot = if lo.is_finite() && hi.is_finite() {
+            (lo + hi) * 0.5
+        } else {
+            Vec3::ZERO
+        };
+        let phase = frame as f32 / 240.0 * std::f32::consts::TAU;
+        let angle = 20f32.to_radians() * phase.sin();
+        let about = Mat4::from_translation(pivot)
+            * Mat4::from_rotation_y(angle)
+            * Mat4::from_translation(-pivot);
+        let mut camera = self.clone();
+        camera.transform = about * self.transform;
+        camera
+    }
+
     /// A camera at `eye` looking at `target`.
     pub fn look_at(name: &str, eye: Vec3, target: Vec3, up: Vec3, yfov: f32) -> Self {
         Self {

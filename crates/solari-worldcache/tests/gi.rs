@@ -472,7 +472,7 @@ fn ten_thousand_frames_in_the_white_furnace_stay_finite_and_bounded() {
     let start = scene.camera(None).unwrap();
     let mut means = Vec::new();
     for frame in 0..10_000u32 {
-        let camera = orbit(&start, &scene, frame);
+        let camera = start.orbit(&scene, frame);
         s.frame(&gpu, &scene, &camera);
         if (frame + 1) % 1000 == 0 {
             let cells = s.cache.read_cells(&gpu).unwrap();
@@ -546,19 +546,4 @@ fn absurd_light_keeps_the_cache_finite() {
         "a pixel went non-finite"
     );
     eprintln!("cornell 32x32 with emission 1e9: {live} live cells, all finite");
-}
-
-/// The renderer's orbit path (which this crate cannot depend on): the camera swings ±20°
-/// about the vertical through the scene's centre, one period every 240 frames.
-fn orbit(start: &Camera, scene: &Scene, frame: u32) -> Camera {
-    let (lo, hi) = scene.bounds();
-    let pivot = (lo + hi) * 0.5;
-    let phase = frame as f32 / 240.0 * std::f32::consts::TAU;
-    let angle = 20f32.to_radians() * phase.sin();
-    let about = Mat4::from_translation(pivot)
-        * Mat4::from_rotation_y(angle)
-        * Mat4::from_translation(-pivot);
-    let mut camera = start.clone();
-    camera.transform = about * start.transform;
-    camera
 }

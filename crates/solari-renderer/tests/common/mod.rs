@@ -2,10 +2,9 @@
 //! scene upload and the reference tracer's images at pixel centres (`solari-reference`).
 #![allow(dead_code)]
 
-use solari_lights::{LightTileSettings, Selection};
+use solari_lights::LightTileSettings;
 #[allow(unused_imports)] // not every test file compares images
 pub use solari_reference::rmse;
-use solari_reference::{ReferenceSettings, reference_image};
 use solari_renderer::{FiniteCheck, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 use solari_scene::Scene;
@@ -40,43 +39,9 @@ pub fn upload(gpu: &Gpu, backend: Backend, scene: &Scene) -> GpuScene {
     GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("scene upload")
 }
 
-/// The reference tracer's direct-only image at pixel centres (what the G-buffer sees),
-/// `size × size`.
-pub fn reference_direct(
-    gpu: &Gpu,
-    backend: Backend,
-    scene: &Scene,
-    size: u32,
-    spp: u32,
-) -> Vec<[f32; 3]> {
-    reference(gpu, backend, scene, size, spp, 1)
-}
+// The reference images and pixel helpers are solari-restir's test harness's.
+#[path = "../../../solari-restir/tests/common/mod.rs"]
+mod direct;
 
-/// The reference tracer's image at pixel centres with paths of at most `max_bounces`
-/// scattering events (`u32::MAX`: Russian roulette alone ends them), `size × size`.
-pub fn reference(
-    gpu: &Gpu,
-    backend: Backend,
-    scene: &Scene,
-    size: u32,
-    spp: u32,
-    max_bounces: u32,
-) -> Vec<[f32; 3]> {
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces,
-        selection: Selection::Power,
-        pixel_centre: true,
-    };
-    reference_image(gpu, backend, scene, size, size, &settings)
-        .expect("reference render")
-        .pixels
-}
-
-pub fn luminance(c: [f32; 3]) -> f64 {
-    0.2126 * c[0] as f64 + 0.7152 * c[1] as f64 + 0.0722 * c[2] as f64
-}
-
-pub fn rgb(pixels: &[[f32; 4]]) -> Vec<[f32; 3]> {
-    pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
-}
+#[allow(unused_imports)] // not every test file uses every helper
+pub use direct::{luminance, reference, reference_direct, rgb};

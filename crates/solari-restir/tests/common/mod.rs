@@ -4,9 +4,9 @@
 #![allow(dead_code)]
 
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+use solari_reference::centre_image;
 #[allow(unused_imports)] // not every including test compares images
 pub use solari_reference::rmse;
-use solari_reference::{ReferenceSettings, reference_image};
 use solari_restir::{RestirDi, RestirDiSettings};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
@@ -210,15 +210,7 @@ pub fn reference(
     spp: u32,
     max_bounces: u32,
 ) -> Vec<[f32; 3]> {
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces,
-        selection: Selection::Power,
-        pixel_centre: true,
-    };
-    reference_image(gpu, backend, scene, size, size, &settings)
-        .expect("reference render")
-        .pixels
+    centre_image(gpu, backend, scene, size, spp, max_bounces).expect("reference render")
 }
 
 /// Rec. 709 luminance.
