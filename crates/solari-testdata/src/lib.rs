@@ -25,9 +25,13 @@ pub const SCENES: [&str; 8] = [
     "sun_boxes",
 ];
 
-/// This crate's folder.
-pub fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
+/// This crate's folder, or the folder `SOLARI_TESTDATA` names: a binary built here and run
+/// elsewhere (a bench carried to another machine) finds the data through it.
+pub fn root() -> PathBuf {
+    match std::env::var_os("SOLARI_TESTDATA") {
+        Some(dir) if !dir.is_empty() => PathBuf::from(dir),
+        _ => PathBuf::from(env!("CARGO_MANIFEST_DIR")),
+    }
 }
 
 /// The folder of the bundled scene `name` (one of [`SCENES`]).
@@ -117,7 +121,10 @@ pub fn bench_scenes(full: bool) -> Vec<(String, PathBuf)> {
         &["cornell_box", "interior"]
     };
     let mut out: Vec<(String, PathBuf)> = names.iter().map(|n| (n.to_string(), scene(n))).collect();
-    let shared = root().join("../../../shared/scenes");
+    // Beside the checkout, or `SOLARI_SHARED_SCENES` where the binary runs elsewhere.
+    let shared = std::env::var_os("SOLARI_SHARED_SCENES")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/scenes"));
     if full && let Ok(dirs) = std::fs::read_dir(shared) {
         let mut extra: Vec<(String, PathBuf)> = dirs
             .flatten()
