@@ -125,7 +125,7 @@ impl Requirements {
 /// output resolution (a denoiser may upscale: render at [`Denoiser::render_size`]).
 ///
 /// Call [`Denoiser::encode`] once per frame after the lighting passes were recorded, submit
-/// the encoder and then the command buffers it returned, and read the result from
+/// the encoder and then [`Encoded::after`] in the same submission, and read the result from
 /// [`Denoiser::output`].
 pub trait Denoiser {
     /// Short name for logs and reports (`fallback`, `dlss-rr`).

@@ -19,20 +19,8 @@ use common::{Harness, SIZE, grey_box};
 /// One set of the caller's targets: `[gbuffer, emission, motion, depth]` textures.
 fn targets(gpu: &Gpu) -> [wgpu::Texture; 4] {
     [GBUFFER_FORMAT, EMISSION_FORMAT, MOTION_FORMAT, DEPTH_FORMAT].map(|format| {
-        gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("caller's target"),
-            size: wgpu::Extent3d {
-                width: SIZE,
-                height: SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        })
+        let usage = wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::TEXTURE_BINDING;
+        gpu.texture_2d("caller's target", (SIZE, SIZE), format, usage)
     })
 }
 

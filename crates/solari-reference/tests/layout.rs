@@ -3,13 +3,18 @@
 use solari_reference::path_tracer::{MODULES, ReferenceParams};
 use solari_scene::shaders::{Backend, compose, validate};
 
-#[test]
-fn reference_params_match_naga_layout() {
-    let extra: Vec<(&str, &str)> = solari_lights::MODULES
+/// The modules the path tracer composes with beyond solari-scene's.
+fn extra() -> Vec<(&'static str, &'static str)> {
+    solari_lights::MODULES
         .iter()
         .chain(MODULES)
         .copied()
-        .collect();
+        .collect()
+}
+
+#[test]
+fn reference_params_match_naga_layout() {
+    let extra = extra();
     for backend in Backend::ALL {
         let wgsl = compose("reference", backend, &extra).expect("compose");
         let module = validate("reference", &wgsl).expect("valid");
@@ -59,11 +64,7 @@ fn bindings_are_bound_by_their_wgsl_names() {
     use solari_reference::path_tracer::REFERENCE_BINDINGS;
     use solari_scene::bindings::check_groups;
     use solari_scene::view_pass::VIEW_BINDINGS;
-    let extra: Vec<(&str, &str)> = solari_lights::MODULES
-        .iter()
-        .chain(MODULES)
-        .copied()
-        .collect();
+    let extra = extra();
     let groups = [
         &VIEW_BINDINGS,
         &REFERENCE_BINDINGS,

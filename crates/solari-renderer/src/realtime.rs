@@ -21,6 +21,7 @@ use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::gpu_types::GpuView;
 use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
@@ -268,8 +269,9 @@ pub struct RealtimeRenderer {
     denoiser_kind: DenoiserKind,
     denoiser_fallback: Option<String>,
     reset_next: bool,
-    // Last frame's camera, for the frame context's previous view.
-    last_camera: Option<Camera>,
+    // Last frame's view, for the frame context's previous view (kept as a view rather than
+    // a cloned camera, whose name would be an allocation every frame).
+    last_view: Option<GpuView>,
     // Made on the first `present`.
     presenter: Option<Presenter>,
     frame: u32,
@@ -378,7 +380,7 @@ impl RealtimeRenderer {
             denoiser_kind: created.kind,
             denoiser_fallback: created.fallback_reason,
             reset_next: false,
-            last_camera: None,
+            last_view: None,
             presenter: None,
             frame: 0,
             checker,
@@ -507,9 +509,11 @@ impl RealtimeRenderer {
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;
-        let previous = self.last_camera.replace(camera.clone());
-        let context = FrameContext::new(frame, self.di.size(), camera, previous.as_ref())
+        let mut context = FrameContext::new(frame, self.di.size(), camera, None)
             .with_profiler(self.profiler.as_ref());
+        if let Some(previous) = self.last_view.replace(context.view) {
+            context.previous_view = GpuView { frame, ..previous };
+        }
         self.gbuffer.prepare(gpu, scene, camera)?;
         self.tiles.prepare(gpu, &context);
         self.di.prepare(gpu, &context, &self.gbuffer, light_count)?;

@@ -16,20 +16,7 @@ fn target(
     size: u32,
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("caller's target"),
-        size: wgpu::Extent3d {
-            width: size,
-            height: size,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
+    gpu.texture_2d("caller's target", (size, size), format, usage)
 }
 
 #[test]

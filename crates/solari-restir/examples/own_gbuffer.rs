@@ -389,22 +389,10 @@ struct Targets {
 impl Targets {
     fn new(gpu: &Gpu, (width, height): (u32, u32), index: usize) -> Self {
         let make = |name: &str, format| {
-            gpu.device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(&format!("own_gbuffer/{name}_{index}")),
-                    size: wgpu::Extent3d {
-                        width,
-                        height,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                        | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
+            let usage =
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+            let label = format!("own_gbuffer/{name}_{index}");
+            gpu.texture_2d(&label, (width, height), format, usage)
                 .create_view(&Default::default())
         };
         Self {

@@ -124,22 +124,14 @@ pub struct GBufferTargets {
 impl GBufferTargets {
     fn new(gpu: &Gpu, width: u32, height: u32, parity: usize) -> Self {
         let make = |name: &str, format| {
-            gpu.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(&format!("solari_scene/gbuffer_{name}_{parity}")),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
+            gpu.texture_2d(
+                &format!("solari_scene/gbuffer_{name}_{parity}"),
+                (width, height),
                 format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::TEXTURE_BINDING
                     | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
+            )
         };
         let gbuffer = make("gbuffer", GBUFFER_FORMAT);
         let emission = make("emission", EMISSION_FORMAT);

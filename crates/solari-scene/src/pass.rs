@@ -79,9 +79,16 @@ impl<'a> FrameContext<'a> {
     }
 }
 
-/// The dispatches one `encode` recorded, by label (a pass's `PASS_LABELS`), in order.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
-pub struct Ran(Vec<&'static str>);
+/// Most labels one `Ran` holds (the largest pass, the world cache's upkeep, has four).
+pub const MAX_RAN: usize = 16;
+
+/// The dispatches one `encode` recorded, by label (a pass's `PASS_LABELS`), in order. A
+/// fixed array, so the frame loop allocates nothing to report what ran.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Ran {
+    labels: [&'static str; MAX_RAN],
+    len: usize,
+}
 
 impl Ran {
     /// Nothing ran.
@@ -90,31 +97,57 @@ impl Ran {
     }
 
     /// Marks `label` as run (once).
+    ///
+    /// # Panics
+    /// Past [`MAX_RAN`] distinct labels: a pass with that many dispatches is a bug here.
     pub fn mark(&mut self, label: &'static str) {
-        if !self.0.contains(&label) {
-            self.0.push(label);
+        if self.contains(label) {
+            return;
         }
+        assert!(self.len < MAX_RAN, "more than {MAX_RAN} passes in one Ran");
+        self.labels[self.len] = label;
+        self.len += 1;
     }
 
     /// Whether `label` ran.
     pub fn contains(&self, label: &str) -> bool {
-        self.0.contains(&label)
+        self.labels().contains(&label)
     }
 
     /// Whether nothing ran.
     pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
+        self.len == 0
     }
 
     /// The labels that ran, in order.
     pub fn labels(&self) -> &[&'static str] {
-        &self.0
+        &self.labels[..self.len]
     }
 
     /// Adds what `other` ran.
     pub fn extend(&mut self, other: Ran) {
-        for label in other.0 {
+        for label in other.labels() {
             self.mark(label);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Ran;
+
+    #[test]
+    fn ran_keeps_labels_once_in_order() {
+        let mut a = Ran::none();
+        assert!(a.is_empty());
+        a.mark("x");
+        a.mark("y");
+        a.mark("x");
+        let mut b = Ran::none();
+        b.mark("z");
+        b.mark("y");
+        a.extend(b);
+        assert_eq!(a.labels(), ["x", "y", "z"]);
+        assert!(a.contains("z") && !a.contains("w"));
     }
 }

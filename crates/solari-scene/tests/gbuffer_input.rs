@@ -17,21 +17,7 @@ fn texture(
     size: u32,
     usage: wgpu::TextureUsages,
 ) -> wgpu::TextureView {
-    gpu.device
-        .create_texture(&wgpu::TextureDescriptor {
-            label: Some("test target"),
-            size: wgpu::Extent3d {
-                width: size,
-                height: size,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage,
-            view_formats: &[],
-        })
+    gpu.texture_2d("test target", (size, size), format, usage)
         .create_view(&Default::default())
 }
 
