@@ -12,7 +12,9 @@ use crate::output::{ImageOutputs, check_writable};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightTileSettings, Selection};
-use solari_renderer::{CameraPath, FiniteCheck, FrameView, GiMode, RealtimeSettings};
+use solari_renderer::{
+    CameraPath, FiniteCheck, FrameView, GBufferProducer, GiMode, RealtimeSettings,
+};
 use solari_restir::RestirDiSettings;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
@@ -237,6 +239,10 @@ pub struct RealtimeArgs {
     /// Camera path, fixed or orbit (a ±20° swing around the scene's centre).
     #[arg(long, default_value = "fixed", value_parser = values::camera_path)]
     pub camera_path: CameraPath,
+    /// G-buffer producer, raster (vertex and fragment shaders) or traced (one primary ray per
+    /// pixel, a compute pass): the same texels, found two ways.
+    #[arg(long, default_value = "raster", value_parser = values::gbuffer)]
+    pub gbuffer: GBufferProducer,
     /// Initial ReSTIR DI candidates per pixel.
     #[arg(long, default_value_t = 8)]
     pub candidates: u32,
@@ -285,6 +291,7 @@ impl RealtimeArgs {
     /// The renderer's settings, every knob checked (the error names the bad one).
     pub fn settings(&self, view: FrameView) -> Result<RealtimeSettings, String> {
         let settings = RealtimeSettings {
+            gbuffer: self.gbuffer,
             tiles: self.tiles,
             di: RestirDiSettings {
                 initial_candidates: self.candidates,

@@ -4,7 +4,7 @@
 
 use solari_denoise::DenoiserKind;
 use solari_lights::{LightTileSettings, Selection};
-use solari_renderer::{CameraPath, FrameView, GiMode};
+use solari_renderer::{CameraPath, FrameView, GBufferProducer, GiMode};
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
 use solari_scene::view_pass::DebugView;
@@ -97,6 +97,11 @@ pub fn bvh_quality(s: &str) -> Result<BvhQuality, String> {
 /// `fixed` or `orbit`.
 pub fn camera_path(s: &str) -> Result<CameraPath, String> {
     named(s, CameraPath::parse(s), "fixed or orbit")
+}
+
+/// `raster` or `traced`.
+pub fn gbuffer(s: &str) -> Result<GBufferProducer, String> {
+    named(s, GBufferProducer::parse(s), "raster or traced")
 }
 
 /// `off` or `cache`.

@@ -31,6 +31,14 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     if let Some(why) = renderer.denoiser_fallback_reason() {
         log::warn!("{why}");
     }
+    let gbuffer = renderer.gbuffer();
+    log::info!(
+        "G-buffer: {}{}",
+        gbuffer.producer().name(),
+        gbuffer
+            .trace_variant()
+            .map_or(String::new(), |v| format!(" ({})", v.name()))
+    );
     log::info!(
         "denoiser: {} ({:.1} MiB)",
         renderer.denoiser_kind().name(),

@@ -63,7 +63,7 @@ pub fn run(_args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
         let context = FrameContext::new(frame, (SIZE, SIZE), &camera, Some(&camera));
         gbuffer.prepare(&gpu, &scene, &camera)?;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        gbuffer.encode(&mut encoder, &context, &gpu_scene);
+        gbuffer.encode(&mut encoder, &context, &gpu_scene)?;
         let inputs = DenoiserInputs {
             lighting: Lighting::Combined(&lighting),
             gbuffer: &gbuffer,

@@ -14,6 +14,7 @@ pub use realtime::{
     CameraPath, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES, PassRun,
     RealtimeRenderer, RealtimeSettings,
 };
+pub use solari_scene::gbuffer::GBufferProducer;
 
 /// The README's example, compiled and run as a doc test.
 #[cfg(doctest)]

@@ -18,7 +18,7 @@ use solari_denoise::{
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings};
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
-use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer::{GBuffer, GBufferProducer};
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
@@ -154,6 +154,9 @@ impl FrameView {
 /// What the renderer does each frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RealtimeSettings {
+    /// Which pass writes the G-buffer (default raster; the traced producer is faster where
+    /// raster hardware is scarce, `benches/RESULTS.md`).
+    pub gbuffer: GBufferProducer,
     /// Light-tile presampling (Solari: 128 tiles × 1024 samples).
     pub tiles: LightTileSettings,
     /// ReSTIR DI's knobs.
@@ -200,6 +203,7 @@ impl RealtimeSettings {
 impl Default for RealtimeSettings {
     fn default() -> Self {
         Self {
+            gbuffer: GBufferProducer::Raster,
             tiles: LightTileSettings::default(),
             di: RestirDiSettings::default(),
             selection: Selection::Power,
@@ -327,7 +331,14 @@ impl RealtimeRenderer {
             .denoiser
             .as_ref()
             .map_or((output_width, output_height), |d| d.render_size());
-        let gbuffer = GBuffer::new(gpu, backend, width, height)?;
+        let gbuffer = GBuffer::with_producer(
+            gpu,
+            backend,
+            settings.gbuffer,
+            TraceVariant::for_scene(gpu_scene),
+            width,
+            height,
+        )?;
         let tiles = LightTiles::new(gpu, settings.tiles)?;
         let di = RestirDi::new(
             gpu,
@@ -387,6 +398,11 @@ impl RealtimeRenderer {
         })
     }
 
+    /// The G-buffer: its producer, targets and history.
+    pub fn gbuffer(&self) -> &GBuffer {
+        &self.gbuffer
+    }
+
     /// The denoiser in use ([`DenoiserKind::None`]: the raw image).
     pub fn denoiser_kind(&self) -> DenoiserKind {
         self.denoiser_kind
@@ -422,25 +438,33 @@ impl RealtimeRenderer {
 
     // Passes specialised for a single-instance scene would trace instance 0 alone once the
     // scene grows (`GpuScene::set_instances`, or another scene given to `render`): rebuild
-    // ReSTIR DI and the world cache for the scene's shape now. Their history goes with them
-    // (the scene changed); a shape that still fits (a scene that shrank) keeps them.
+    // the traced G-buffer, ReSTIR DI and the world cache for the scene's shape now. Their
+    // history goes with them (the scene changed); a shape that still fits (a scene that
+    // shrank) keeps them.
     fn fit_tracing_to(&mut self, gpu: &Gpu, gpu_scene: &GpuScene) -> Result<(), GpuError> {
         let di_fits = self.di.variant().check(gpu_scene).is_ok();
         let cache_fits = self
             .cache
             .as_ref()
             .is_none_or(|(c, _)| c.variant().check(gpu_scene).is_ok());
-        if di_fits && cache_fits {
+        let gbuffer_fits = self
+            .gbuffer
+            .trace_variant()
+            .is_none_or(|v| v.check(gpu_scene).is_ok());
+        if di_fits && cache_fits && gbuffer_fits {
             return Ok(());
         }
         let variant = TraceVariant::for_scene(gpu_scene);
         log::info!(
-            "scene shape changed ({} instances): rebuilding ReSTIR DI and the world cache as {}",
+            "scene shape changed ({} instances): rebuilding the tracing passes as {}",
             gpu_scene.instance_count(),
             variant.name()
         );
         let (w, h) = self.di.size();
         let backend = gpu_scene.backend;
+        if !gbuffer_fits {
+            self.gbuffer = GBuffer::traced(gpu, backend, variant, w, h)?;
+        }
         self.di = RestirDi::new(
             gpu,
             backend,
@@ -527,12 +551,13 @@ impl RealtimeRenderer {
         if let Some(c) = checker.as_ref() {
             c.begin_frame(&mut encoder);
         }
-        ran.add(&self.gbuffer.encode(&mut encoder, &context, gpu_scene));
+        ran.add(&self.gbuffer.encode(&mut encoder, &context, gpu_scene)?);
         if let Some(c) = checker.as_mut() {
             let t = self.gbuffer.current();
             c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;
             c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.motion, 0x3, 0)?;
-            c.check_depth(gpu, &mut encoder, SLOT_GBUFFER, &t.depth)?;
+            // Depth: finite and non-negative (R32Float: one channel).
+            c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.depth, 0x1, 0x1)?;
         }
         if light_count > 0 {
             ran.add(&self.tiles.encode(&mut encoder, &context, &self.lights));

@@ -8,7 +8,7 @@ mod common;
 use common::{SIZE, luminance, reference_direct, rgb, settings};
 use glam::Vec3;
 use solari_lights::{GpuLights, LightList, LightTiles, Selection};
-use solari_renderer::{GiMode, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{GBufferProducer, GiMode, RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDi;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::test_gpu;
@@ -82,14 +82,28 @@ fn restir_di_and_the_world_cache_refuse_a_scene_that_outgrew_their_pipelines() {
     assert!(err.to_string().contains("3 instances"), "{err}");
 }
 
-/// Mean of `frames` frames of the renderer's output after the scene grew.
-fn mean_after_growth(frames: u32, gi: GiMode) -> (Vec<[f32; 3]>, TraceVariant, TraceVariant) {
+/// Mean of `frames` frames of the renderer's output after the scene grew, the variant the
+/// renderer traced with before and after, and its G-buffer's after.
+fn mean_after_growth(
+    frames: u32,
+    gi: GiMode,
+    gbuffer: GBufferProducer,
+) -> (
+    Vec<[f32; 3]>,
+    TraceVariant,
+    TraceVariant,
+    Option<TraceVariant>,
+) {
     let gpu = test_gpu().expect("checked by the caller");
     let backend = Backend::Software;
     let (small, grown) = (shadow_scene(false), shadow_scene(true));
     let mut gpu_scene =
         GpuScene::new(&gpu, &small, backend, &GpuSceneOptions::default()).expect("upload");
-    let settings = RealtimeSettings { gi, ..settings() };
+    let settings = RealtimeSettings {
+        gi,
+        gbuffer,
+        ..settings()
+    };
     let mut renderer =
         RealtimeRenderer::new(&gpu, backend, &small, &gpu_scene, SIZE, SIZE, settings)
             .expect("renderer");
@@ -117,7 +131,8 @@ fn mean_after_growth(frames: u32, gi: GiMode) -> (Vec<[f32; 3]>, TraceVariant, T
         .iter()
         .map(|p| [p[0] as f32, p[1] as f32, p[2] as f32])
         .collect();
-    (mean, before, renderer.trace_variant())
+    let gbuffer_after = renderer.gbuffer().trace_variant();
+    (mean, before, renderer.trace_variant(), gbuffer_after)
 }
 
 #[test]
@@ -140,15 +155,23 @@ fn the_renderer_rebuilds_its_tracing_when_the_scene_grows_and_shows_the_new_shad
         changed.iter().map(|&i| luminance(img[i])).sum::<f64>() / changed.len() as f64
     };
     let (lit, dark) = (mean_of(&floor_only), mean_of(&grown));
-    for gi in [GiMode::Off, GiMode::WorldCache] {
-        let (image, before, after) = mean_after_growth(32, gi);
+    let cases = [
+        (GiMode::Off, GBufferProducer::Raster),
+        (GiMode::WorldCache, GBufferProducer::Raster),
+        (GiMode::Off, GBufferProducer::Traced),
+    ];
+    for (gi, producer) in cases {
+        let (image, before, after, gbuffer) = mean_after_growth(32, gi, producer);
         assert_ne!(before, TraceVariant::General, "one instance specialises");
         assert_eq!(after, TraceVariant::General, "{gi:?}: not rebuilt");
+        let expected = (producer == GBufferProducer::Traced).then_some(TraceVariant::General);
+        assert_eq!(gbuffer, expected, "{producer:?} G-buffer after growth");
         assert!(image.iter().flatten().all(|c| c.is_finite()));
         let got = mean_of(&image);
         println!(
-            "{gi:?}: changed pixels {}: floor alone {lit:.4}, grown scene {dark:.4}, \
-             renderer after growth {got:.4}",
+            "{gi:?}, {} G-buffer: changed pixels {}: floor alone {lit:.4}, grown scene \
+             {dark:.4}, renderer after growth {got:.4}",
+            producer.name(),
             changed.len()
         );
         // Cache GI adds indirect light the direct-only reference lacks: allow it a margin.

@@ -23,6 +23,8 @@ use solari_scene::shaders::{Backend, compose};
 use solari_scene::{Camera, Scene, default_scene};
 
 const SIZE: (u32, u32) = (128, 128);
+/// The raster depth test's format (the example's own choice; readers never see it).
+const DEPTH_TEST_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const FRAMES: u32 = 8;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -88,7 +90,7 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             (frame > 0).then(|| before.views()),
         )?;
         solari_gbuffer.prepare(&gpu, &scene, &camera)?;
-        solari_gbuffer.encode(&mut encoder, &context, &gpu_scene);
+        solari_gbuffer.encode(&mut encoder, &context, &gpu_scene)?;
         tiles.prepare(&gpu, &context);
         tiles.encode(&mut encoder, &context, &lights);
         for (di, gbuffer) in [
@@ -174,7 +176,9 @@ struct ViewUniform {
 }
 
 /// The example's G-buffer shader. It writes Solari's encoding with `pack_gbuffer`; depth
-/// comes from the same reversed-Z projection (`view_projection`) that the readers expect.
+/// comes from the same reversed-Z projection (`view_projection`) that the readers expect, and
+/// is written twice: to the depth buffer the raster test uses, and as a colour (the R32Float
+/// depth target the readers bind).
 const SHADER: &str = r#"
 import package::gbuffer::{GBufferSurface, pack_gbuffer};
 
@@ -212,6 +216,7 @@ struct GBufferOut {
     @location(0) gbuffer: vec4<u32>,
     @location(1) emission: vec4<f32>,
     @location(2) motion: vec2<f32>,
+    @location(3) depth: f32,
 }
 
 @fragment
@@ -229,7 +234,7 @@ fn fs_main(in: VertexOut, @builtin(front_facing) front: bool) -> GBufferOut {
     s.geometric_normal = n;
     let packed = pack_gbuffer(s);
     // A still camera and scene: no motion.
-    return GBufferOut(packed.texel, packed.emission, vec2<f32>(0.0));
+    return GBufferOut(packed.texel, packed.emission, vec2<f32>(0.0), in.position.z);
 }
 "#;
 
@@ -300,7 +305,7 @@ impl OwnGBufferPass {
                 primitive: wgpu::PrimitiveState::default(),
                 // Reversed Z: nearer is greater, cleared to 0 (infinitely far).
                 depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
+                    format: DEPTH_TEST_FORMAT,
                     depth_write_enabled: Some(true),
                     depth_compare: Some(wgpu::CompareFunction::Greater),
                     stencil: Default::default(),
@@ -315,6 +320,7 @@ impl OwnGBufferPass {
                         target(GBUFFER_FORMAT),
                         target(EMISSION_FORMAT),
                         target(MOTION_FORMAT),
+                        target(DEPTH_FORMAT),
                     ],
                 }),
                 multiview_mask: None,
@@ -358,12 +364,17 @@ impl OwnGBufferPass {
         };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("own_gbuffer"),
-            color_attachments: &[color(&t.gbuffer), color(&t.emission), color(&t.motion)],
+            color_attachments: &[
+                color(&t.gbuffer),
+                color(&t.emission),
+                color(&t.motion),
+                color(&t.depth),
+            ],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &t.depth,
+                view: &t.depth_test,
                 depth_ops: Some(wgpu::Operations {
                     load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
+                    store: wgpu::StoreOp::Discard,
                 }),
                 stencil_ops: None,
             }),
@@ -384,6 +395,8 @@ struct Targets {
     emission: wgpu::TextureView,
     motion: wgpu::TextureView,
     depth: wgpu::TextureView,
+    // The raster depth test's own buffer; readers see `depth`.
+    depth_test: wgpu::TextureView,
 }
 
 impl Targets {
@@ -400,6 +413,7 @@ impl Targets {
             emission: make("emission", EMISSION_FORMAT),
             motion: make("motion", MOTION_FORMAT),
             depth: make("depth", DEPTH_FORMAT),
+            depth_test: make("depth_test", DEPTH_TEST_FORMAT),
         }
     }
 

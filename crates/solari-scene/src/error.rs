@@ -195,6 +195,10 @@ pub enum GpuError {
         "the ray-query tracer needs EXPERIMENTAL_RAY_QUERY, which adapter '{0}' does not offer; use the software tracer"
     )]
     NoRayQuery(String),
+    /// The adapter cannot run a pass the caller asked for; the message says which and what
+    /// to use instead.
+    #[error("{0}")]
+    Unsupported(String),
     /// WESL composition or naga validation of a shader failed.
     #[error("shader '{name}' failed to compile: {message}")]
     Shader {

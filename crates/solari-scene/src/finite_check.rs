@@ -123,7 +123,6 @@ pub fn first_offender(counts: &[FiniteCount]) -> Option<&FiniteCount> {
 enum Source {
     Buffer(wgpu::Buffer, u64, RecordLayout),
     Texture(wgpu::Texture, u32, u32),
-    Depth(wgpu::Texture),
 }
 
 /// The detector: slots, counters, pipelines and the bind groups of every output checked so
@@ -134,8 +133,7 @@ pub struct FiniteChecker {
     readback: wgpu::Buffer,
     buffer_pipeline: wgpu::ComputePipeline,
     texture_pipeline: wgpu::ComputePipeline,
-    depth_pipeline: wgpu::ComputePipeline,
-    layouts: [wgpu::BindGroupLayout; 3],
+    layouts: [wgpu::BindGroupLayout; 2],
     groups: HashMap<(usize, Source), (wgpu::BindGroup, [u32; 3])>,
 }
 
@@ -162,10 +160,10 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
 impl FiniteChecker {
     /// Builds the pipelines and the counters for `slots` (pass names, in frame order).
     pub fn new(gpu: &Gpu, slots: &[&str]) -> Result<Self, GpuError> {
-        let wgsl = ["buffer", "texture", "depth"]
+        let wgsl = ["buffer", "texture"]
             .map(|kind| compose(&format!("finite_check_{kind}"), Backend::Software, &[]));
-        let [wgsl_buffer, wgsl_texture, wgsl_depth] = wgsl;
-        let wgsl = [wgsl_buffer?, wgsl_texture?, wgsl_depth?];
+        let [wgsl_buffer, wgsl_texture] = wgsl;
+        let wgsl = [wgsl_buffer?, wgsl_texture?];
         let common = [
             buffer_entry(0, wgpu::BufferBindingType::Uniform),
             buffer_entry(1, wgpu::BufferBindingType::Storage { read_only: false }),
@@ -176,14 +174,6 @@ impl FiniteChecker {
                 3,
                 wgpu::BindingType::Texture {
                     sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-            ),
-            entry(
-                4,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Depth,
                     view_dimension: wgpu::TextureViewDimension::D2,
                     multisampled: false,
                 },
@@ -215,7 +205,7 @@ impl FiniteChecker {
                         cache: None,
                     })
             };
-        let (buffer_pipeline, texture_pipeline, depth_pipeline) = gpu.scoped(|| {
+        let (buffer_pipeline, texture_pipeline) = gpu.scoped(|| {
             let pipeline = |i: usize, label: &str| {
                 let module = gpu.shader_module(label, &wgsl[i], ShaderChecks::BoundsOnly);
                 pipeline(&module, &layouts[i], label)
@@ -223,7 +213,6 @@ impl FiniteChecker {
             (
                 pipeline(0, "solari_scene/finite_check_buffer"),
                 pipeline(1, "solari_scene/finite_check_texture"),
-                pipeline(2, "solari_scene/finite_check_depth"),
             )
         })?;
         let bytes = (slots.len().max(1) * 12) as u64;
@@ -247,7 +236,6 @@ impl FiniteChecker {
             readback,
             buffer_pipeline,
             texture_pipeline,
-            depth_pipeline,
             layouts,
             groups: HashMap::new(),
         })
@@ -374,54 +362,6 @@ impl FiniteChecker {
         )
     }
 
-    /// Checks a depth texture (`Depth32Float`): every value finite and non-negative.
-    pub fn check_depth(
-        &mut self,
-        gpu: &Gpu,
-        encoder: &mut wgpu::CommandEncoder,
-        slot: usize,
-        texture: &wgpu::Texture,
-    ) -> Result<(), GpuError> {
-        let (w, h) = (texture.width(), texture.height());
-        let params = GpuCheckParams {
-            count: w,
-            rows: h,
-            stride_words: 1,
-            float_mask: 1,
-            non_negative_mask: 1,
-            slot: slot as u32,
-            upper_mask: 0,
-            upper_bound: 0.0,
-        };
-        let key = (slot, Source::Depth(texture.clone()));
-        let dispatch = [w.div_ceil(16), h.div_ceil(16), 1];
-        self.record(
-            gpu,
-            encoder,
-            key,
-            params,
-            dispatch,
-            |gpu, layout, uniform, counters| {
-                let view = texture.create_view(&wgpu::TextureViewDescriptor {
-                    aspect: wgpu::TextureAspect::DepthOnly,
-                    ..Default::default()
-                });
-                gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("solari_scene/finite_check"),
-                    layout,
-                    entries: &[
-                        bind(0, uniform),
-                        bind(1, counters),
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: wgpu::BindingResource::TextureView(&view),
-                        },
-                    ],
-                })
-            },
-        )
-    }
-
     fn record(
         &mut self,
         gpu: &Gpu,
@@ -441,7 +381,6 @@ impl FiniteChecker {
         let kind = match key.1 {
             Source::Buffer(..) => 0,
             Source::Texture(..) => 1,
-            Source::Depth(..) => 2,
         };
         if !self.groups.contains_key(&key) {
             // Resized or rebuilt resources leave stale entries; the live set is small.
@@ -453,11 +392,7 @@ impl FiniteChecker {
             self.groups.insert(key.clone(), (group, dispatch));
         }
         let (group, dispatch) = &self.groups[&key];
-        let pipeline = [
-            &self.buffer_pipeline,
-            &self.texture_pipeline,
-            &self.depth_pipeline,
-        ][kind];
+        let pipeline = [&self.buffer_pipeline, &self.texture_pipeline][kind];
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("solari_scene/finite_check"),
             timestamp_writes: None,

@@ -1,6 +1,11 @@
-//! The G-buffer: a raster pass over the scene's meshes that stores, per pixel, what a primary
-//! ray would see at the pixel centre (material after textures, normals after normal mapping,
-//! depth) plus screen-space motion vectors from last frame's camera and instance transforms.
+//! The G-buffer: per pixel, what a primary ray sees at the pixel centre (material after
+//! textures, normals after normal mapping, depth) plus screen-space motion vectors from last
+//! frame's camera and instance transforms.
+//!
+//! Two producers write the same targets ([`GBufferProducer`]): a raster pass over the scene's
+//! meshes, and a compute pass that traces one primary ray per pixel through the scene's
+//! tracing backend. Both turn their hit into texels with one WGSL function
+//! (`shaders/gbuffer_write.wesl`), so they differ only in how they find the hit.
 //!
 //! Two sets of targets alternate by frame parity: after [`GBuffer::prepare`], the targets
 //! written last frame are [`GBuffer::previous`] for reprojection, and nothing is copied.
@@ -10,29 +15,36 @@
 //! | `gbuffer` | Rgba32Uint | x: √base colour rgb + roughness (unorm8); y: √dielectric f0 rgb + metallic (unorm8); z: shading normal, w: geometric normal (octahedral, 16 bits per axis), both facing the viewer |
 //! | `emission` | Rgba16Float | emitted radiance (clamped to 65,504, f16's largest), dielectric f90 |
 //! | `motion` | Rg16Float | texture coordinates now minus last frame's (x right, y down) |
-//! | `depth` | Depth32Float | reversed Z of an infinite perspective: `znear / view_z`, 0 = background |
+//! | `depth` | R32Float | reversed Z of an infinite perspective: `znear / view_z`, 0 = background |
 //!
-//! The square-root encoding spends the 8 bits where colour and f0 are small (f0 = 0.04 comes
-//! back as 0.0400 instead of 0.0392). WGSL side: `shaders/gbuffer.wesl` (`unpack_gbuffer`,
-//! `view_z_from_depth`); vertices are pulled from bind group 0, so the adapter must allow
-//! storage buffers in vertex shaders (every Vulkan, Metal and D3D12 adapter does).
+//! Depth is a colour format, not a depth format, because compute passes cannot write depth
+//! textures: the raster producer tests against a Depth32Float buffer of its own and writes
+//! this copy. The square-root encoding spends the 8 bits where colour and f0 are small (f0 =
+//! 0.04 comes back as 0.0400 instead of 0.0392). WGSL side: `shaders/gbuffer.wesl`
+//! (`unpack_gbuffer`, `view_z_from_depth`). The raster producer pulls vertices from bind
+//! group 0, so the adapter must allow storage buffers in vertex shaders (every Vulkan, Metal
+//! and D3D12 adapter does); the traced one needs Rg16Float storage textures
+//! ([`GBufferProducer::traced_support`]).
 
 use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
 use crate::gbuffer_input::{GBufferSource, GBufferViews};
-use crate::gpu::{Gpu, ShaderChecks};
-use crate::gpu_scene::GpuScene;
+use crate::gbuffer_raster::RasterProducer;
+use crate::gbuffer_traced::TracedProducer;
+use crate::gpu::Gpu;
+use crate::gpu_scene::{GpuScene, TraceVariant};
 use crate::gpu_types::GpuView;
 use crate::model::{Camera, Scene};
 use crate::pass::{FrameContext, Ran};
-use crate::shaders::{Backend, compose};
+use crate::shaders::Backend;
 use bytemuck::{Pod, Zeroable};
 use glam::Mat4;
 
-/// Group 1 of the raster pass (`gbuffer_raster.wesl`): this and last frame's matrices.
-pub const RASTER_VIEW_BINDINGS: BufferGroup =
-    BufferGroup::new(1, 0, &[("raster_view", Buf::Uniform)]);
-/// Group 2 of the raster pass: last frame's instance transforms, for motion vectors.
+/// Group 1 of both producers (`gbuffer_write.wesl`): this and last frame's matrices and this
+/// frame's primary rays.
+pub const GBUFFER_VIEW_BINDINGS: BufferGroup =
+    BufferGroup::new(1, 0, &[("gbuffer_view", Buf::Uniform)]);
+/// Group 2 of both producers: last frame's instance transforms, for motion vectors.
 pub const TRANSFORMS_BINDINGS: BufferGroup =
     BufferGroup::new(2, 0, &[("previous_transforms", Buf::Read)]);
 
@@ -45,20 +57,23 @@ pub const GBUFFER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 pub const EMISSION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Format of the motion-vector target.
 pub const MOTION_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
-/// Format of the depth target.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Format of the depth target that readers see (see the module docs for why not a depth
+/// format).
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
-/// WGSL twin: `RasterView` in `gbuffer_raster.wesl`.
+/// WGSL twin: `GBufferView` in `gbuffer_write.wesl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct GpuRasterView {
-    /// This frame's world-to-clip matrix.
+pub struct GpuGBufferView {
+    /// This frame's world-to-clip matrix ([`view_projection`]).
     pub view_proj: [[f32; 4]; 4],
     /// Last frame's world-to-clip matrix (this frame's on the first frame).
     pub previous_view_proj: [[f32; 4]; 4],
+    /// This frame's primary rays (the traced producer's).
+    pub view: GpuView,
 }
 
-const _: () = assert!(size_of::<GpuRasterView>() == 128);
+const _: () = assert!(size_of::<GpuGBufferView>() == 208);
 
 /// The world-to-clip matrix the G-buffer rasterises with for `camera` at `width × height`:
 /// a reversed-Z infinite perspective, matching the primary rays of `view.wesl` pixel for pixel.
@@ -107,6 +122,57 @@ pub struct GpuFrameViews {
 
 const _: () = assert!(size_of::<GpuFrameViews>() == 176);
 
+/// Which pass writes the G-buffer. Both write the same texels for the same hit; they find it
+/// differently, so they cost differently per GPU (`benches/RESULTS.md`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum GBufferProducer {
+    /// Rasterise the scene's triangles (vertex and fragment shaders, hardware depth test).
+    #[default]
+    Raster,
+    /// Trace one primary ray per pixel centre (a compute pass), specialised for the scene's
+    /// shape like every tracing pass ([`TraceVariant::for_scene`]).
+    Traced,
+}
+
+impl GBufferProducer {
+    /// Both producers.
+    pub const ALL: [GBufferProducer; 2] = [GBufferProducer::Raster, GBufferProducer::Traced];
+
+    /// A short name for reports and the command line: `raster` or `traced`.
+    pub fn name(self) -> &'static str {
+        match self {
+            GBufferProducer::Raster => "raster",
+            GBufferProducer::Traced => "traced",
+        }
+    }
+
+    /// The producer named `name` ([`GBufferProducer::name`]).
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// Why the traced producer cannot run on this device, if it cannot: it writes the motion
+    /// target as a storage texture, and Rg16Float storage is an adapter-specific format
+    /// feature (every desktop Vulkan driver we met has it, lavapipe included).
+    pub fn traced_support(gpu: &Gpu) -> Result<(), GpuError> {
+        let feature = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES;
+        let storage = gpu
+            .adapter
+            .get_texture_format_features(MOTION_FORMAT)
+            .allowed_usages
+            .contains(wgpu::TextureUsages::STORAGE_BINDING);
+        if gpu.features.contains(feature) && storage {
+            Ok(())
+        } else {
+            Err(GpuError::Unsupported(format!(
+                "the traced G-buffer writes {MOTION_FORMAT:?} storage textures, which adapter \
+                 '{}' does not offer; use the raster G-buffer",
+                gpu.info.name
+            )))
+        }
+    }
+}
+
 /// One set of G-buffer targets.
 pub struct GBufferTargets {
     /// Material and normals (see the module docs).
@@ -115,22 +181,25 @@ pub struct GBufferTargets {
     pub emission: wgpu::Texture,
     /// Motion vectors.
     pub motion: wgpu::Texture,
-    /// Reversed-Z depth.
+    /// Reversed-Z depth ([`DEPTH_FORMAT`]).
     pub depth: wgpu::Texture,
-    // Attachment views, made once rather than every frame.
-    views: [wgpu::TextureView; 4],
+    // Views, made once rather than every frame.
+    pub(crate) views: [wgpu::TextureView; 4],
 }
 
 impl GBufferTargets {
-    fn new(gpu: &Gpu, width: u32, height: u32, parity: usize) -> Self {
+    fn new(gpu: &Gpu, width: u32, height: u32, parity: usize, producer: GBufferProducer) -> Self {
+        // Written as render attachments by the raster producer, as storage by the traced one.
+        let written = match producer {
+            GBufferProducer::Raster => wgpu::TextureUsages::RENDER_ATTACHMENT,
+            GBufferProducer::Traced => wgpu::TextureUsages::STORAGE_BINDING,
+        };
         let make = |name: &str, format| {
             gpu.texture_2d(
                 &format!("solari_scene/gbuffer_{name}_{parity}"),
                 (width, height),
                 format,
-                wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING
-                    | wgpu::TextureUsages::COPY_SRC,
+                written | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
             )
         };
         let gbuffer = make("gbuffer", GBUFFER_FORMAT);
@@ -159,9 +228,16 @@ impl GBufferTargets {
     }
 }
 
-/// The G-buffer raster pass and its two alternating sets of targets.
+// The pass that writes the targets.
+enum Producer {
+    Raster(RasterProducer),
+    Traced(TracedProducer),
+}
+
+/// The G-buffer: its producer pass and two alternating sets of targets.
 pub struct GBuffer {
-    pipeline: wgpu::RenderPipeline,
+    producer: Producer,
+    kind: GBufferProducer,
     view_buffer: wgpu::Buffer,
     view_group: wgpu::BindGroup,
     transforms_layout: wgpu::BindGroupLayout,
@@ -173,7 +249,7 @@ pub struct GBuffer {
     // instances), for motion vectors.
     last_view_proj: Option<Mat4>,
     last_instances: Vec<(u32, Mat4)>,
-    // (vertex count, instance) per draw.
+    // (vertex count, instance) per draw, for the raster producer.
     draws: Vec<(u32, u32)>,
     history_valid: bool,
     // Bind group 1 for readers: views plus both target sets, one group per parity.
@@ -183,95 +259,99 @@ pub struct GBuffer {
     reader_groups: [wgpu::BindGroup; 2],
 }
 
+// Groups 1 and 2 are shared by the raster pipeline's vertex and fragment stages and the
+// traced compute pass.
+const PRODUCER_STAGES: wgpu::ShaderStages = wgpu::ShaderStages::VERTEX
+    .union(wgpu::ShaderStages::FRAGMENT)
+    .union(wgpu::ShaderStages::COMPUTE);
+
+fn producer_layout(gpu: &Gpu, label: &str, group: &BufferGroup) -> wgpu::BindGroupLayout {
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &group.layout_entries(PRODUCER_STAGES),
+        })
+}
+
 impl GBuffer {
-    /// Builds the pass for scenes uploaded with `backend` and allocates `width × height`
-    /// targets.
+    /// The raster producer for scenes uploaded with `backend`, with `width × height` targets.
     pub fn new(gpu: &Gpu, backend: Backend, width: u32, height: u32) -> Result<Self, GpuError> {
+        Self::with_producer(
+            gpu,
+            backend,
+            GBufferProducer::Raster,
+            TraceVariant::General,
+            width,
+            height,
+        )
+    }
+
+    /// The traced producer for scenes uploaded with `backend` whose shape fits `variant`
+    /// ([`TraceVariant::for_scene`]), with `width × height` targets; fails where
+    /// [`GBufferProducer::traced_support`] does.
+    pub fn traced(
+        gpu: &Gpu,
+        backend: Backend,
+        variant: TraceVariant,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
+        Self::with_producer(
+            gpu,
+            backend,
+            GBufferProducer::Traced,
+            variant,
+            width,
+            height,
+        )
+    }
+
+    /// The given producer for scenes uploaded with `backend`, with `width × height` targets;
+    /// `variant` specialises the traced producer (the raster one ignores it).
+    pub fn with_producer(
+        gpu: &Gpu,
+        backend: Backend,
+        producer: GBufferProducer,
+        variant: TraceVariant,
+        width: u32,
+        height: u32,
+    ) -> Result<Self, GpuError> {
         check_size(gpu, width, height)?;
-        let wgsl = compose("gbuffer_raster", backend, &[])?;
-        let vertex_layout = |label, group: &BufferGroup| {
-            gpu.device
-                .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                    label: Some(label),
-                    entries: &group.layout_entries(wgpu::ShaderStages::VERTEX),
-                })
-        };
-        let view_layout = vertex_layout("solari_scene/gbuffer_view", &RASTER_VIEW_BINDINGS);
+        let view_layout = producer_layout(gpu, "solari_scene/gbuffer_view", &GBUFFER_VIEW_BINDINGS);
         let transforms_layout =
-            vertex_layout("solari_scene/gbuffer_transforms", &TRANSFORMS_BINDINGS);
-        let scene_layout = GpuScene::layout_for(gpu, backend);
-        let pipeline = gpu.scoped(|| {
-            let module = gpu.shader_module("solari_scene/gbuffer", &wgsl, ShaderChecks::BoundsOnly);
-            let layout = gpu
-                .device
-                .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("solari_scene/gbuffer"),
-                    bind_group_layouts: &[
-                        Some(&scene_layout),
-                        Some(&view_layout),
-                        Some(&transforms_layout),
-                    ],
-                    immediate_size: 0,
-                });
-            let target = |format| {
-                Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })
-            };
-            gpu.device
-                .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("solari_scene/gbuffer"),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    // No culling: materials may be double-sided, and the G-buffer must match
-                    // what rays see either way.
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: Some(wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Greater),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: Default::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_main"),
-                        compilation_options: Default::default(),
-                        targets: &[
-                            target(GBUFFER_FORMAT),
-                            target(EMISSION_FORMAT),
-                            target(MOTION_FORMAT),
-                        ],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-        })?;
-        let view_buffer = gpu.uniform_buffer("solari_scene/gbuffer_view", &GpuRasterView::zeroed());
-        let view_group = RASTER_VIEW_BINDINGS.bind(
+            producer_layout(gpu, "solari_scene/gbuffer_transforms", &TRANSFORMS_BINDINGS);
+        let targets = [
+            GBufferTargets::new(gpu, width, height, 0, producer),
+            GBufferTargets::new(gpu, width, height, 1, producer),
+        ];
+        let layouts = [&view_layout, &transforms_layout];
+        let made = match producer {
+            GBufferProducer::Raster => {
+                Producer::Raster(RasterProducer::new(gpu, backend, layouts, (width, height))?)
+            }
+            GBufferProducer::Traced => {
+                GBufferProducer::traced_support(gpu)?;
+                let variant = variant.for_backend(backend);
+                Producer::Traced(TracedProducer::new(
+                    gpu, backend, variant, layouts, &targets,
+                )?)
+            }
+        };
+        let view_buffer =
+            gpu.uniform_buffer("solari_scene/gbuffer_view", &GpuGBufferView::zeroed());
+        let view_group = GBUFFER_VIEW_BINDINGS.bind(
             gpu,
             "solari_scene/gbuffer_view",
             &view_layout,
-            &[("raster_view", &view_buffer)],
+            &[("gbuffer_view", &view_buffer)],
         );
-        let targets = [
-            GBufferTargets::new(gpu, width, height, 0),
-            GBufferTargets::new(gpu, width, height, 1),
-        ];
         let frame_views =
             gpu.uniform_buffer("solari_scene/gbuffer_frame_views", &GpuFrameViews::zeroed());
         let reader_layout = Self::reader_layout(gpu);
         let reader_groups = reader_groups(gpu, &reader_layout, &frame_views, &targets);
         Ok(Self {
-            pipeline,
+            producer: made,
+            kind: producer,
             view_buffer,
             view_group,
             transforms_layout,
@@ -290,14 +370,32 @@ impl GBuffer {
         })
     }
 
+    /// Which producer writes this G-buffer.
+    pub fn producer(&self) -> GBufferProducer {
+        self.kind
+    }
+
+    /// The scene shape the traced producer's pipeline was specialised for (`None` for the
+    /// raster producer, which draws any scene).
+    pub fn trace_variant(&self) -> Option<TraceVariant> {
+        match &self.producer {
+            Producer::Raster(_) => None,
+            Producer::Traced(p) => Some(p.variant()),
+        }
+    }
+
     /// Reallocates the targets for a new size; history (previous targets, motion) restarts.
     pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
         check_size(gpu, width, height)?;
         if (width, height) != self.size {
             self.targets = [
-                GBufferTargets::new(gpu, width, height, 0),
-                GBufferTargets::new(gpu, width, height, 1),
+                GBufferTargets::new(gpu, width, height, 0, self.kind),
+                GBufferTargets::new(gpu, width, height, 1, self.kind),
             ];
+            match &mut self.producer {
+                Producer::Raster(p) => p.resize(gpu, (width, height)),
+                Producer::Traced(p) => p.retarget(gpu, &self.targets),
+            }
             self.size = (width, height);
             self.last_view_proj = None;
             self.last_view = None;
@@ -359,13 +457,14 @@ impl GBuffer {
         {
             gpu.queue.write_buffer(buffer, 0, bytes);
         }
-        let view = GpuRasterView {
+        let current = GpuView::new(camera, w, h);
+        let view = GpuGBufferView {
             view_proj: view_proj.to_cols_array_2d(),
             previous_view_proj: previous_view_proj.to_cols_array_2d(),
+            view: current,
         };
         gpu.queue
             .write_buffer(&self.view_buffer, 0, bytemuck::bytes_of(&view));
-        let current = GpuView::new(camera, w, h);
         let views = GpuFrameViews {
             current,
             previous: self.last_view.unwrap_or(current),
@@ -391,63 +490,33 @@ impl GBuffer {
         Ok(())
     }
 
-    /// Records the raster pass into this frame's targets (profiler scope
-    /// [`PASS_LABELS`]`[0]`) and returns what ran. `scene` must be the scene passed to
-    /// [`GBuffer::prepare`], uploaded with the backend the pass was built for.
+    /// Records the producer into this frame's targets (profiler scope [`PASS_LABELS`]`[0]`)
+    /// and returns what ran. `scene` must be the scene passed to [`GBuffer::prepare`],
+    /// uploaded with the backend the pass was built for; a traced producer specialised for
+    /// another scene shape is refused ([`TraceVariant::check`]).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         frame: &FrameContext,
         scene: &GpuScene,
-    ) -> Ran {
-        let mut ran = Ran::none();
-        frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| self.record(e, scene));
-        ran
-    }
-
-    fn record(&self, encoder: &mut wgpu::CommandEncoder, scene: &GpuScene) {
-        let [gbuffer, emission, motion, depth] = &self.current().views;
-        let attachment = |v| {
-            Some(wgpu::RenderPassColorAttachment {
-                view: v,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(PASS_LABELS[0]),
-            color_attachments: &[
-                attachment(gbuffer),
-                attachment(emission),
-                attachment(motion),
-            ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: depth,
-                // Reversed Z: 0 is infinitely far.
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        let Some((_, transforms)) = &self.transforms else {
-            return;
-        };
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, scene.bind_group(), &[]);
-        pass.set_bind_group(1, &self.view_group, &[]);
-        pass.set_bind_group(2, transforms, &[]);
-        for &(vertices, instance) in &self.draws {
-            pass.draw(0..vertices, instance..instance + 1);
+    ) -> Result<Ran, GpuError> {
+        if let Producer::Traced(p) = &self.producer {
+            p.variant().check(scene)?;
         }
+        let mut ran = Ran::none();
+        let Some((_, transforms)) = &self.transforms else {
+            return Err(GpuError::Validation(
+                "GBuffer::encode before GBuffer::prepare".into(),
+            ));
+        };
+        let groups = [&self.view_group, transforms];
+        frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| {
+            match &self.producer {
+                Producer::Raster(p) => p.record(e, scene, groups, self.current(), &self.draws),
+                Producer::Traced(p) => p.record(e, scene, groups, self.parity, self.size),
+            }
+        });
+        Ok(ran)
     }
 
     /// The targets of the frame being rendered.

@@ -1,8 +1,8 @@
 //! The G-buffer as passes read it: bind group 1 of layout [`reader_layout`], whoever
-//! rendered it. Two producers implement [`GBufferSource`]: Solari's raster pass
-//! ([`crate::gbuffer::GBuffer`]) and [`ExternalGBuffer`], which binds textures that your own
-//! renderer wrote, so ReSTIR DI, the world cache's GI and the denoisers run on an engine's
-//! G-buffer without Solari's raster pass.
+//! rendered it. Two types implement [`GBufferSource`]: Solari's G-buffer
+//! ([`crate::gbuffer::GBuffer`], raster or traced) and [`ExternalGBuffer`], which binds
+//! textures that your own renderer wrote, so ReSTIR DI, the world cache's GI and the denoisers
+//! run on an engine's G-buffer without Solari's producers.
 //!
 //! The bindings (WGSL: `gbuffer_read.wesl`):
 //!
@@ -12,7 +12,7 @@
 //! | 1 | `gbuffer_now` | material and normals, [`GBUFFER_FORMAT`] |
 //! | 2 | `emission_now` | emission and f90, [`EMISSION_FORMAT`] |
 //! | 3 | `motion_now` | motion vectors, [`MOTION_FORMAT`] |
-//! | 4 | `depth_now` | reversed-Z depth, [`DEPTH_FORMAT`] |
+//! | 4 | `depth_now` | reversed-Z depth, [`DEPTH_FORMAT`] (a colour format: write it as a colour target or storage texture beside your depth buffer) |
 //! | 5 | `gbuffer_before` | last frame's material and normals |
 //! | 6 | `emission_before` | last frame's emission |
 //! | 7 | `depth_before` | last frame's depth |
@@ -58,8 +58,7 @@ pub fn reader_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     let stage = wgpu::ShaderStages::COMPUTE;
     let uint = wgpu::TextureSampleType::Uint;
     let float = wgpu::TextureSampleType::Float { filterable: false };
-    let depth = wgpu::TextureSampleType::Depth;
-    let sample_types = [uint, float, float, depth, uint, float, depth];
+    let sample_types = [uint, float, float, float, uint, float, float];
     let entries: Vec<_> = std::iter::once(crate::gpu::buffer_layout_entry(
         0,
         wgpu::BufferBindingType::Uniform,

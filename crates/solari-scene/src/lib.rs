@@ -22,6 +22,8 @@ pub mod error;
 pub mod finite_check;
 pub mod gbuffer;
 pub mod gbuffer_input;
+mod gbuffer_raster;
+mod gbuffer_traced;
 pub mod geometry;
 pub mod gltf_check;
 pub mod gltf_import;

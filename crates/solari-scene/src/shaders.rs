@@ -45,6 +45,10 @@ pub const MODULES: &[(&str, &str)] = &[
     ("packing", include_str!("../shaders/packing.wesl")),
     ("gbuffer", include_str!("../shaders/gbuffer.wesl")),
     ("gbuffer_read", include_str!("../shaders/gbuffer_read.wesl")),
+    (
+        "gbuffer_write",
+        include_str!("../shaders/gbuffer_write.wesl"),
+    ),
     ("finite_check", include_str!("../shaders/finite_check.wesl")),
 ];
 
@@ -59,16 +63,16 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
         include_str!("../shaders/gbuffer_raster.wesl"),
     ),
     (
+        "gbuffer_traced",
+        include_str!("../shaders/gbuffer_traced.wesl"),
+    ),
+    (
         "finite_check_buffer",
         include_str!("../shaders/finite_check_buffer.wesl"),
     ),
     (
         "finite_check_texture",
         include_str!("../shaders/finite_check_texture.wesl"),
-    ),
-    (
-        "finite_check_depth",
-        include_str!("../shaders/finite_check_depth.wesl"),
     ),
 ];
 

@@ -43,9 +43,9 @@ fn rust_mirrors_match_naga_layouts() {
     let l = wgsl_layouts();
     check!(
         l,
-        solari_scene::gbuffer::GpuRasterView,
-        "RasterView",
-        [view_proj, previous_view_proj]
+        solari_scene::gbuffer::GpuGBufferView,
+        "GBufferView",
+        [view_proj, previous_view_proj, view]
     );
     check!(
         l,

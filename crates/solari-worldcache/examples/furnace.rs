@@ -61,7 +61,7 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
         tiles.prepare(&gpu, &context);
         cache.prepare(&gpu, &context, lights.light_count);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        gbuffer.encode(&mut encoder, &context, &gpu_scene);
+        gbuffer.encode(&mut encoder, &context, &gpu_scene)?;
         tiles.encode(&mut encoder, &context, &lights);
         // Upkeep: age and compact the cells, then trace and blend their new samples.
         cache.encode(&mut encoder, &context, &gpu_scene, &lights_group)?;

@@ -87,7 +87,9 @@ impl Harness {
             .expect("prepare");
         let frame = FrameContext::new(0, (SIZE, SIZE), &camera, None);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
-        self.gbuffer.encode(&mut encoder, &frame, &self.gpu_scene);
+        self.gbuffer
+            .encode(&mut encoder, &frame, &self.gpu_scene)
+            .expect("G-buffer");
         encoder
     }
 

@@ -150,7 +150,8 @@ impl DirectLight {
     /// Records what DI reads: the G-buffer and the light tiles.
     pub fn encode_inputs(&self, encoder: &mut wgpu::CommandEncoder) {
         self.gbuffer
-            .encode(encoder, self.context(), &self.gpu_scene);
+            .encode(encoder, self.context(), &self.gpu_scene)
+            .expect("G-buffer");
         self.tiles.encode(encoder, self.context(), &self.lights);
     }
 

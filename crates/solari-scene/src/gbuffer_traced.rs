@@ -1,0 +1,132 @@
+//! The traced G-buffer producer (`shaders/gbuffer_traced.wesl`): one primary ray per pixel
+//! centre through the scene's tracing backend, in a compute pass that writes the targets as
+//! storage textures.
+
+use crate::error::GpuError;
+use crate::gbuffer::{
+    DEPTH_FORMAT, EMISSION_FORMAT, GBUFFER_FORMAT, GBufferTargets, MOTION_FORMAT, PASS_LABELS,
+};
+use crate::gpu::{Gpu, ShaderChecks};
+use crate::gpu_scene::{GpuScene, TraceVariant};
+use crate::shaders::{Backend, compose};
+
+// Group 3's storage textures, in binding order (`gbuffer_out`, `emission_out`, `motion_out`,
+// `depth_out`).
+const OUTPUT_FORMATS: [wgpu::TextureFormat; 4] =
+    [GBUFFER_FORMAT, EMISSION_FORMAT, MOTION_FORMAT, DEPTH_FORMAT];
+
+pub(crate) struct TracedProducer {
+    pipeline: wgpu::ComputePipeline,
+    variant: TraceVariant,
+    out_layout: wgpu::BindGroupLayout,
+    // Group 3 per target set (frame parity).
+    out_groups: [wgpu::BindGroup; 2],
+}
+
+impl TracedProducer {
+    /// `layouts`: groups 1 (view) and 2 (previous transforms); `variant` already resolved for
+    /// `backend`.
+    pub(crate) fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        variant: TraceVariant,
+        layouts: [&wgpu::BindGroupLayout; 2],
+        targets: &[GBufferTargets; 2],
+    ) -> Result<Self, GpuError> {
+        let entries = OUTPUT_FORMATS
+            .iter()
+            .zip(0..)
+            .map(|(&format, binding)| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+                count: None,
+            })
+            .collect::<Vec<_>>();
+        let out_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_scene/gbuffer_traced_out"),
+                entries: &entries,
+            });
+        let wgsl = compose("gbuffer_traced", backend, &[])?;
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let pipeline = gpu.compute_pipeline(
+            "solari_scene/gbuffer_traced",
+            &wgsl,
+            &[
+                Some(&scene_layout),
+                Some(layouts[0]),
+                Some(layouts[1]),
+                Some(&out_layout),
+            ],
+            ShaderChecks::BoundsOnly,
+            variant.constants(),
+        )?;
+        let out_groups = out_groups(gpu, &out_layout, targets);
+        Ok(Self {
+            pipeline,
+            variant,
+            out_layout,
+            out_groups,
+        })
+    }
+
+    /// The scene shape the pipeline was specialised for.
+    pub(crate) fn variant(&self) -> TraceVariant {
+        self.variant
+    }
+
+    /// New target sets (a resize).
+    pub(crate) fn retarget(&mut self, gpu: &Gpu, targets: &[GBufferTargets; 2]) {
+        self.out_groups = out_groups(gpu, &self.out_layout, targets);
+    }
+
+    /// Traces every pixel of the target set `parity`.
+    pub(crate) fn record(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        groups: [&wgpu::BindGroup; 2],
+        parity: usize,
+        (width, height): (u32, u32),
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(PASS_LABELS[0]),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, scene.bind_group(), &[]);
+        pass.set_bind_group(1, groups[0], &[]);
+        pass.set_bind_group(2, groups[1], &[]);
+        pass.set_bind_group(3, &self.out_groups[parity], &[]);
+        pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
+    }
+}
+
+fn out_groups(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    targets: &[GBufferTargets; 2],
+) -> [wgpu::BindGroup; 2] {
+    [0, 1].map(|parity| {
+        let entries: Vec<_> = targets[parity]
+            .views
+            .iter()
+            .zip(0..)
+            .map(|(view, binding)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            })
+            .collect();
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_scene/gbuffer_traced_out"),
+            layout,
+            entries: &entries,
+        })
+    })
+}
