@@ -113,7 +113,9 @@ pub fn glb(json: &[u8], bin: &[u8]) -> Vec<u8> {
 /// The scenes a criterion bench measures, by name: in criterion's test mode (`full` false:
 /// `cargo test` runs each case once) the Cornell box and `interior`; for `cargo bench`
 /// every bundled scene plus every scene in `../shared/scenes` beside the repository when it
-/// is there (benches may read it; tests may not).
+/// is there (benches may read it; tests may not). `SOLARI_BENCH_SCENES` (comma-separated
+/// names) keeps only those scenes, so a run skips loading and uploading the others (a
+/// criterion filter skips only their timing).
 pub fn bench_scenes(full: bool) -> Vec<(String, PathBuf)> {
     let names: &[&str] = if full {
         &SCENES
@@ -136,6 +138,10 @@ pub fn bench_scenes(full: bool) -> Vec<(String, PathBuf)> {
             .collect();
         extra.sort();
         out.extend(extra);
+    }
+    if let Ok(keep) = std::env::var("SOLARI_BENCH_SCENES") {
+        let keep: Vec<&str> = keep.split(',').map(str::trim).collect();
+        out.retain(|(n, _)| keep.contains(&n.as_str()));
     }
     out
 }
