@@ -13,7 +13,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{
-    CameraPath, FiniteCheck, FrameView, GBufferProducer, GiMode, RealtimeSettings,
+    CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
 use solari_restir::RestirDiSettings;
 use solari_scene::bvh::BvhQuality;
@@ -239,10 +239,11 @@ pub struct RealtimeArgs {
     /// Camera path, fixed or orbit (a ±20° swing around the scene's centre).
     #[arg(long, default_value = "fixed", value_parser = values::camera_path)]
     pub camera_path: CameraPath,
-    /// G-buffer producer, raster (vertex and fragment shaders) or traced (one primary ray per
-    /// pixel, a compute pass): the same texels, found two ways.
-    #[arg(long, default_value = "raster", value_parser = values::gbuffer)]
-    pub gbuffer: GBufferProducer,
+    /// G-buffer producer: raster (vertex and fragment shaders), traced (one primary ray per
+    /// pixel, a compute pass) or auto (both timed at start-up, the faster kept). The same
+    /// texels, found two ways.
+    #[arg(long, default_value = "auto", value_parser = values::gbuffer)]
+    pub gbuffer: GBufferChoice,
     /// Initial ReSTIR DI candidates per pixel.
     #[arg(long, default_value_t = 8)]
     pub candidates: u32,

@@ -4,7 +4,7 @@
 
 use solari_denoise::DenoiserKind;
 use solari_lights::{LightTileSettings, Selection};
-use solari_renderer::{CameraPath, FrameView, GBufferProducer, GiMode};
+use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode};
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
 use solari_scene::view_pass::DebugView;
@@ -99,9 +99,9 @@ pub fn camera_path(s: &str) -> Result<CameraPath, String> {
     named(s, CameraPath::parse(s), "fixed or orbit")
 }
 
-/// `raster` or `traced`.
-pub fn gbuffer(s: &str) -> Result<GBufferProducer, String> {
-    named(s, GBufferProducer::parse(s), "raster or traced")
+/// `raster`, `traced` or `auto`.
+pub fn gbuffer(s: &str) -> Result<GBufferChoice, String> {
+    named(s, GBufferChoice::parse(s), "raster, traced or auto")
 }
 
 /// `off` or `cache`.

@@ -6,9 +6,11 @@
 //! [`RealtimeRenderer::render`] call, with a report of the passes that ran, their GPU times
 //! and (optionally) the non-finite detector's counts per pass.
 
+pub mod gbuffer_choice;
 pub mod present;
 pub mod realtime;
 
+pub use gbuffer_choice::{GBufferChoice, GBufferTiming};
 pub use present::Presenter;
 pub use realtime::{
     CameraPath, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES, PassRun,

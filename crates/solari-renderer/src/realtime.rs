@@ -11,6 +11,7 @@
 //! infinite and negative values on the GPU every frame ([`solari_scene::finite_check`]), and
 //! the counts per pass ([`FINITE_SLOTS`]) come with the frame's report.
 
+use crate::gbuffer_choice::{GBufferChoice, GBufferTiming};
 use crate::present::Presenter;
 use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
@@ -18,7 +19,7 @@ use solari_denoise::{
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings};
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
-use solari_scene::gbuffer::{GBuffer, GBufferProducer};
+use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
@@ -154,9 +155,10 @@ impl FrameView {
 /// What the renderer does each frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RealtimeSettings {
-    /// Which pass writes the G-buffer (default raster; the traced producer is faster where
-    /// raster hardware is scarce, `benches/RESULTS.md`).
-    pub gbuffer: GBufferProducer,
+    /// Which pass writes the G-buffer: raster (the default), traced, or the faster of the two
+    /// measured at start-up ([`GBufferChoice::Auto`]; the traced producer wins where raster
+    /// hardware is scarce, `benches/RESULTS.md`).
+    pub gbuffer: GBufferChoice,
     /// Light-tile presampling (Solari: 128 tiles × 1024 samples).
     pub tiles: LightTileSettings,
     /// ReSTIR DI's knobs.
@@ -203,7 +205,7 @@ impl RealtimeSettings {
 impl Default for RealtimeSettings {
     fn default() -> Self {
         Self {
-            gbuffer: GBufferProducer::Raster,
+            gbuffer: GBufferChoice::Raster,
             tiles: LightTileSettings::default(),
             di: RestirDiSettings::default(),
             selection: Selection::Power,
@@ -280,6 +282,7 @@ pub struct RealtimeRenderer {
     presenter: Option<Presenter>,
     frame: u32,
     checker: Option<FiniteChecker>,
+    gbuffer_timing: Option<GBufferTiming>,
 }
 
 impl RealtimeRenderer {
@@ -331,10 +334,12 @@ impl RealtimeRenderer {
             .denoiser
             .as_ref()
             .map_or((output_width, output_height), |d| d.render_size());
+        let (producer, gbuffer_timing) =
+            crate::gbuffer_choice::choose(gpu, scene, gpu_scene, settings.gbuffer, (width, height));
         let gbuffer = GBuffer::with_producer(
             gpu,
             backend,
-            settings.gbuffer,
+            producer,
             TraceVariant::for_scene(gpu_scene),
             width,
             height,
@@ -395,7 +400,14 @@ impl RealtimeRenderer {
             presenter: None,
             frame: 0,
             checker,
+            gbuffer_timing,
         })
+    }
+
+    /// What [`GBufferChoice::Auto`] measured when the renderer was built (`None` for a fixed
+    /// choice, or where the measurement could not run and raster was kept).
+    pub fn gbuffer_timing(&self) -> Option<GBufferTiming> {
+        self.gbuffer_timing
     }
 
     /// The G-buffer: its producer, targets and history.

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 use solari_lights::LightTileSettings;
-use solari_renderer::{CameraPath, GBufferProducer, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{CameraPath, GBufferChoice, RealtimeRenderer, RealtimeSettings};
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_scene::GpuScene;
 use solari_scene::{DirectionalLight, Scene, default_scene};
@@ -159,8 +159,8 @@ fn traced_and_raster_gbuffers_give_the_same_frames() {
         };
         RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer")
     };
-    let mut raster = make(GBufferProducer::Raster);
-    let mut traced = make(GBufferProducer::Traced);
+    let mut raster = make(GBufferChoice::Raster);
+    let mut traced = make(GBufferChoice::Traced);
     for frame in 0..8 {
         let cam = CameraPath::Orbit.camera(&camera, &scene, frame);
         let mut images = [&mut raster, &mut traced].map(|r| {
@@ -187,4 +187,43 @@ fn traced_and_raster_gbuffers_give_the_same_frames() {
             "frame {frame}: sums {ma} and {mb}"
         );
     }
+}
+
+/// `GBufferChoice::Auto` times both producers when the renderer is built and keeps the faster.
+#[test]
+fn auto_gbuffer_keeps_the_faster_measured_producer() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let gpu_scene = upload(&gpu, backend, &scene);
+    let s = RealtimeSettings {
+        gbuffer: GBufferChoice::Auto,
+        ..settings()
+    };
+    let renderer =
+        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer");
+    let t = renderer
+        .gbuffer_timing()
+        .expect("lavapipe has timestamps and storage Rg16Float: auto must measure");
+    println!(
+        "raster {:.3} ms, traced {:.3} ms: {}",
+        t.raster_ms,
+        t.traced_ms,
+        t.chosen.name()
+    );
+    assert!(t.raster_ms > 0.0 && t.traced_ms > 0.0);
+    let faster = if t.traced_ms < t.raster_ms {
+        solari_renderer::GBufferProducer::Traced
+    } else {
+        solari_renderer::GBufferProducer::Raster
+    };
+    assert_eq!(t.chosen, faster);
+    assert_eq!(renderer.gbuffer().producer(), faster);
+    let fixed = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, settings())
+        .expect("renderer");
+    assert_eq!(
+        fixed.gbuffer_timing(),
+        None,
+        "a fixed choice measures nothing"
+    );
 }

@@ -8,7 +8,7 @@ mod common;
 use common::{SIZE, luminance, reference_direct, rgb, settings};
 use glam::Vec3;
 use solari_lights::{GpuLights, LightList, LightTiles, Selection};
-use solari_renderer::{GBufferProducer, GiMode, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{GBufferChoice, GiMode, RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDi;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::test_gpu;
@@ -87,7 +87,7 @@ fn restir_di_and_the_world_cache_refuse_a_scene_that_outgrew_their_pipelines() {
 fn mean_after_growth(
     frames: u32,
     gi: GiMode,
-    gbuffer: GBufferProducer,
+    gbuffer: GBufferChoice,
 ) -> (
     Vec<[f32; 3]>,
     TraceVariant,
@@ -156,15 +156,15 @@ fn the_renderer_rebuilds_its_tracing_when_the_scene_grows_and_shows_the_new_shad
     };
     let (lit, dark) = (mean_of(&floor_only), mean_of(&grown));
     let cases = [
-        (GiMode::Off, GBufferProducer::Raster),
-        (GiMode::WorldCache, GBufferProducer::Raster),
-        (GiMode::Off, GBufferProducer::Traced),
+        (GiMode::Off, GBufferChoice::Raster),
+        (GiMode::WorldCache, GBufferChoice::Raster),
+        (GiMode::Off, GBufferChoice::Traced),
     ];
     for (gi, producer) in cases {
         let (image, before, after, gbuffer) = mean_after_growth(32, gi, producer);
         assert_ne!(before, TraceVariant::General, "one instance specialises");
         assert_eq!(after, TraceVariant::General, "{gi:?}: not rebuilt");
-        let expected = (producer == GBufferProducer::Traced).then_some(TraceVariant::General);
+        let expected = (producer == GBufferChoice::Traced).then_some(TraceVariant::General);
         assert_eq!(gbuffer, expected, "{producer:?} G-buffer after growth");
         assert!(image.iter().flatten().all(|c| c.is_finite()));
         let got = mean_of(&image);
