@@ -286,6 +286,10 @@ pub struct RealtimeArgs {
     /// the first frame that has any, naming the first pass that produced one.
     #[arg(long)]
     pub check_finite: bool,
+    /// Frames queued on the GPU before the frame loop waits for the oldest (1–3): with 2 the
+    /// CPU records a frame while the GPU runs the last, and reports arrive a frame late.
+    #[arg(long, default_value_t = 2)]
+    pub frames_in_flight: u32,
 }
 
 impl RealtimeArgs {
@@ -320,6 +324,7 @@ impl RealtimeArgs {
             } else {
                 FiniteCheck::Off
             },
+            frames_in_flight: self.frames_in_flight,
         };
         settings.validate()?;
         Ok(settings)

@@ -53,18 +53,35 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     };
     let bar = frame_bar(args.frames as u64, args.json)?;
     let mut summary = Summary::default();
-    for frame in 0..args.frames {
-        let cam = path.camera(&camera, &scene, frame);
-        let r = renderer
-            .render(&gpu, &scene, &gpu_scene, &cam)
-            .map_err(|e| e.to_string())?;
+    let mut take = |r: FrameReport| -> Result<(), String> {
         log::debug!("{}", report_line(&r));
         if let Some(out) = &mut report {
             writeln!(out.writer(), "{}", report_line(&r)).map_err(|e| e.to_string())?;
         }
         summary.add(&r);
+        Ok(())
+    };
+    // Frames go to the GPU without waiting for it (`submit`); their reports arrive
+    // `--frames-in-flight` - 1 frames late. Wall time counts from the second frame (the first
+    // builds pipelines) to the last frame's completion.
+    let mut loop_start = None;
+    for frame in 0..args.frames {
+        if frame == 1 {
+            loop_start = Some(Instant::now());
+        }
+        let cam = path.camera(&camera, &scene, frame);
+        if let Some(r) = renderer
+            .submit(&gpu, &scene, &gpu_scene, &cam)
+            .map_err(|e| e.to_string())?
+        {
+            take(r)?;
+        }
         bar.inc(1);
     }
+    for r in renderer.finish(&gpu).map_err(|e| e.to_string())? {
+        take(r)?;
+    }
+    let wall_ms = loop_start.map(|t| t.elapsed().as_secs_f64() * 1e3 / (args.frames - 1) as f64);
     bar.finish_and_clear();
     let pixels = renderer.read_output(&gpu).map_err(|e| e.to_string())?;
     let rgb: Vec<[f32; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
@@ -90,6 +107,11 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         }
     }
     let passes = summary.passes();
+    // GPU time per frame: the passes' means summed.
+    let gpu_frame_ms: Option<f64> = passes
+        .iter()
+        .filter_map(|(_, s)| s.mean_ms)
+        .reduce(|a, b| a + b);
     let elapsed = start.elapsed().as_secs_f64();
     let files: Vec<_> = plan.outputs.files.iter().map(|(p, _)| p).collect();
     if args.json {
@@ -108,6 +130,10 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "cache_overflows": cache.map(|c| c.overflows), "cache_bytes": cache_memory,
             "denoiser": renderer.denoiser_kind().name(),
             "denoiser_fallback": renderer.denoiser_fallback_reason(),
+            "gbuffer": renderer.gbuffer().producer().name(),
+            "wall_frame_ms": wall_ms, "fps": wall_ms.map(|m| 1e3 / m),
+            "gpu_frame_ms": gpu_frame_ms,
+            "frames_in_flight": args.realtime.frames_in_flight,
             "finite_checked": args.realtime.check_finite});
         println!("{v}");
     } else {
@@ -121,6 +147,16 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         );
         if args.realtime.check_finite {
             println!("non-finite detector: every pass of every frame was finite");
+        }
+        if let Some(wall) = wall_ms {
+            let gpu = gpu_frame_ms.map_or("untimed".to_string(), |g| format!("{g:.3} ms"));
+            println!(
+                "frame time: wall {wall:.3} ms ({:.0} fps), GPU {gpu}; {} frame(s) in flight, \
+                 G-buffer {}",
+                1e3 / wall,
+                args.realtime.frames_in_flight,
+                renderer.gbuffer().producer().name()
+            );
         }
         println!("pass                  ran   GPU ms (mean over timed frames after the first)");
         for (n, s) in &passes {

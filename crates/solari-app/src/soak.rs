@@ -233,6 +233,8 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             .camera_path
             .camera(&camera, &scene, frame as u32);
         let t0 = Instant::now();
+        // One frame at a time (`render`, not `submit`): the cache's overflow count below is
+        // read back every frame, which waits for the GPU anyway.
         let report = renderer
             .render(&gpu, &scene, &gpu_scene, &cam)
             .map_err(|e| format!("frame {frame}: {e}"))?;

@@ -81,6 +81,15 @@ const SLOT_DENOISE: usize = 5;
 /// ignored: it has no row in the report).
 struct Marks([bool; PASS_NAMES.len()]);
 
+// A frame submitted and not yet reported.
+struct InFlight {
+    frame: u32,
+    ran: Marks,
+    submission: wgpu::SubmissionIndex,
+    // The detector's read-back buffer for this frame.
+    readback: Option<usize>,
+}
+
 impl Marks {
     fn mark(&mut self, name: &str) {
         if let Some(i) = PASS_NAMES.iter().position(|n| *n == name) {
@@ -102,7 +111,8 @@ pub enum FiniteCheck {
     /// No checks (no cost).
     #[default]
     Off,
-    /// Count per pass every frame and report ([`FrameReport::finite`]); waits for each frame.
+    /// Count per pass every frame and report ([`FrameReport::finite`]), read back with the
+    /// frame's report (late with [`RealtimeRenderer::submit`]).
     Count,
     /// As `Count`, and a frame with any finding returns [`GpuError::NonFinite`] naming the
     /// first pass that had one.
@@ -180,9 +190,12 @@ pub struct RealtimeSettings {
     pub denoiser: Option<DenoiserKind>,
     /// The fallback denoiser's knobs.
     pub denoise: FallbackSettings,
-    /// The non-finite detector (default off: it reads every pass's output once and waits
-    /// for each frame).
+    /// The non-finite detector (default off: it reads every pass's output once).
     pub finite_check: FiniteCheck,
+    /// Frames [`RealtimeRenderer::submit`] keeps in flight before it waits for the oldest
+    /// (1–3, default 2: the CPU records a frame while the GPU runs the last one).
+    /// [`RealtimeRenderer::render`] always waits for its frame.
+    pub frames_in_flight: u32,
 }
 
 impl RealtimeSettings {
@@ -197,6 +210,12 @@ impl RealtimeSettings {
         }
         if self.tiles.sample_count() == 0 {
             return Err("light tiles need at least one tile and one sample".into());
+        }
+        if !(1..=3).contains(&self.frames_in_flight) {
+            return Err(format!(
+                "frames in flight must be 1 to 3, not {}",
+                self.frames_in_flight
+            ));
         }
         Ok(())
     }
@@ -216,6 +235,7 @@ impl Default for RealtimeSettings {
             denoiser: Some(DenoiserKind::None),
             denoise: FallbackSettings::default(),
             finite_check: FiniteCheck::Off,
+            frames_in_flight: 2,
         }
     }
 }
@@ -283,6 +303,7 @@ pub struct RealtimeRenderer {
     frame: u32,
     checker: Option<FiniteChecker>,
     gbuffer_timing: Option<GBufferTiming>,
+    in_flight: std::collections::VecDeque<InFlight>,
 }
 
 impl RealtimeRenderer {
@@ -372,7 +393,11 @@ impl RealtimeRenderer {
         };
         let checker = match settings.finite_check {
             FiniteCheck::Off => None,
-            _ => Some(FiniteChecker::new(gpu, &FINITE_SLOTS)?),
+            _ => Some(FiniteChecker::with_frames_in_flight(
+                gpu,
+                &FINITE_SLOTS,
+                settings.frames_in_flight as usize,
+            )?),
         };
         let profiler = if settings.timestamps {
             Some(
@@ -401,6 +426,7 @@ impl RealtimeRenderer {
             frame: 0,
             checker,
             gbuffer_timing,
+            in_flight: Default::default(),
         })
     }
 
@@ -533,7 +559,9 @@ impl RealtimeRenderer {
         self.world_cache().map(|c| c.read_stats(gpu)).transpose()
     }
 
-    /// Renders one frame of `scene` (as uploaded in `gpu_scene`) from `camera`.
+    /// Renders one frame of `scene` (as uploaded in `gpu_scene`) from `camera`, waits for the
+    /// GPU to finish it and returns its report. A frame loop that should not wait uses
+    /// [`RealtimeRenderer::submit`] instead.
     pub fn render(
         &mut self,
         gpu: &Gpu,
@@ -541,6 +569,61 @@ impl RealtimeRenderer {
         gpu_scene: &GpuScene,
         camera: &Camera,
     ) -> Result<FrameReport, GpuError> {
+        if !self.in_flight.is_empty() {
+            return Err(GpuError::Validation(format!(
+                "render() with {} frame(s) in flight from submit(): call finish() first",
+                self.in_flight.len()
+            )));
+        }
+        let recorded = self.record(gpu, scene, gpu_scene, camera)?;
+        self.complete(gpu, recorded)
+    }
+
+    /// Records and submits the next frame without waiting for it, so the CPU prepares frame
+    /// N + 1 while the GPU runs frame N. Once [`RealtimeSettings::frames_in_flight`] frames
+    /// are in flight it waits for the oldest and returns its report (its GPU times and
+    /// non-finite counts arrive that many frames late); before that it returns `None`.
+    /// [`RealtimeRenderer::finish`] collects the rest. With the non-finite detector set to
+    /// [`FiniteCheck::Fail`], the error names the frame that had the bad values, found late.
+    pub fn submit(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        camera: &Camera,
+    ) -> Result<Option<FrameReport>, GpuError> {
+        let recorded = self.record(gpu, scene, gpu_scene, camera)?;
+        self.in_flight.push_back(recorded);
+        if self.in_flight.len() >= self.settings.frames_in_flight as usize {
+            let oldest = self.in_flight.pop_front().expect("one was just pushed");
+            return self.complete(gpu, oldest).map(Some);
+        }
+        Ok(None)
+    }
+
+    /// Waits for every frame still in flight from [`RealtimeRenderer::submit`] and returns
+    /// their reports, oldest first.
+    pub fn finish(&mut self, gpu: &Gpu) -> Result<Vec<FrameReport>, GpuError> {
+        let mut reports = Vec::with_capacity(self.in_flight.len());
+        while let Some(oldest) = self.in_flight.pop_front() {
+            reports.push(self.complete(gpu, oldest)?);
+        }
+        Ok(reports)
+    }
+
+    /// Frames submitted and not yet reported.
+    pub fn frames_in_flight(&self) -> usize {
+        self.in_flight.len()
+    }
+
+    // Records one frame's passes and submits them.
+    fn record(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        gpu_scene: &GpuScene,
+        camera: &Camera,
+    ) -> Result<InFlight, GpuError> {
         self.fit_tracing_to(gpu, gpu_scene)?;
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
@@ -658,6 +741,7 @@ impl RealtimeRenderer {
         // The denoiser's output is checked after the command buffers it returned (DLSS-RR
         // writes outside `encoder`).
         let mut last = gpu.device.create_command_encoder(&Default::default());
+        let mut readback = None;
         if let Some(c) = checker.as_mut() {
             if denoising {
                 let d = self.denoiser.as_ref().expect("denoising() checked it");
@@ -666,9 +750,9 @@ impl RealtimeRenderer {
                 let outputs = ow as u64 * oh as u64;
                 c.check_buffer(gpu, &mut last, SLOT_DENOISE, d.output(), outputs, rgba)?;
             }
-            c.end_frame(&mut last);
+            readback = Some(c.end_frame(&mut last));
         }
-        gpu.scoped(|| {
+        let submission = gpu.scoped(|| {
             gpu.queue.submit(
                 std::iter::once(encoder.finish())
                     .chain(after)
@@ -676,11 +760,24 @@ impl RealtimeRenderer {
             )
         })?;
         gpu.check_errors()?;
-        let mut times = [None; PASS_NAMES.len()];
         if let Some(p) = &mut self.profiler {
             p.end_frame()
                 .map_err(|e| GpuError::Validation(format!("GPU profiler: {e}")))?;
-            let _ = gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        }
+        Ok(InFlight {
+            frame,
+            ran,
+            submission,
+            readback,
+        })
+    }
+
+    // Waits for a recorded frame and turns its GPU results into its report.
+    fn complete(&mut self, gpu: &Gpu, f: InFlight) -> Result<FrameReport, GpuError> {
+        gpu.wait_for(f.submission.clone())?;
+        let mut times = [None; PASS_NAMES.len()];
+        if let Some(p) = &mut self.profiler {
+            // Frames reach the profiler in order, so its oldest pending frame is this one.
             if let Some(results) = p.process_finished_frame(gpu.queue.get_timestamp_period()) {
                 for r in results {
                     let ms = r.time.map(|t| (t.end - t.start) * 1e3);
@@ -690,26 +787,26 @@ impl RealtimeRenderer {
                 }
             }
         }
-        let finite = match checker.as_ref() {
-            Some(c) => c.read(gpu)?,
-            None => Vec::new(),
+        let finite = match (self.checker.as_ref(), f.readback) {
+            (Some(c), Some(slot)) => c.read_frame(gpu, slot, Some(f.submission))?,
+            _ => Vec::new(),
         };
         if self.settings.finite_check == FiniteCheck::Fail
             && let Some(bad) = first_offender(&finite)
         {
             return Err(GpuError::NonFinite {
-                frame,
+                frame: f.frame,
                 pass: bad.name.clone(),
                 non_finite: bad.non_finite,
                 negative: bad.negative,
             });
         }
         Ok(FrameReport {
-            frame,
+            frame: f.frame,
             finite,
             passes: PASS_NAMES
                 .iter()
-                .zip(ran.0)
+                .zip(f.ran.0)
                 .zip(times)
                 .map(|((name, ran), gpu_ms)| PassRun {
                     name,

@@ -227,3 +227,67 @@ fn auto_gbuffer_keeps_the_faster_measured_producer() {
         "a fixed choice measures nothing"
     );
 }
+
+/// Frames in flight change when reports arrive, not what they say: `submit` with two frames
+/// in flight reports every frame once, in order, a frame late, with the same passes and
+/// detector counts as `render`, and the last image is the same; `render` refuses to run
+/// while frames are in flight.
+#[test]
+fn submitted_frames_report_late_and_match_rendered_ones() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let gpu_scene = upload(&gpu, backend, &scene);
+    let camera = scene.camera(None).expect("camera");
+    let s = RealtimeSettings {
+        finite_check: solari_renderer::FiniteCheck::Count,
+        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
+        frames_in_flight: 2,
+        timestamps: true,
+        ..settings()
+    };
+    let make = || {
+        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer")
+    };
+    let (mut sync, mut piped) = (make(), make());
+    let frames = 6;
+    let mut expected = Vec::new();
+    let mut got = Vec::new();
+    for frame in 0..frames {
+        let cam = CameraPath::Orbit.camera(&camera, &scene, frame);
+        expected.push(sync.render(&gpu, &scene, &gpu_scene, &cam).expect("frame"));
+        let late = piped.submit(&gpu, &scene, &gpu_scene, &cam).expect("frame");
+        assert_eq!(late.is_some(), frame > 0, "frame {frame}: one frame late");
+        got.extend(late);
+        assert_eq!(piped.frames_in_flight(), 1);
+        if frame == 2 {
+            assert!(
+                piped.render(&gpu, &scene, &gpu_scene, &cam).is_err(),
+                "render with a frame in flight"
+            );
+        }
+    }
+    got.extend(piped.finish(&gpu).expect("finish"));
+    assert_eq!(piped.frames_in_flight(), 0);
+    assert_eq!(got.len(), expected.len());
+    for (g, e) in got.iter().zip(&expected) {
+        assert_eq!(g.frame, e.frame);
+        assert_eq!(g.finite, e.finite, "frame {}", g.frame);
+        assert_eq!(g.finite.len(), solari_renderer::FINITE_SLOTS.len());
+        let ran =
+            |r: &solari_renderer::FrameReport| r.passes.iter().map(|p| p.ran).collect::<Vec<_>>();
+        assert_eq!(ran(g), ran(e), "frame {}", g.frame);
+        for pass in ["gbuffer", "di_spatial_shade", "denoise_atrous"] {
+            assert!(
+                g.gpu_ms(pass).is_some(),
+                "frame {}: {pass} untimed",
+                g.frame
+            );
+        }
+    }
+    assert_eq!(
+        piped.read_output(&gpu).expect("read"),
+        sync.read_output(&gpu).expect("read"),
+        "the last image"
+    );
+}

@@ -130,7 +130,9 @@ enum Source {
 pub struct FiniteChecker {
     names: Vec<String>,
     counters: wgpu::Buffer,
-    readback: wgpu::Buffer,
+    // One read-back buffer per frame in flight, used in turn.
+    readbacks: Vec<wgpu::Buffer>,
+    next_readback: usize,
     buffer_pipeline: wgpu::ComputePipeline,
     texture_pipeline: wgpu::ComputePipeline,
     layouts: [wgpu::BindGroupLayout; 2],
@@ -158,8 +160,20 @@ fn buffer_entry(binding: u32, ty: wgpu::BufferBindingType) -> wgpu::BindGroupLay
 }
 
 impl FiniteChecker {
-    /// Builds the pipelines and the counters for `slots` (pass names, in frame order).
+    /// Builds the pipelines and the counters for `slots` (pass names, in frame order), for
+    /// one frame at a time.
     pub fn new(gpu: &Gpu, slots: &[&str]) -> Result<Self, GpuError> {
+        Self::with_frames_in_flight(gpu, slots, 1)
+    }
+
+    /// As [`FiniteChecker::new`], with a read-back buffer for each of `frames` frames in
+    /// flight, so a frame's counts can be read while later frames run
+    /// ([`FiniteChecker::end_frame`] says which buffer a frame used).
+    pub fn with_frames_in_flight(
+        gpu: &Gpu,
+        slots: &[&str],
+        frames: usize,
+    ) -> Result<Self, GpuError> {
         let wgsl = ["buffer", "texture"]
             .map(|kind| compose(&format!("finite_check_{kind}"), Backend::Software, &[]));
         let [wgsl_buffer, wgsl_texture] = wgsl;
@@ -224,16 +238,21 @@ impl FiniteChecker {
                 | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let readback = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_scene/finite_readback"),
-            size: bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readbacks = (0..frames.max(1))
+            .map(|_| {
+                gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("solari_scene/finite_readback"),
+                    size: bytes,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
         Ok(Self {
             names: slots.iter().map(|s| s.to_string()).collect(),
             counters,
-            readback,
+            readbacks,
+            next_readback: 0,
             buffer_pipeline,
             texture_pipeline,
             layouts,
@@ -404,14 +423,32 @@ impl FiniteChecker {
     }
 
     /// Copies the counters for [`FiniteChecker::read`]; record it after the frame's last check.
-    pub fn end_frame(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.copy_buffer_to_buffer(&self.counters, 0, &self.readback, 0, self.counters.size());
+    /// Returns the read-back buffer used, for [`FiniteChecker::read_frame`].
+    pub fn end_frame(&mut self, encoder: &mut wgpu::CommandEncoder) -> usize {
+        let slot = self.next_readback;
+        self.next_readback = (slot + 1) % self.readbacks.len();
+        let readback = &self.readbacks[slot];
+        encoder.copy_buffer_to_buffer(&self.counters, 0, readback, 0, self.counters.size());
+        slot
     }
 
-    /// The counts of the last submitted frame, per slot in frame order. Blocks until the GPU
-    /// is done with it.
+    /// The counts of the last frame ended, per slot in frame order. Blocks until the GPU is
+    /// done with all submitted work.
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<FiniteCount>, GpuError> {
-        let bytes = gpu.map_read(&self.readback)?;
+        let n = self.readbacks.len();
+        self.read_frame(gpu, (self.next_readback + n - 1) % n, None)
+    }
+
+    /// The counts of the frame whose [`FiniteChecker::end_frame`] returned `readback`, once
+    /// `submission` (the submission that holds that frame) has finished; later frames keep
+    /// running.
+    pub fn read_frame(
+        &self,
+        gpu: &Gpu,
+        readback: usize,
+        submission: Option<wgpu::SubmissionIndex>,
+    ) -> Result<Vec<FiniteCount>, GpuError> {
+        let bytes = gpu.map_read_after(&self.readbacks[readback], submission)?;
         let words: &[u32] = bytemuck::cast_slice(&bytes);
         Ok(self
             .names

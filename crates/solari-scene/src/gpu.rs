@@ -333,12 +333,37 @@ impl Gpu {
     /// Waits for the GPU, then maps a `MAP_READ` buffer and returns its bytes (unmapping it
     /// again, so it can be reused). For read-back buffers a pass keeps across frames.
     pub fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        self.map_read_after(buffer, None)
+    }
+
+    /// Blocks until `submission` has finished on the GPU (and its buffer mappings have been
+    /// delivered), leaving later submissions running.
+    pub fn wait_for(&self, submission: wgpu::SubmissionIndex) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: Some(submission),
+                timeout: None,
+            })
+            .map(drop)
+            .map_err(|e| GpuError::Readback(e.to_string()))
+    }
+
+    /// As [`Gpu::map_read`], waiting only for `submission` (the last one that wrote `buffer`)
+    /// rather than for all queued work: frames submitted since keep running.
+    pub fn map_read_after(
+        &self,
+        buffer: &wgpu::Buffer,
+        submission: Option<wgpu::SubmissionIndex>,
+    ) -> Result<Vec<u8>, GpuError> {
         let (tx, rx) = std::sync::mpsc::channel();
         buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
         self.device
-            .poll(wgpu::PollType::wait_indefinitely())
+            .poll(wgpu::PollType::Wait {
+                submission_index: submission,
+                timeout: None,
+            })
             .map_err(|e| GpuError::Readback(e.to_string()))?;
         rx.recv()
             .map_err(|e| GpuError::Readback(e.to_string()))?
