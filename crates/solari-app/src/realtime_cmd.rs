@@ -107,6 +107,9 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         }
     }
     let passes = summary.passes();
+    let memory = renderer.memory();
+    let renderer_bytes: u64 = memory.iter().map(|(_, b)| b).sum();
+    let scene_bytes = gpu_scene.memory_bytes();
     // GPU time per frame: the passes' means summed.
     let gpu_frame_ms: Option<f64> = passes
         .iter()
@@ -131,6 +134,10 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "denoiser": renderer.denoiser_kind().name(),
             "denoiser_fallback": renderer.denoiser_fallback_reason(),
             "gbuffer": renderer.gbuffer().producer().name(),
+            "memory_bytes": memory.iter().map(|(n, b)| (n.to_string(), serde_json::json!(b)))
+                .chain([("renderer_total".to_string(), serde_json::json!(renderer_bytes)),
+                        ("scene".to_string(), serde_json::json!(scene_bytes))])
+                .collect::<serde_json::Map<_, _>>(),
             "wall_frame_ms": wall_ms, "fps": wall_ms.map(|m| 1e3 / m),
             "gpu_frame_ms": gpu_frame_ms,
             "frames_in_flight": args.realtime.frames_in_flight,
@@ -158,6 +165,17 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
                 renderer.gbuffer().producer().name()
             );
         }
+        let mib = |b: u64| b as f64 / (1 << 20) as f64;
+        let parts: Vec<String> = memory
+            .iter()
+            .map(|(n, b)| format!("{n} {:.1}", mib(*b)))
+            .collect();
+        println!(
+            "GPU memory (MiB): {}; renderer {:.1}, scene {:.1}",
+            parts.join(", "),
+            mib(renderer_bytes),
+            mib(scene_bytes)
+        );
         println!("pass                  ran   GPU ms (mean over timed frames after the first)");
         for (n, s) in &passes {
             let ms = s

@@ -48,9 +48,7 @@ pub struct GpuHistory {
 
 const _: () = assert!(size_of::<GpuHistory>() == 48);
 
-// Bytes per pixel: two histories, two filter buffers, the guide.
 const HISTORY_BYTES: u64 = size_of::<GpuHistory>() as u64;
-const PIXEL_BYTES: u64 = 2 * HISTORY_BYTES + 2 * 16 + 16;
 
 // One signal's buffers and bind groups (combined lighting has one signal, split two).
 struct Signal {
@@ -361,7 +359,15 @@ impl Denoiser for FallbackDenoiser {
 
     fn memory_bytes(&self) -> u64 {
         let pixels = self.size.0 as u64 * self.size.1 as u64;
-        pixels * PIXEL_BYTES
-            + (self.signals.len().saturating_sub(1) as u64) * pixels * 2 * HISTORY_BYTES
+        let buffers: u64 = self
+            .filters
+            .iter()
+            .chain([&self.guide, &self.output, &self.params])
+            .chain(self.pass_params.iter().flatten())
+            .map(|b| b.size())
+            .sum();
+        // Histories are made on the first frame, one pair per signal: count at least one.
+        let signals = self.signals.len().max(1) as u64;
+        buffers + signals * pixels * 2 * HISTORY_BYTES
     }
 }

@@ -158,6 +158,11 @@ pub struct GpuLights {
 }
 
 impl GpuLights {
+    /// GPU memory the light list holds, in bytes.
+    pub fn memory_bytes(&self) -> u64 {
+        self.buffers.iter().map(|b| b.size()).sum()
+    }
+
     /// The layout of bind group 3.
     pub fn layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
         let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;

@@ -182,6 +182,11 @@ pub struct LightTiles {
 }
 
 impl LightTiles {
+    /// GPU memory the tiles hold, in bytes.
+    pub fn memory_bytes(&self) -> u64 {
+        self.params.size() + self.samples.size() + self.ids.size()
+    }
+
     /// Builds the pass and allocates the tiles. Errors on zero-sized settings or tiles over
     /// the device's storage-binding or dispatch limits.
     pub fn new(gpu: &Gpu, settings: LightTileSettings) -> Result<Self, GpuError> {

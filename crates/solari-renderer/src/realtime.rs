@@ -451,6 +451,26 @@ impl RealtimeRenderer {
         self.denoiser_fallback.as_deref()
     }
 
+    /// GPU memory per component, in bytes, in frame order: `gbuffer`, `light_tiles` (the
+    /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `denoiser`. The
+    /// scene's own memory is the caller's ([`GpuScene::memory_bytes`]); the profiler's and the
+    /// detector's few kilobytes are left out.
+    pub fn memory(&self) -> [(&'static str, u64); 5] {
+        [
+            ("gbuffer", self.gbuffer.memory_bytes()),
+            (
+                "light_tiles",
+                self.tiles.memory_bytes() + self.lights.memory_bytes(),
+            ),
+            (
+                "world_cache",
+                self.cache.as_ref().map_or(0, |(c, _)| c.memory_bytes()),
+            ),
+            ("restir_di", self.di.memory_bytes()),
+            ("denoiser", self.denoiser_memory_bytes()),
+        ]
+    }
+
     /// GPU memory the denoiser holds, in bytes.
     pub fn denoiser_memory_bytes(&self) -> u64 {
         self.denoiser.as_ref().map_or(0, |d| d.memory_bytes())

@@ -291,3 +291,33 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
         "the last image"
     );
 }
+
+/// The memory report counts what the components allocate: the G-buffer's two target sets
+/// (16 + 8 + 4 + 4 bytes per pixel each) and the raster depth buffer (4) to within its
+/// uniforms, and every other component something.
+#[test]
+fn memory_report_counts_each_component() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let gpu_scene = upload(&gpu, backend, &scene);
+    let s = RealtimeSettings {
+        gi: solari_renderer::GiMode::WorldCache,
+        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
+        ..settings()
+    };
+    let renderer =
+        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer");
+    let memory = renderer.memory();
+    println!("{memory:?}, scene {}", gpu_scene.memory_bytes());
+    let pixels = (SIZE * SIZE) as u64;
+    let gbuffer = memory[0].1;
+    assert!(
+        (68 * pixels..68 * pixels + 4096).contains(&gbuffer),
+        "G-buffer {gbuffer} bytes for {pixels} pixels"
+    );
+    for (name, bytes) in memory {
+        assert!(bytes > 0, "{name} reports no memory");
+    }
+    assert!(gpu_scene.memory_bytes() > 0);
+}

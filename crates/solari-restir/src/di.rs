@@ -83,6 +83,15 @@ fn record(
 }
 
 impl RestirDi {
+    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs and image, parameters
+    /// and the light-id translation table.
+    pub fn memory_bytes(&self) -> u64 {
+        let pixels = self.buffers.as_ref().map_or(0, |b| {
+            b.output.size() + b.finals.iter().map(|f| f.size()).sum::<u64>()
+        });
+        pixels + self.params.size() + self.translation.size()
+    }
+
     /// Builds the pipelines for scenes uploaded with `backend` and traced with `variant`, and
     /// allocates `width × height` buffers. `tiles` must be the settings of the
     /// [`LightTiles`] whose reader group [`RestirDi::encode`] gets.

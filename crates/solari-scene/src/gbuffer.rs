@@ -370,6 +370,25 @@ impl GBuffer {
         })
     }
 
+    /// GPU memory the G-buffer holds, in bytes: both target sets, the raster producer's depth
+    /// buffer, the uniforms and last frame's transforms.
+    pub fn memory_bytes(&self) -> u64 {
+        let targets: u64 = self
+            .targets
+            .iter()
+            .flat_map(|t| [&t.gbuffer, &t.emission, &t.motion, &t.depth])
+            .map(crate::gpu::texture_bytes)
+            .sum();
+        let producer = match &self.producer {
+            Producer::Raster(p) => p.memory_bytes(),
+            Producer::Traced(_) => 0,
+        };
+        let buffers = self.view_buffer.size()
+            + self.frame_views.size()
+            + self.transforms.as_ref().map_or(0, |(b, _)| b.size());
+        targets + producer + buffers
+    }
+
     /// Which producer writes this G-buffer.
     pub fn producer(&self) -> GBufferProducer {
         self.kind

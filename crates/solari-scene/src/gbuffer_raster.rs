@@ -99,6 +99,11 @@ impl RasterProducer {
         })
     }
 
+    /// Bytes of the depth-test buffer.
+    pub(crate) fn memory_bytes(&self) -> u64 {
+        crate::gpu::texture_bytes(self.depth_test.texture())
+    }
+
     pub(crate) fn resize(&mut self, gpu: &Gpu, size: (u32, u32)) {
         self.depth_test = depth_test(gpu, size);
     }

@@ -653,3 +653,22 @@ pub fn test_gpu() -> Option<Gpu> {
         }
     }
 }
+
+/// Bytes a texture's data takes: every mip level of every layer at its format's block size.
+/// A lower bound on what the driver allocates (it pads and aligns), for memory reports.
+pub fn texture_bytes(texture: &wgpu::Texture) -> u64 {
+    let format = texture.format();
+    let block = format
+        .block_copy_size(None)
+        .or_else(|| format.block_copy_size(Some(wgpu::TextureAspect::DepthOnly)))
+        .unwrap_or(4) as u64;
+    let (bw, bh) = format.block_dimensions();
+    let layers = texture.depth_or_array_layers() as u64;
+    (0..texture.mip_level_count())
+        .map(|level| {
+            let w = (texture.width() >> level).max(1).div_ceil(bw) as u64;
+            let h = (texture.height() >> level).max(1).div_ceil(bh) as u64;
+            w * h * block * layers
+        })
+        .sum()
+}

@@ -97,6 +97,36 @@ fn normal_rows(m: Mat4) -> [[f32; 4]; 3] {
 }
 
 impl GpuScene {
+    /// GPU memory the scene holds, in bytes: geometry, materials, textures with their mips,
+    /// and the software backend's BVH. Ray-query acceleration structures are left out (wgpu
+    /// does not report their size).
+    pub fn memory_bytes(&self) -> u64 {
+        let buffers = [
+            &self.instances,
+            &self.materials,
+            &self.vertices,
+            &self.indices,
+            &self.info,
+        ]
+        .iter()
+        .map(|b| b.size())
+        .sum::<u64>();
+        let textures: u64 = [&self.srgb, &self.linear, &self.brdf_energy]
+            .iter()
+            .map(|v| crate::gpu::texture_bytes(v.texture()))
+            .sum();
+        let accel = match &self.accel {
+            Accel::RayQuery { .. } => 0,
+            Accel::Software {
+                nodes,
+                triangles,
+                tlas_instances,
+                ..
+            } => nodes.size() + triangles.size() + tlas_instances.size(),
+        };
+        buffers + textures + accel
+    }
+
     /// The bind group layout for `backend` (group 0).
     pub fn layout_for(gpu: &Gpu, backend: Backend) -> wgpu::BindGroupLayout {
         // Buffers are also visible to vertex shaders: the G-buffer raster pulls vertices.
