@@ -6,7 +6,7 @@
 
 use solari_app::cli::{Prepared, SoakArgs};
 use solari_app::output::write_atomic;
-use solari_renderer::{FINITE_SLOTS, RealtimeRenderer};
+use solari_renderer::{FINITE_SLOTS, FrameReport, RealtimeRenderer};
 use solari_scene::{Material, Scene};
 use std::time::Instant;
 
@@ -171,6 +171,48 @@ fn gpu_memory(gpu: &solari_scene::gpu::Gpu) -> serde_json::Value {
     }
 }
 
+/// What the reports of a run add up to (they arrive late and in order; see `run`).
+struct Tally {
+    findings: Vec<PassFindings>,
+    gpu_ms: Times,
+    overflow_total: u64,
+    overflow_frames: u64,
+    overflow_max: u32,
+}
+
+impl Tally {
+    fn new() -> Self {
+        Self {
+            findings: vec![PassFindings::default(); FINITE_SLOTS.len()],
+            gpu_ms: Times::new(),
+            overflow_total: 0,
+            overflow_frames: 0,
+            overflow_max: 0,
+        }
+    }
+
+    fn add(&mut self, report: &FrameReport) {
+        let timed: Vec<f64> = report.passes.iter().filter_map(|p| p.gpu_ms).collect();
+        if !timed.is_empty() {
+            self.gpu_ms.add(timed.iter().sum());
+        }
+        for (f, c) in self.findings.iter_mut().zip(&report.finite) {
+            f.non_finite += c.non_finite;
+            f.negative += c.negative;
+            f.over += c.over;
+            if c.non_finite + c.negative + c.over > 0 {
+                f.frames_with_findings += 1;
+                f.first_frame.get_or_insert(report.frame as u64);
+            }
+        }
+        if let Some(stats) = report.cache {
+            self.overflow_total += stats.overflows as u64;
+            self.overflow_frames += (stats.overflows > 0) as u64;
+            self.overflow_max = self.overflow_max.max(stats.overflows);
+        }
+    }
+}
+
 pub fn run(args: &SoakArgs) -> Result<(), String> {
     let start = Instant::now();
     let settings = args.check()?;
@@ -208,10 +250,8 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
     let warm_frame = args.frames.min(100);
     let (mut memory_warm, mut rss_warm) = (serde_json::Value::Null, None);
     let (mut memory_max, mut rss_max) = (0u64, 0u64);
-    let mut findings = vec![PassFindings::default(); FINITE_SLOTS.len()];
-    let (mut overflow_total, mut overflow_frames, mut overflow_max) = (0u64, 0u64, 0u32);
+    let mut tally = Tally::new();
     let mut wall = Times::new();
-    let mut gpu_ms = Times::new();
     let mut toggles = 0u64;
     let (mut last_progress, mut last_frames) = (Instant::now(), 0u64);
     for frame in 0..args.frames {
@@ -232,30 +272,17 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             .realtime
             .camera_path
             .camera(&camera, &scene, frame as u32);
+        // Frames go to the GPU without waiting for it (`submit`); each report (GPU times,
+        // detector counts, cache counters) arrives `--frames-in-flight` - 1 frames late. Wall
+        // time per frame is the time `submit` takes: recording, plus waiting for the oldest
+        // frame once the queue is full.
         let t0 = Instant::now();
-        // One frame at a time (`render`, not `submit`): the cache's overflow count below is
-        // read back every frame, which waits for the GPU anyway.
         let report = renderer
-            .render(&gpu, &scene, &gpu_scene, &cam)
+            .submit(&gpu, &scene, &gpu_scene, &cam)
             .map_err(|e| format!("frame {frame}: {e}"))?;
         wall.add(t0.elapsed().as_secs_f64() * 1e3);
-        let timed: Vec<f64> = report.passes.iter().filter_map(|p| p.gpu_ms).collect();
-        if !timed.is_empty() {
-            gpu_ms.add(timed.iter().sum());
-        }
-        for (f, c) in findings.iter_mut().zip(&report.finite) {
-            f.non_finite += c.non_finite;
-            f.negative += c.negative;
-            f.over += c.over;
-            if c.non_finite + c.negative + c.over > 0 {
-                f.frames_with_findings += 1;
-                f.first_frame.get_or_insert(frame);
-            }
-        }
-        if let Some(stats) = renderer.cache_stats(&gpu).map_err(|e| e.to_string())? {
-            overflow_total += stats.overflows as u64;
-            overflow_frames += (stats.overflows > 0) as u64;
-            overflow_max = overflow_max.max(stats.overflows);
+        if let Some(r) = report {
+            tally.add(&r);
         }
         let done = frame + 1;
         if done == warm_frame {
@@ -267,16 +294,30 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             rss_max = rss_max.max(process_rss().unwrap_or(0));
         }
         if args.progress_every > 0 && (done % args.progress_every == 0 || done == args.frames) {
-            let bad: u64 = findings.iter().map(|f| f.non_finite + f.negative).sum();
+            let bad: u64 = tally
+                .findings
+                .iter()
+                .map(|f| f.non_finite + f.negative)
+                .sum();
             eprintln!(
                 "soak {name}: frame {done}/{} ({:.0} frames/s), {bad} non-finite/negative, {} cache overflows",
                 args.frames,
                 (done - last_frames) as f64 / last_progress.elapsed().as_secs_f64().max(1e-9),
-                overflow_total
+                tally.overflow_total
             );
             (last_progress, last_frames) = (Instant::now(), done);
         }
     }
+    for r in renderer.finish(&gpu).map_err(|e| e.to_string())? {
+        tally.add(&r);
+    }
+    let Tally {
+        findings,
+        gpu_ms,
+        overflow_total,
+        overflow_frames,
+        overflow_max,
+    } = tally;
     let clean = findings.iter().all(|f| f.non_finite + f.negative == 0);
     let per_pass: serde_json::Map<String, serde_json::Value> = FINITE_SLOTS
         .iter()

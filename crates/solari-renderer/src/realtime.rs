@@ -88,6 +88,8 @@ struct InFlight {
     submission: wgpu::SubmissionIndex,
     // The detector's read-back buffer for this frame.
     readback: Option<usize>,
+    // The world cache counters' read-back buffer for this frame.
+    cache_readback: Option<usize>,
 }
 
 impl Marks {
@@ -261,6 +263,8 @@ pub struct FrameReport {
     /// Non-finite and negative counts per slot of [`FINITE_SLOTS`], in order (empty when the
     /// detector is off).
     pub finite: Vec<FiniteCount>,
+    /// The world cache's counters after this frame (`None` without the cache).
+    pub cache: Option<CacheStats>,
 }
 
 impl FrameReport {
@@ -304,6 +308,9 @@ pub struct RealtimeRenderer {
     checker: Option<FiniteChecker>,
     gbuffer_timing: Option<GBufferTiming>,
     in_flight: std::collections::VecDeque<InFlight>,
+    // One read-back buffer per frame in flight for the world cache's counters, used in turn.
+    cache_readbacks: Vec<wgpu::Buffer>,
+    next_cache_readback: usize,
 }
 
 impl RealtimeRenderer {
@@ -399,6 +406,16 @@ impl RealtimeRenderer {
                 settings.frames_in_flight as usize,
             )?),
         };
+        let cache_readbacks = (0..settings.frames_in_flight.max(1))
+            .map(|_| {
+                gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("solari_renderer/cache_stats_readback"),
+                    size: CacheStats::BYTES,
+                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            })
+            .collect();
         let profiler = if settings.timestamps {
             Some(
                 GpuProfiler::new(&gpu.device, GpuProfilerSettings::default())
@@ -427,6 +444,8 @@ impl RealtimeRenderer {
             checker,
             gbuffer_timing,
             in_flight: Default::default(),
+            cache_readbacks,
+            next_cache_readback: 0,
         })
     }
 
@@ -772,6 +791,13 @@ impl RealtimeRenderer {
             }
             readback = Some(c.end_frame(&mut last));
         }
+        let mut cache_readback = None;
+        if let Some((cache, _)) = &self.cache {
+            let slot = self.next_cache_readback;
+            self.next_cache_readback = (slot + 1) % self.cache_readbacks.len();
+            cache.copy_stats(&mut last, &self.cache_readbacks[slot]);
+            cache_readback = Some(slot);
+        }
         let submission = gpu.scoped(|| {
             gpu.queue.submit(
                 std::iter::once(encoder.finish())
@@ -789,6 +815,7 @@ impl RealtimeRenderer {
             ran,
             submission,
             readback,
+            cache_readback,
         })
     }
 
@@ -808,8 +835,14 @@ impl RealtimeRenderer {
             }
         }
         let finite = match (self.checker.as_ref(), f.readback) {
-            (Some(c), Some(slot)) => c.read_frame(gpu, slot, Some(f.submission))?,
+            (Some(c), Some(slot)) => c.read_frame(gpu, slot, Some(f.submission.clone()))?,
             _ => Vec::new(),
+        };
+        let cache = match f.cache_readback {
+            Some(slot) => Some(CacheStats::from_bytes(
+                &gpu.map_read_after(&self.cache_readbacks[slot], Some(f.submission))?,
+            )),
+            None => None,
         };
         if self.settings.finite_check == FiniteCheck::Fail
             && let Some(bad) = first_offender(&finite)
@@ -824,6 +857,7 @@ impl RealtimeRenderer {
         Ok(FrameReport {
             frame: f.frame,
             finite,
+            cache,
             passes: PASS_NAMES
                 .iter()
                 .zip(f.ran.0)

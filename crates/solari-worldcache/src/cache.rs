@@ -60,6 +60,20 @@ pub struct CacheStats {
     pub overflows: u32,
 }
 
+impl CacheStats {
+    /// Bytes of the counters at the start of the control buffer.
+    pub const BYTES: u64 = 8;
+
+    /// The counters from the first [`CacheStats::BYTES`] bytes read back.
+    pub fn from_bytes(bytes: &[u8]) -> Self {
+        let words: [u32; 2] = bytemuck::pod_read_unaligned(&bytes[..Self::BYTES as usize]);
+        Self {
+            active_cells: words[0],
+            overflows: words[1],
+        }
+    }
+}
+
 /// The world cache: a fixed-size hash table of surface cells, each holding irradiance that a
 /// few rays per frame keep up to date (see the crate docs). Its bindings live in group 2 at
 /// bindings [`FIRST_BINDING`] and up.
@@ -612,12 +626,15 @@ impl WorldCache {
 
     /// The last frame's counters. Blocks until the GPU is done.
     pub fn read_stats(&self, gpu: &Gpu) -> Result<CacheStats, GpuError> {
-        let bytes = gpu.read_buffer(&self.control, 8)?;
-        let words: &[u32] = bytemuck::cast_slice(&bytes);
-        Ok(CacheStats {
-            active_cells: words[0],
-            overflows: words[1],
-        })
+        let bytes = gpu.read_buffer(&self.control, CacheStats::BYTES)?;
+        Ok(CacheStats::from_bytes(&bytes))
+    }
+
+    /// Records a copy of this frame's counters into `readback` (at least
+    /// [`CacheStats::BYTES`], `COPY_DST`), to read later with [`CacheStats::from_bytes`]
+    /// without waiting for frames submitted since.
+    pub fn copy_stats(&self, encoder: &mut wgpu::CommandEncoder, readback: &wgpu::Buffer) {
+        encoder.copy_buffer_to_buffer(&self.control, 0, readback, 0, CacheStats::BYTES);
     }
 
     /// Every slot: (checksum, remaining life, contents). Blocks until the GPU is done; for
