@@ -23,6 +23,11 @@ pub fn size(s: &str) -> Result<(u32, u32), String> {
     })
 }
 
+/// `ROCKSxTRIANGLES` for `--generated` (ranges are checked when the field is made).
+pub fn rock_field(s: &str) -> Result<(u32, u32), String> {
+    pair(s, "ROCKSxTRIANGLES")
+}
+
 fn pair(s: &str, shape: &str) -> Result<(u32, u32), String> {
     let (a, b) = s
         .split_once(['x', 'X'])

@@ -24,10 +24,14 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         backend,
         gpu_scene,
         dlss,
+        load_seconds,
+        upload_seconds,
     } = args.scene.prepare()?;
+    let build_start = Instant::now();
     let mut renderer =
         RealtimeRenderer::with_dlss(&gpu, backend, &scene, &gpu_scene, w, h, settings, &dlss)
             .map_err(|e| e.to_string())?;
+    let renderer_seconds = build_start.elapsed().as_secs_f64();
     if let Some(why) = renderer.denoiser_fallback_reason() {
         log::warn!("{why}");
     }
@@ -141,6 +145,9 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "wall_frame_ms": wall_ms, "fps": wall_ms.map(|m| 1e3 / m),
             "gpu_frame_ms": gpu_frame_ms,
             "frames_in_flight": args.realtime.frames_in_flight,
+            "load_s": load_seconds, "upload_s": upload_seconds,
+            "renderer_build_s": renderer_seconds,
+            "triangles": scene.stats().triangles, "instances": scene.instances.len(),
             "finite_checked": args.realtime.check_finite});
         println!("{v}");
     } else {
@@ -165,6 +172,10 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
                 renderer.gbuffer().producer().name()
             );
         }
+        println!(
+            "set-up: scene loaded in {load_seconds:.2} s, uploaded (BVH built) in \
+             {upload_seconds:.2} s, renderer built in {renderer_seconds:.2} s"
+        );
         let mib = |b: u64| b as f64 / (1 << 20) as f64;
         let parts: Vec<String> = memory
             .iter()

@@ -225,6 +225,7 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
         backend,
         mut gpu_scene,
         dlss,
+        ..
     } = args.scene.prepare()?;
     let mut toggle = args.toggle_lights.map(|_| Toggle::new(&mut scene));
     if toggle.is_some() {

@@ -318,6 +318,13 @@ fn bad_arguments_are_refused_before_any_work() {
             ],
             "does not exist",
         ),
+        (&["render", "--generated", "0x100"], "rocks must be 1 to"),
+        (&["render", "--generated", "4x8"], "triangles per rock"),
+        (&["render", "--generated", "4"], "ROCKSxTRIANGLES"),
+        (
+            &["render", "x.gltf", "--generated", "4x100"],
+            "cannot be used with",
+        ),
         (&["soak", "--frames", "0"], "--frames"),
         (&["soak", "--toggle-lights", "0"], "--toggle-lights"),
         (&["soak", "--summary", "no/such/s.json"], "does not exist"),
@@ -457,4 +464,44 @@ fn a_huge_frame_count_runs_instead_of_aborting() {
     );
     // Killed mid-run: nothing was written.
     assert!(d.files().is_empty(), "{:?}", d.files());
+}
+
+/// `--generated` renders a field of distinct rocks and reports its size and set-up times.
+#[test]
+fn a_generated_field_renders_and_reports_its_set_up() {
+    let d = Dir::new("generated");
+    let args = [
+        "render",
+        "--mode",
+        "realtime",
+        "--generated",
+        "9x100",
+        "--frames",
+        "3",
+        "--size",
+        "32x18",
+        "--denoiser",
+        "fallback",
+        "--out",
+        "g.png",
+        "--json",
+    ];
+    let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    let out = solari(&d, &os);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let v: Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+    assert_eq!(
+        v["instances"], 14,
+        "nine rocks, the ground, four glows: {v}"
+    );
+    assert!(v["triangles"].as_u64().unwrap() >= 900, "{v}");
+    for key in ["load_s", "upload_s", "renderer_build_s", "wall_frame_ms"] {
+        assert!(v[key].as_f64().is_some_and(|s| s >= 0.0), "{key}: {v}");
+    }
+    assert!(
+        v["memory_bytes"]["renderer_total"].as_u64().unwrap() > 0,
+        "{v}"
+    );
+    assert!(d.0.join("g.png").is_file());
 }

@@ -24,6 +24,7 @@ pub mod gbuffer;
 pub mod gbuffer_input;
 mod gbuffer_raster;
 mod gbuffer_traced;
+pub mod generated_scene;
 pub mod geometry;
 pub mod gltf_check;
 pub mod gltf_import;
