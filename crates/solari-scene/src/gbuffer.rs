@@ -73,7 +73,7 @@ pub struct GpuGBufferView {
     pub view: GpuView,
 }
 
-const _: () = assert!(size_of::<GpuGBufferView>() == 208);
+const _: () = assert!(size_of::<GpuGBufferView>() == 224);
 
 /// The world-to-clip matrix the G-buffer rasterises with for `camera` at `width × height`:
 /// a reversed-Z infinite perspective, matching the primary rays of `view.wesl` pixel for pixel.
@@ -120,7 +120,7 @@ pub struct GpuFrameViews {
     pub _pad: [u32; 3],
 }
 
-const _: () = assert!(size_of::<GpuFrameViews>() == 176);
+const _: () = assert!(size_of::<GpuFrameViews>() == 208);
 
 /// Which pass writes the G-buffer. Both write the same texels for the same hit; they find it
 /// differently, so they cost differently per GPU (`benches/RESULTS.md`).
@@ -431,6 +431,20 @@ impl GBuffer {
     /// whose index is new or whose mesh changed has no history and gets zero motion from its
     /// own transform.
     pub fn prepare(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) -> Result<(), GpuError> {
+        self.prepare_jittered(gpu, scene, camera, [0.0; 2])
+    }
+
+    /// As [`GBuffer::prepare`], with this frame's samples `jitter` pixels from the pixel
+    /// centres ([`GpuView::jitter`]). Both producers sample there, readers reconstruct
+    /// positions there, and motion vectors stay unjittered: they carry the scene's and the
+    /// camera's motion alone.
+    pub fn prepare_jittered(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        camera: &Camera,
+        jitter: [f32; 2],
+    ) -> Result<(), GpuError> {
         let (w, h) = self.size;
         let view_proj = view_projection(camera, w, h);
         self.history_valid = self.last_view_proj.is_some();
@@ -476,7 +490,7 @@ impl GBuffer {
         {
             gpu.queue.write_buffer(buffer, 0, bytes);
         }
-        let current = GpuView::new(camera, w, h);
+        let current = GpuView::new(camera, w, h).with_jitter(jitter);
         let view = GpuGBufferView {
             view_proj: view_proj.to_cols_array_2d(),
             previous_view_proj: previous_view_proj.to_cols_array_2d(),

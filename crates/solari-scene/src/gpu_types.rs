@@ -124,8 +124,14 @@ pub struct GpuView {
     pub znear: f32,
     /// Padding.
     pub _pad: u32,
+    /// Sub-pixel offset of every sample from its pixel's centre, in pixels (x right, y down;
+    /// each in [-0.5, 0.5)): the camera jitter that temporal upscalers and DLSS-RR resolve.
+    /// Zero for a still, centred image.
+    pub jitter: [f32; 2],
+    /// Padding.
+    pub _pad1: [u32; 2],
 }
-const _: () = assert!(size_of::<GpuView>() == 80);
+const _: () = assert!(size_of::<GpuView>() == 96);
 
 impl GpuView {
     /// The view of `camera` for an image of `width × height` (the image decides the aspect).
@@ -147,6 +153,29 @@ impl GpuView {
             ..Default::default()
         }
     }
+
+    /// This view with its samples moved `jitter` pixels from the pixel centres
+    /// ([`GpuView::jitter`]).
+    pub fn with_jitter(self, jitter: [f32; 2]) -> Self {
+        Self { jitter, ..self }
+    }
+}
+
+/// Camera jitter for frame `frame`: the Halton (2, 3) sequence, 16 offsets in [-0.5, 0.5)²
+/// pixels that cover a pixel evenly, repeated.
+pub fn halton_jitter(frame: u32) -> [f32; 2] {
+    let radical_inverse = |mut i: u32, base: u32| {
+        let (mut f, mut r) = (1.0f32, 0.0f32);
+        while i > 0 {
+            f /= base as f32;
+            r += f * (i % base) as f32;
+            i /= base;
+        }
+        r
+    };
+    // Index 0 of the sequence is (0, 0), a corner: start at 1.
+    let i = frame % 16 + 1;
+    [radical_inverse(i, 2) - 0.5, radical_inverse(i, 3) - 0.5]
 }
 
 /// WGSL twin: `GpuRay` in `trace_rays.wesl`.
@@ -184,3 +213,34 @@ pub struct GpuRayHit {
     pub barycentrics: [f32; 2],
 }
 const _: () = assert!(size_of::<GpuRayHit>() == 24);
+
+#[cfg(test)]
+mod tests {
+    use super::halton_jitter;
+
+    #[test]
+    fn jitter_covers_the_pixel_evenly_and_repeats_every_16_frames() {
+        let offsets: Vec<[f32; 2]> = (0..16).map(halton_jitter).collect();
+        for o in &offsets {
+            assert!(o.iter().all(|c| (-0.5..0.5).contains(c)), "{o:?}");
+        }
+        for (i, a) in offsets.iter().enumerate() {
+            for b in &offsets[i + 1..] {
+                assert_ne!(a, b, "repeated offset");
+            }
+        }
+        // Each quarter of the pixel gets four samples, and the mean is near the centre.
+        for qx in [false, true] {
+            for qy in [false, true] {
+                let n = offsets
+                    .iter()
+                    .filter(|o| (o[0] >= 0.0) == qx && (o[1] >= 0.0) == qy)
+                    .count();
+                assert!((3..=5).contains(&n), "quarter ({qx}, {qy}): {n}");
+            }
+        }
+        let mean = offsets.iter().fold([0.0; 2], |m, o| [m[0] + o[0], m[1] + o[1]]);
+        assert!(mean.iter().all(|m| (m / 16.0).abs() < 0.05), "{mean:?}");
+        assert_eq!(halton_jitter(16), halton_jitter(0));
+    }
+}

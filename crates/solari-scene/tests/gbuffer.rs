@@ -90,9 +90,16 @@ impl Probe {
         }
     }
 
-    fn run(&self, gpu: &Gpu, gs: &GpuScene, gb: &GBuffer, camera: &Camera) -> Vec<PixelOut> {
+    fn run(
+        &self,
+        gpu: &Gpu,
+        gs: &GpuScene,
+        gb: &GBuffer,
+        camera: &Camera,
+        jitter: [f32; 2],
+    ) -> Vec<PixelOut> {
         let (w, h) = gb.size();
-        let view = GpuView::new(camera, w, h);
+        let view = GpuView::new(camera, w, h).with_jitter(jitter);
         let view_buf = gpu.uniform_buffer("view", &view);
         let view_group = gpu.bind_buffers("view", &self.view_layout, &[&view_buf]);
         let bytes = (w * h) as u64 * size_of::<PixelOut>() as u64;
@@ -143,7 +150,19 @@ impl Probe {
 }
 
 fn render(gpu: &Gpu, gb: &mut GBuffer, gs: &GpuScene, scene: &Scene, camera: &Camera) {
-    gb.prepare(gpu, scene, camera).expect("prepare");
+    render_jittered(gpu, gb, gs, scene, camera, [0.0; 2]);
+}
+
+fn render_jittered(
+    gpu: &Gpu,
+    gb: &mut GBuffer,
+    gs: &GpuScene,
+    scene: &Scene,
+    camera: &Camera,
+    jitter: [f32; 2],
+) {
+    gb.prepare_jittered(gpu, scene, camera, jitter)
+        .expect("prepare");
     let frame = FrameContext::new(0, gb.size(), camera, None);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     let ran = gb.encode(&mut encoder, &frame, gs).expect("encode");
@@ -167,11 +186,14 @@ fn gbuffer_stores_what_primary_rays_see() {
     let backend = Backend::Software;
     let probe = Probe::new(&gpu, backend);
     let (w, h) = (96, 80);
-    for ((name, scene), producer) in scenes()
+    // Unjittered, and with every sample moved off its pixel centre.
+    let jitters = [[0.0, 0.0], [0.31, -0.27]];
+    for (((name, scene), producer), jitter) in scenes()
         .into_iter()
         .flat_map(|s| PRODUCERS.map(|p| (s.clone(), p)))
+        .flat_map(|sp| jitters.map(|j| (sp.clone(), j)))
     {
-        let name = format!("{name} ({})", producer.name());
+        let name = format!("{name} ({}, jitter {jitter:?})", producer.name());
         let camera = scene.camera(None).unwrap();
         let options = GpuSceneOptions {
             max_texture_size: 64,
@@ -180,9 +202,9 @@ fn gbuffer_stores_what_primary_rays_see() {
         let gs = GpuScene::new(&gpu, &scene, backend, &options).unwrap();
         let mut gb =
             GBuffer::with_producer(&gpu, backend, producer, TraceVariant::General, w, h).unwrap();
-        render(&gpu, &mut gb, &gs, &scene, &camera);
+        render_jittered(&gpu, &mut gb, &gs, &scene, &camera, jitter);
         assert!(!gb.history_valid(), "first frame has no history");
-        let pixels = probe.run(&gpu, &gs, &gb, &camera);
+        let pixels = probe.run(&gpu, &gs, &gb, &camera, jitter);
         let mut covered = 0;
         let mut bad = Vec::new();
         for (i, p) in pixels.iter().enumerate() {
@@ -283,7 +305,7 @@ fn check_motion(gpu: &Gpu, producer: GBufferProducer) {
     // Swap, not copy: last frame's depth is now the previous target, untouched.
     assert_eq!(read_depth(gpu, &gb.previous().depth), first_depth);
 
-    let pixels = probe.run(gpu, &gs, &gb, &camera1);
+    let pixels = probe.run(gpu, &gs, &gb, &camera1, [0.0; 2]);
     let vp0 = view_projection(&camera0, w, h);
     let vp1 = view_projection(&camera1, w, h);
     let (mut on_moved, mut checked, mut bad) = (0, 0, Vec::new());
@@ -343,4 +365,41 @@ fn bad_sizes_are_refused() {
         GBuffer::new(&gpu, Backend::Software, 1 << 20, 64),
         Err(GpuError::OverLimit { .. })
     ));
+}
+
+/// Jitter moves the samples, not the motion vectors: a still scene and camera rendered with a
+/// different jitter every frame have zero motion everywhere, for both producers, while the
+/// depth they store moves with the samples.
+#[test]
+fn jitter_leaves_motion_vectors_unjittered() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = Backend::Software;
+    let scene = default_scene::cornell_box();
+    let camera = scene.camera(None).unwrap();
+    let gs = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).unwrap();
+    for producer in PRODUCERS {
+        let mut gb =
+            GBuffer::with_producer(&gpu, backend, producer, TraceVariant::General, 64, 64).unwrap();
+        let mut depths = Vec::new();
+        for frame in 0..4 {
+            let jitter = solari_scene::gpu_types::halton_jitter(frame);
+            render_jittered(&gpu, &mut gb, &gs, &scene, &camera, jitter);
+            let bytes = gpu
+                .read_texture(&gb.current().motion, wgpu::TextureAspect::All)
+                .expect("motion");
+            let moving = bytemuck::cast_slice::<u8, u16>(&bytes)
+                .iter()
+                // f16 ±0 only.
+                .filter(|&&h| h & 0x7fff != 0)
+                .count();
+            assert_eq!(moving, 0, "{}: frame {frame} has motion", producer.name());
+            depths.push(read_depth(&gpu, &gb.current().depth));
+        }
+        assert_ne!(
+            depths[0],
+            depths[1],
+            "{}: jitter moved nothing",
+            producer.name()
+        );
+    }
 }

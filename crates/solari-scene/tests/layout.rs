@@ -111,7 +111,9 @@ fn rust_mirrors_match_naga_layouts() {
             forward,
             height,
             frame,
-            view_mode
+            view_mode,
+            znear,
+            jitter
         ]
     );
     check!(
