@@ -323,6 +323,15 @@ pub struct RealtimeArgs {
     /// CPU records a frame while the GPU runs the last, and reports arrive a frame late.
     #[arg(long, default_value_t = 2)]
     pub frames_in_flight: u32,
+    /// Render the lighting at this fraction of the output's width and height (0.25–1;
+    /// 0.5 and 0.67 are the usual ones) and bring it to the output size with the temporal
+    /// upscaler (jittered camera). Fallback denoiser or none only.
+    #[arg(long, default_value_t = 1.0, value_parser = values::finite, allow_hyphen_values = true)]
+    pub internal_scale: f32,
+    /// Run the temporal upscaler at full scale too: jittered samples accumulated per pixel,
+    /// antialiased edges.
+    #[arg(long)]
+    pub antialias: bool,
 }
 
 impl RealtimeArgs {
@@ -358,6 +367,9 @@ impl RealtimeArgs {
                 FiniteCheck::Off
             },
             frames_in_flight: self.frames_in_flight,
+            internal_scale: self.internal_scale,
+            antialias: self.antialias,
+            ..Default::default()
         };
         settings.validate()?;
         Ok(settings)

@@ -145,6 +145,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "wall_frame_ms": wall_ms, "fps": wall_ms.map(|m| 1e3 / m),
             "gpu_frame_ms": gpu_frame_ms,
             "frames_in_flight": args.realtime.frames_in_flight,
+            "internal_scale": args.realtime.internal_scale,
+            "antialias": args.realtime.antialias,
             "load_s": load_seconds, "upload_s": upload_seconds,
             "renderer_build_s": renderer_seconds,
             "triangles": scene.stats().triangles, "instances": scene.instances.len(),

@@ -111,6 +111,7 @@ pub mod dlss_io;
 pub mod fallback;
 pub mod select;
 pub mod settings;
+pub mod upscale;
 
 pub use denoiser::{
     Denoiser, DenoiserInputs, DenoiserKind, Encoded, Inputs, Lighting, Requirements,
@@ -118,6 +119,7 @@ pub use denoiser::{
 pub use fallback::{FallbackDenoiser, GpuHistory};
 pub use select::{Created, DlssAvailability, create, create_gpu};
 pub use settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
+pub use upscale::{TemporalUpscaler, UpscaleSettings};
 
 /// The crate's importable WGSL modules, by module name.
 pub const MODULES: &[(&str, &str)] = &[(
@@ -141,6 +143,10 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     ),
     ("dlss_inputs", include_str!("../shaders/dlss_inputs.wesl")),
     ("dlss_output", include_str!("../shaders/dlss_output.wesl")),
+    (
+        "temporal_upscale",
+        include_str!("../shaders/temporal_upscale.wesl"),
+    ),
 ];
 
 /// Every module the crate's shaders need beyond `solari-scene`'s.

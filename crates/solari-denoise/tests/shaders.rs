@@ -54,6 +54,16 @@ fn rust_mirrors_match_naga_layouts() {
             ("carry", offset_of!(GpuHistory, carry)),
         ],
     );
+    use solari_denoise::upscale::GpuUpscaleParams;
+    l.mirror(
+        "UpscaleParams",
+        size_of::<GpuUpscaleParams>(),
+        &[
+            ("output_size", offset_of!(GpuUpscaleParams, output_size)),
+            ("reset", offset_of!(GpuUpscaleParams, reset)),
+            ("max_weight", offset_of!(GpuUpscaleParams, max_weight)),
+        ],
+    );
 }
 
 #[test]
@@ -66,6 +76,10 @@ fn bindings_are_bound_by_their_wgsl_names() {
             ("denoise_temporal", &own),
             ("denoise_variance", &own),
             ("denoise_atrous", &own),
+            (
+                "temporal_upscale",
+                &[&solari_denoise::upscale::UPSCALE_BINDINGS],
+            ),
         ],
         &modules(),
     )

@@ -15,6 +15,7 @@ use crate::gbuffer_choice::{GBufferChoice, GBufferTiming};
 use crate::present::Presenter;
 use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
+    TemporalUpscaler, UpscaleSettings,
 };
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings};
@@ -22,7 +23,7 @@ use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
-use solari_scene::gpu_types::GpuView;
+use solari_scene::gpu_types::{GpuView, halton_jitter};
 use solari_scene::pass::{FrameContext, Ran};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
@@ -36,7 +37,7 @@ use solari_worldcache::PASS_LABELS as CACHE;
 /// ([`solari_restir::PASS_LABELS`]), cache-only GI or the cache view, then the fallback
 /// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
 /// (DLSS-RR itself records outside the profiler's reach).
-pub const PASS_NAMES: [&str; 15] = [
+pub const PASS_NAMES: [&str; 16] = [
     solari_scene::gbuffer::PASS_LABELS[0],
     solari_lights::PASS_LABELS[0],
     CACHE[0],
@@ -51,6 +52,7 @@ pub const PASS_NAMES: [&str; 15] = [
     DENOISE[0],
     DENOISE[1],
     DENOISE[2],
+    solari_denoise::upscale::PASS_LABELS[0],
     solari_denoise::dlss_io::COPY_LABELS[0],
 ];
 
@@ -198,9 +200,31 @@ pub struct RealtimeSettings {
     /// (1–3, default 2: the CPU records a frame while the GPU runs the last one).
     /// [`RealtimeRenderer::render`] always waits for its frame.
     pub frames_in_flight: u32,
+    /// Fraction of the output's width and height the lighting is rendered at (0.25–1,
+    /// default 1). Below 1 the camera is jittered and the temporal upscaler
+    /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
+    /// DLSS-RR, which chooses its own render size.
+    pub internal_scale: f32,
+    /// Run the temporal upscaler at scale 1 too (jittered samples accumulated per pixel:
+    /// antialiased edges). Implied by an `internal_scale` below 1.
+    pub antialias: bool,
+    /// The temporal upscaler's knob.
+    pub upscale: UpscaleSettings,
 }
 
 impl RealtimeSettings {
+    /// Whether frames go through the temporal upscaler (jittered).
+    pub fn upscaling(&self) -> bool {
+        self.internal_scale < 1.0 || self.antialias
+    }
+
+    /// The render size for an `output` size: each side scaled by
+    /// [`RealtimeSettings::internal_scale`], rounded up.
+    pub fn render_size(&self, output: (u32, u32)) -> (u32, u32) {
+        let scale = |side: u32| ((side as f32 * self.internal_scale).ceil() as u32).clamp(1, side);
+        (scale(output.0), scale(output.1))
+    }
+
     /// Checks every component's knobs (the message names the bad one).
     pub fn validate(&self) -> Result<(), String> {
         self.di.validate().map_err(|e| e.to_string())?;
@@ -212,6 +236,19 @@ impl RealtimeSettings {
         }
         if self.tiles.sample_count() == 0 {
             return Err("light tiles need at least one tile and one sample".into());
+        }
+        if !(0.25..=1.0).contains(&self.internal_scale) {
+            return Err(format!(
+                "internal scale must be 0.25 to 1, not {}",
+                self.internal_scale
+            ));
+        }
+        if self.upscaling() && self.denoiser == Some(DenoiserKind::DlssRr) {
+            return Err(
+                "the temporal upscaler (internal scale below 1, or antialias) is for \
+                 the fallback path: DLSS-RR upscales by itself"
+                    .into(),
+            );
         }
         if !(1..=3).contains(&self.frames_in_flight) {
             return Err(format!(
@@ -238,6 +275,9 @@ impl Default for RealtimeSettings {
             denoise: FallbackSettings::default(),
             finite_check: FiniteCheck::Off,
             frames_in_flight: 2,
+            internal_scale: 1.0,
+            antialias: false,
+            upscale: UpscaleSettings::default(),
         }
     }
 }
@@ -311,6 +351,7 @@ pub struct RealtimeRenderer {
     // One read-back buffer per frame in flight for the world cache's counters, used in turn.
     cache_readbacks: Vec<wgpu::Buffer>,
     next_cache_readback: usize,
+    upscaler: Option<TemporalUpscaler>,
 }
 
 impl RealtimeRenderer {
@@ -351,13 +392,20 @@ impl RealtimeRenderer {
         settings: RealtimeSettings,
         dlss: &DlssAvailability,
     ) -> Result<Self, GpuError> {
-        let created = solari_denoise::create(
-            gpu,
-            settings.denoiser,
-            dlss,
-            (output_width, output_height),
-            settings.denoise,
-        )?;
+        settings.validate().map_err(GpuError::Validation)?;
+        // With the temporal upscaler the lighting and its denoiser run at the render size,
+        // and DLSS-RR (which upscales by itself) is not the best available.
+        let upscaling = settings.upscaling();
+        let lighting_size = if upscaling {
+            settings.render_size((output_width, output_height))
+        } else {
+            (output_width, output_height)
+        };
+        let wanted = match settings.denoiser {
+            None if upscaling => Some(DenoiserKind::Fallback),
+            w => w,
+        };
+        let created = solari_denoise::create(gpu, wanted, dlss, lighting_size, settings.denoise)?;
         let (width, height) = created
             .denoiser
             .as_ref()
@@ -382,6 +430,16 @@ impl RealtimeRenderer {
             settings.di,
             settings.tiles,
         )?;
+        let upscaler = if upscaling {
+            Some(TemporalUpscaler::new(
+                gpu,
+                (width, height),
+                (output_width, output_height),
+                settings.upscale,
+            )?)
+        } else {
+            None
+        };
         let list = LightList::build(scene);
         let lights = GpuLights::new(gpu, &list, settings.selection)?;
         let lights_group = tiles.reader_group(gpu, &lights);
@@ -446,6 +504,7 @@ impl RealtimeRenderer {
             in_flight: Default::default(),
             cache_readbacks,
             next_cache_readback: 0,
+            upscaler,
         })
     }
 
@@ -471,7 +530,8 @@ impl RealtimeRenderer {
     }
 
     /// GPU memory per component, in bytes, in frame order: `gbuffer`, `light_tiles` (the
-    /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `denoiser`. The
+    /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `denoiser` (with
+    /// the temporal upscaler's accumulation, when it runs). The
     /// scene's own memory is the caller's ([`GpuScene::memory_bytes`]); the profiler's and the
     /// detector's few kilobytes are left out.
     pub fn memory(&self) -> [(&'static str, u64); 5] {
@@ -486,7 +546,11 @@ impl RealtimeRenderer {
                 self.cache.as_ref().map_or(0, |(c, _)| c.memory_bytes()),
             ),
             ("restir_di", self.di.memory_bytes()),
-            ("denoiser", self.denoiser_memory_bytes()),
+            (
+                "denoiser",
+                self.denoiser_memory_bytes()
+                    + self.upscaler.as_ref().map_or(0, |u| u.memory_bytes()),
+            ),
         ]
     }
 
@@ -672,7 +736,13 @@ impl RealtimeRenderer {
         if let Some(previous) = self.last_view.replace(context.view) {
             context.previous_view = GpuView { frame, ..previous };
         }
-        self.gbuffer.prepare(gpu, scene, camera)?;
+        // Jittered samples only where the temporal upscaler accumulates them.
+        let jitter = if self.upscaler.is_some() {
+            halton_jitter(frame)
+        } else {
+            [0.0; 2]
+        };
+        self.gbuffer.prepare_jittered(gpu, scene, camera, jitter)?;
         self.tiles.prepare(gpu, &context);
         self.di.prepare(gpu, &context, &self.gbuffer, light_count)?;
         if let Some((cache, _)) = &mut self.cache {
@@ -762,17 +832,27 @@ impl RealtimeRenderer {
             }
         }
         let mut after = Vec::new();
+        let reset = std::mem::take(&mut self.reset_next);
         if denoising {
             let denoiser = self.denoiser.as_mut().expect("denoising() checked it");
             let inputs = DenoiserInputs {
                 lighting: Lighting::Combined(self.di.output()),
                 gbuffer: &self.gbuffer,
                 hit_distance: None,
-                reset: std::mem::take(&mut self.reset_next),
+                reset,
             };
             let encoded = denoiser.encode(gpu, &mut encoder, &context, &inputs)?;
             ran.add(&encoded.ran);
             after = encoded.after;
+        }
+        if let Some(upscaler) = &mut self.upscaler {
+            // DLSS-RR never runs with the upscaler (refused at construction), so the
+            // denoiser's output is in `encoder`.
+            let input = match &self.denoiser {
+                Some(d) if denoising => d.output(),
+                _ => self.di.output(),
+            };
+            ran.add(&upscaler.encode(gpu, &mut encoder, &context, &self.gbuffer, input, reset)?);
         }
         if let Some(p) = &mut self.profiler {
             p.resolve_queries(&mut encoder);
@@ -788,6 +868,13 @@ impl RealtimeRenderer {
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;
                 let outputs = ow as u64 * oh as u64;
                 c.check_buffer(gpu, &mut last, SLOT_DENOISE, d.output(), outputs, rgba)?;
+            }
+            if let Some(u) = &self.upscaler {
+                // The upscaler's output counts with the denoiser's: the frame's last image.
+                let (ow, oh) = u.output_size();
+                let rgba = RecordLayout::RGBA_NON_NEGATIVE;
+                let outputs = ow as u64 * oh as u64;
+                c.check_buffer(gpu, &mut last, SLOT_DENOISE, u.output(), outputs, rgba)?;
             }
             readback = Some(c.end_frame(&mut last));
         }
@@ -875,6 +962,11 @@ impl RealtimeRenderer {
     /// the top left (w: 1 on surfaces, 0 on background; 1 everywhere after DLSS-RR, whose
     /// upscaled output has no surface mask), at [`RealtimeRenderer::size`].
     pub fn read_output(&self, gpu: &Gpu) -> Result<Vec<[f32; 4]>, GpuError> {
+        if let Some(u) = &self.upscaler {
+            let (w, h) = u.output_size();
+            let bytes = gpu.read_buffer(u.output(), w as u64 * h as u64 * 16)?;
+            return Ok(bytemuck::cast_slice(&bytes).to_vec());
+        }
         match &self.denoiser {
             Some(d) if self.denoising() => {
                 let (w, h) = d.output_size();
@@ -900,8 +992,9 @@ impl RealtimeRenderer {
             self.presenter = Some(Presenter::new(gpu)?);
         }
         let size = self.size();
-        let source = match &self.denoiser {
-            Some(d) if self.denoising() => d.output(),
+        let source = match (&self.upscaler, &self.denoiser) {
+            (Some(u), _) => u.output(),
+            (None, Some(d)) if self.denoising() => d.output(),
             _ => self.di.output(),
         };
         let presenter = self.presenter.as_mut().expect("made above");
@@ -913,6 +1006,9 @@ impl RealtimeRenderer {
 
     /// Output image size in pixels.
     pub fn size(&self) -> (u32, u32) {
+        if let Some(u) = &self.upscaler {
+            return u.output_size();
+        }
         match &self.denoiser {
             Some(d) if self.denoising() => d.output_size(),
             _ => self.di.size(),

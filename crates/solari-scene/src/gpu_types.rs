@@ -239,7 +239,9 @@ mod tests {
                 assert!((3..=5).contains(&n), "quarter ({qx}, {qy}): {n}");
             }
         }
-        let mean = offsets.iter().fold([0.0; 2], |m, o| [m[0] + o[0], m[1] + o[1]]);
+        let mean = offsets
+            .iter()
+            .fold([0.0; 2], |m, o| [m[0] + o[0], m[1] + o[1]]);
         assert!(mean.iter().all(|m| (m / 16.0).abs() < 0.05), "{mean:?}");
         assert_eq!(halton_jitter(16), halton_jitter(0));
     }
