@@ -16,13 +16,7 @@
 # SIZE=160x90 FRAMES=8 bash benches/results/gbuffer_h200.sh Everything lands in $OUT/gbuffer_h200.tar.gz (the device
 # tool returns at most 8 files).
 set -u
-# The loader packages go into / on the device machine only (never on a workstation).
-if [ -d /usr/local/nvidia ]; then
-  for f in .gl/*.deb; do dpkg -x "$f" /; done
-  ldconfig
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-fi
+source benches/results/device_env.sh
 BIN=${SOLARI_BIN:-.dev/solari}
 R=${RESULTS:-/root/gbuffer}
 mkdir -p "$R"

@@ -5,12 +5,7 @@
 # times, memory. Issue 17, "Scale". Needs .gl, .dev/solari (stripped release build of the
 # commit under test) and .dev/scenes carried. Usage: bash benches/results/scale_h200.sh
 set -u
-if [ -d /usr/local/nvidia ]; then
-  for f in .gl/*.deb; do dpkg -x "$f" /; done
-  ldconfig
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
-fi
+source benches/results/device_env.sh
 BIN=${SOLARI_BIN:-.dev/solari}
 R=${RESULTS:-/root/scale}
 SIZE=${SIZE:-1920x1080}

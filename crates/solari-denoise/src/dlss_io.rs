@@ -104,16 +104,7 @@ impl DlssTextures {
             mapped_at_creation: false,
         });
 
-        let storage_texture = |binding, format| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::StorageTexture {
-                access: wgpu::StorageTextureAccess::WriteOnly,
-                format,
-                view_dimension: wgpu::TextureViewDimension::D2,
-            },
-            count: None,
-        };
+        let storage_texture = solari_scene::gpu::storage_texture_layout_entry;
         let buffer = |binding, ty| {
             solari_scene::gpu::buffer_layout_entry(binding, ty, wgpu::ShaderStages::COMPUTE)
         };

@@ -12,7 +12,7 @@ use solari_scene::{DirectionalLight, Scene, default_scene};
 
 mod common;
 
-use common::{SIZE, settings, upload};
+use common::{Cornell, SIZE, settings, upload};
 
 #[test]
 fn a_scene_without_lights_skips_tiles_and_di() {
@@ -146,26 +146,22 @@ fn a_thousand_frames_of_moving_camera_and_changing_lights_stay_finite() {
 /// differ more, and the images as a whole must not.
 #[test]
 fn traced_and_raster_gbuffers_give_the_same_frames() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
+    let Some(c) = Cornell::new() else { return };
     let make = |gbuffer| {
-        let s = RealtimeSettings {
+        c.renderer(RealtimeSettings {
             gbuffer,
             denoiser: Some(solari_denoise::DenoiserKind::Fallback),
             ..settings()
-        };
-        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer")
+        })
     };
     let mut raster = make(GBufferChoice::Raster);
     let mut traced = make(GBufferChoice::Traced);
     for frame in 0..8 {
-        let cam = CameraPath::Orbit.camera(&camera, &scene, frame);
+        let cam = CameraPath::Orbit.camera(&c.camera, &c.scene, frame);
         let mut images = [&mut raster, &mut traced].map(|r| {
-            r.render(&gpu, &scene, &gpu_scene, &cam).expect("frame");
-            r.read_output(&gpu).expect("read back")
+            r.render(&c.gpu, &c.scene, &c.gpu_scene, &cam)
+                .expect("frame");
+            r.read_output(&c.gpu).expect("read back")
         });
         let [a, b] = std::mem::take(&mut images);
         let close = |p: &[f32; 4], q: &[f32; 4]| {
@@ -192,16 +188,11 @@ fn traced_and_raster_gbuffers_give_the_same_frames() {
 /// `GBufferChoice::Auto` times both producers when the renderer is built and keeps the faster.
 #[test]
 fn auto_gbuffer_keeps_the_faster_measured_producer() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let s = RealtimeSettings {
+    let Some(c) = Cornell::new() else { return };
+    let renderer = c.renderer(RealtimeSettings {
         gbuffer: GBufferChoice::Auto,
         ..settings()
-    };
-    let renderer =
-        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer");
+    });
     let t = renderer
         .gbuffer_timing()
         .expect("lavapipe has timestamps and storage Rg16Float: auto must measure");
@@ -219,8 +210,7 @@ fn auto_gbuffer_keeps_the_faster_measured_producer() {
     };
     assert_eq!(t.chosen, faster);
     assert_eq!(renderer.gbuffer().producer(), faster);
-    let fixed = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, settings())
-        .expect("renderer");
+    let fixed = c.renderer(settings());
     assert_eq!(
         fixed.gbuffer_timing(),
         None,
@@ -234,11 +224,8 @@ fn auto_gbuffer_keeps_the_faster_measured_producer() {
 /// up to the cache's float atomics; `render` refuses to run while frames are in flight.
 #[test]
 fn submitted_frames_report_late_and_match_rendered_ones() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
+    let Some(c) = Cornell::new() else { return };
+    let (gpu, scene, gpu_scene) = (&c.gpu, &c.scene, &c.gpu_scene);
     let s = RealtimeSettings {
         finite_check: solari_renderer::FiniteCheck::Count,
         denoiser: Some(solari_denoise::DenoiserKind::Fallback),
@@ -247,28 +234,25 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
         gi: solari_renderer::GiMode::WorldCache,
         ..settings()
     };
-    let make = || {
-        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer")
-    };
-    let (mut sync, mut piped) = (make(), make());
+    let (mut sync, mut piped) = (c.renderer(s), c.renderer(s));
     let frames = 6;
     let mut expected = Vec::new();
     let mut got = Vec::new();
     for frame in 0..frames {
-        let cam = CameraPath::Orbit.camera(&camera, &scene, frame);
-        expected.push(sync.render(&gpu, &scene, &gpu_scene, &cam).expect("frame"));
-        let late = piped.submit(&gpu, &scene, &gpu_scene, &cam).expect("frame");
+        let cam = CameraPath::Orbit.camera(&c.camera, scene, frame);
+        expected.push(sync.render(gpu, scene, gpu_scene, &cam).expect("frame"));
+        let late = piped.submit(gpu, scene, gpu_scene, &cam).expect("frame");
         assert_eq!(late.is_some(), frame > 0, "frame {frame}: one frame late");
         got.extend(late);
         assert_eq!(piped.frames_in_flight(), 1);
         if frame == 2 {
             assert!(
-                piped.render(&gpu, &scene, &gpu_scene, &cam).is_err(),
+                piped.render(gpu, scene, gpu_scene, &cam).is_err(),
                 "render with a frame in flight"
             );
         }
     }
-    got.extend(piped.finish(&gpu).expect("finish"));
+    got.extend(piped.finish(gpu).expect("finish"));
     assert_eq!(piped.frames_in_flight(), 0);
     assert_eq!(got.len(), expected.len());
     for (g, e) in got.iter().zip(&expected) {
@@ -296,8 +280,8 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
         }
     }
     let (a, b) = (
-        piped.read_output(&gpu).expect("read"),
-        sync.read_output(&gpu).expect("read"),
+        piped.read_output(gpu).expect("read"),
+        sync.read_output(gpu).expect("read"),
     );
     let sum = |img: &[[f32; 4]]| img.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum::<f64>();
     let (sa, sb) = (sum(&a), sum(&b));
@@ -312,18 +296,14 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// uniforms, and every other component something.
 #[test]
 fn memory_report_counts_each_component() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let s = RealtimeSettings {
+    let Some(c) = Cornell::new() else { return };
+    let renderer = c.renderer(RealtimeSettings {
         gi: solari_renderer::GiMode::WorldCache,
         denoiser: Some(solari_denoise::DenoiserKind::Fallback),
         ..settings()
-    };
-    let renderer =
-        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer");
+    });
     let memory = renderer.memory();
+    let gpu_scene = &c.gpu_scene;
     println!("{memory:?}, scene {}", gpu_scene.memory_bytes());
     let pixels = (SIZE * SIZE) as u64;
     let gbuffer = memory[0].1;
@@ -335,151 +315,4 @@ fn memory_report_counts_each_component() {
         assert!(bytes > 0, "{name} reports no memory");
     }
     assert!(gpu_scene.memory_bytes() > 0);
-}
-
-/// Direct light over each pixel's area (the reference tracer at random sub-pixel positions)
-/// and at its centre, for the temporal upscaler's tests.
-fn area_and_centre_references(
-    gpu: &solari_scene::gpu::Gpu,
-    backend: solari_scene::shaders::Backend,
-    scene: &Scene,
-) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
-    let reference = |pixel_centre| {
-        let s = solari_reference::ReferenceSettings {
-            spp: 256,
-            max_bounces: 1,
-            selection: solari_lights::Selection::Power,
-            pixel_centre,
-        };
-        solari_reference::reference_image(gpu, backend, scene, SIZE, SIZE, &s)
-            .expect("reference")
-            .pixels
-    };
-    (reference(false), reference(true))
-}
-
-fn lum(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
-}
-
-/// RMSE of luminance against `reference` over `pixels`.
-fn lum_rmse(img: &[[f32; 4]], reference: &[[f32; 3]], pixels: &[usize]) -> f64 {
-    let sum: f64 = pixels
-        .iter()
-        .map(|&i| {
-            let d = lum([img[i][0], img[i][1], img[i][2]]) - lum(reference[i]);
-            (d * d) as f64
-        })
-        .sum();
-    (sum / pixels.len().max(1) as f64).sqrt()
-}
-
-/// 48 frames of a still Cornell box at `SIZE` output, from `settings` with the fallback
-/// denoiser, the last image read back.
-fn still_frames(internal_scale: f32, antialias: bool) -> (Vec<[f32; 4]>, (u32, u32)) {
-    let gpu = test_gpu().expect("checked by the caller");
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
-    let s = RealtimeSettings {
-        internal_scale,
-        antialias,
-        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
-        ..settings()
-    };
-    let mut r =
-        RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s).expect("renderer");
-    for _ in 0..48 {
-        r.render(&gpu, &scene, &gpu_scene, &camera).expect("frame");
-    }
-    (r.read_output(&gpu).expect("read back"), r.size())
-}
-
-/// The temporal upscaler at full scale antialiases: on a still Cornell box, 48 jittered and
-/// accumulated frames are closer than plain ones to the direct light averaged over each
-/// pixel's area, on the pixels where that average differs from the pixel centre's (edges, the
-/// emitter's included), and no farther elsewhere.
-#[test]
-fn the_temporal_upscaler_antialiases_edges() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let (area, centre) = area_and_centre_references(&gpu, backend, &scene);
-    let (edges, flat): (Vec<usize>, Vec<usize>) =
-        (0..area.len()).partition(|&i| (lum(area[i]) - lum(centre[i])).abs() > 0.05);
-    let (aa, size) = still_frames(1.0, true);
-    assert_eq!(size, (SIZE, SIZE));
-    let (plain, _) = still_frames(1.0, false);
-    let (ae, pe) = (
-        lum_rmse(&aa, &area, &edges),
-        lum_rmse(&plain, &area, &edges),
-    );
-    let (af, pf) = (lum_rmse(&aa, &area, &flat), lum_rmse(&plain, &area, &flat));
-    println!(
-        "{} edge pixels, RMSE against the area average: antialiased {ae:.4}, plain {pe:.4}; \
-         elsewhere {af:.4} and {pf:.4}",
-        edges.len()
-    );
-    assert!(edges.len() >= 30, "too few edge pixels: {}", edges.len());
-    assert!(ae < 0.7 * pe, "edges not smoothed: {ae} against {pe}");
-    assert!(
-        af < 1.2 * pf + 0.003,
-        "flat areas got worse: {af} against {pf}"
-    );
-}
-
-/// At half the output's width and height the upscaled image stays close to native: on a
-/// still Cornell box its error against the pixel-area reference is within 1.5× of the plain
-/// native image's, far below simply enlarging the half-size image.
-#[test]
-fn half_scale_upscales_to_near_native_error() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let (area, _) = area_and_centre_references(&gpu, backend, &scene);
-    let all: Vec<usize> = (0..area.len()).collect();
-    let (half, size) = still_frames(0.5, false);
-    assert_eq!(size, (SIZE, SIZE), "output at the full size");
-    let (native, _) = still_frames(1.0, false);
-    let (he, ne) = (lum_rmse(&half, &area, &all), lum_rmse(&native, &area, &all));
-    println!("RMSE against the area average: half scale upscaled {he:.4}, native {ne:.4}");
-    assert!(half.iter().flatten().all(|c| c.is_finite()));
-    assert!(he < 1.5 * ne, "half scale {he} against native {ne}");
-}
-
-/// Under a moving camera the upscaler follows the motion vectors: after 40 frames of the
-/// orbit at half scale, the last frame's error against the pixel-area reference for its own
-/// camera stays within 2× of a native frame's (no ghost trails), and every value is finite.
-#[test]
-fn half_scale_follows_a_moving_camera() {
-    let Some(gpu) = test_gpu() else { return };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
-    let frames = 40;
-    let run = |internal_scale: f32| {
-        let s = RealtimeSettings {
-            internal_scale,
-            denoiser: Some(solari_denoise::DenoiserKind::Fallback),
-            ..settings()
-        };
-        let mut r = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, SIZE, SIZE, s)
-            .expect("renderer");
-        for frame in 0..frames {
-            let cam = CameraPath::Orbit.camera(&camera, &scene, frame);
-            r.render(&gpu, &scene, &gpu_scene, &cam).expect("frame");
-        }
-        r.read_output(&gpu).expect("read back")
-    };
-    let mut last = scene.clone();
-    last.cameras = vec![CameraPath::Orbit.camera(&camera, &scene, frames - 1)];
-    let (area, _) = area_and_centre_references(&gpu, backend, &last);
-    let all: Vec<usize> = (0..area.len()).collect();
-    let (half, native) = (run(0.5), run(1.0));
-    let (he, ne) = (lum_rmse(&half, &area, &all), lum_rmse(&native, &area, &all));
-    println!("moving camera, RMSE against the area average: half scale {he:.4}, native {ne:.4}");
-    assert!(half.iter().flatten().all(|c| c.is_finite()));
-    assert!(he < 2.0 * ne, "half scale {he} against native {ne}");
 }

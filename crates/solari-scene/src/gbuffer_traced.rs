@@ -6,7 +6,7 @@ use crate::error::GpuError;
 use crate::gbuffer::{
     DEPTH_FORMAT, EMISSION_FORMAT, GBUFFER_FORMAT, GBufferTargets, MOTION_FORMAT, PASS_LABELS,
 };
-use crate::gpu::{Gpu, ShaderChecks};
+use crate::gpu::{Gpu, ShaderChecks, storage_texture_layout_entry};
 use crate::gpu_scene::{GpuScene, TraceVariant};
 use crate::shaders::{Backend, compose};
 
@@ -36,16 +36,7 @@ impl TracedProducer {
         let entries = OUTPUT_FORMATS
             .iter()
             .zip(0..)
-            .map(|(&format, binding)| wgpu::BindGroupLayoutEntry {
-                binding,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-                count: None,
-            })
+            .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
             .collect::<Vec<_>>();
         let out_layout = gpu
             .device

@@ -6,7 +6,7 @@
 use crate::geometry::generate_normals;
 use crate::model::*;
 use crate::rng::{Rng, pcg_hash};
-use crate::textured_scene::uv_sphere;
+use crate::textured_scene::{ground_plane, uv_sphere};
 use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 
 /// Most rocks, and most triangles per rock, [`rock_field`] accepts.
@@ -90,7 +90,7 @@ pub fn rock_field(rocks: u32, triangles: u32) -> Result<Scene, String> {
         });
     }
     let ground = meshes.len() as u32;
-    meshes.push(ground_plane(extent + 2.0 * SPACING));
+    meshes.push(ground_plane(extent + 2.0 * SPACING, 1.0));
     instances.push(Instance {
         name: "ground".into(),
         mesh: ground,
@@ -166,25 +166,6 @@ fn rock(index: u32, segments: u32, rings: u32, rng: &mut Rng) -> Mesh {
     }
     mesh.normals = generate_normals(&mesh.positions, &mesh.indices);
     mesh
-}
-
-fn ground_plane(size: f32) -> Mesh {
-    let h = size * 0.5;
-    let positions = vec![
-        Vec3::new(-h, 0.0, h),
-        Vec3::new(h, 0.0, h),
-        Vec3::new(h, 0.0, -h),
-        Vec3::new(-h, 0.0, -h),
-    ];
-    let indices = vec![0, 1, 2, 0, 2, 3];
-    Mesh {
-        name: "ground".into(),
-        normals: generate_normals(&positions, &indices),
-        uvs: vec![Vec2::ZERO; 4],
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
-        positions,
-        indices,
-    }
 }
 
 #[cfg(test)]

@@ -40,6 +40,23 @@ impl ShaderChecks {
     }
 }
 
+/// A write-only 2D storage texture for compute shaders.
+pub fn storage_texture_layout_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
+}
+
 /// A whole-buffer bind group layout entry (no dynamic offset, no minimum size).
 pub fn buffer_layout_entry(
     binding: u32,

@@ -88,8 +88,9 @@ pub fn uv_sphere(name: &str, segments: u32, rings: u32) -> Mesh {
     mesh
 }
 
-/// A square of side `size` on the XZ plane facing +Y, its UVs repeating `repeat` times.
-fn ground(size: f32, repeat: f32) -> Mesh {
+/// A square of side `size` on the XZ plane facing +Y, centred on the origin, its UVs
+/// repeating `repeat` times (tangents along +X).
+pub fn ground_plane(size: f32, repeat: f32) -> Mesh {
     let h = size * 0.5;
     let positions = vec![
         Vec3::new(-h, 0.0, h),
@@ -184,7 +185,7 @@ pub fn textured_spheres() -> Scene {
     glowing.emissive = Vec3::splat(4.0);
     glowing.emissive_texture = Some(5);
 
-    let meshes = vec![ground(8.0, 4.0), uv_sphere("sphere", 48, 24)];
+    let meshes = vec![ground_plane(8.0, 4.0), uv_sphere("sphere", 48, 24)];
     let instances = vec![
         Instance {
             name: "ground".into(),

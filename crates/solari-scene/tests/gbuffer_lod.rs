@@ -3,15 +3,14 @@
 //! its albedo is within FLIP 0.05 of the raster one's, while reading mip 0 everywhere, as
 //! secondary rays do, aliases far beyond that (GPU: lavapipe in CI).
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use solari_scene::gbuffer::{GBuffer, GBufferProducer};
-use solari_scene::geometry::generate_normals;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::gpu_types::GpuView;
 use solari_scene::pass::FrameContext;
 use solari_scene::shaders::Backend;
-use solari_scene::textured_scene::procedural_texture;
+use solari_scene::textured_scene::{ground_plane, procedural_texture};
 use solari_scene::view_pass::ViewPass;
 use solari_scene::*;
 
@@ -20,28 +19,7 @@ const SIZE: (u32, u32) = (160, 96);
 /// A 200 × 200 plane whose 64-texel checker (8-texel cells) repeats 100 times, seen from 0.6
 /// above it towards the horizon, under no light (albedo is all that is compared).
 fn checker_plane() -> Scene {
-    let h = 100.0;
-    let positions = vec![
-        Vec3::new(-h, 0.0, h),
-        Vec3::new(h, 0.0, h),
-        Vec3::new(h, 0.0, -h),
-        Vec3::new(-h, 0.0, -h),
-    ];
-    let indices = vec![0, 1, 2, 0, 2, 3];
-    let repeat = 100.0;
-    let mesh = Mesh {
-        name: "plane".into(),
-        normals: generate_normals(&positions, &indices),
-        uvs: vec![
-            Vec2::new(0.0, repeat),
-            Vec2::new(repeat, repeat),
-            Vec2::new(repeat, 0.0),
-            Vec2::ZERO,
-        ],
-        tangents: vec![Vec4::new(1.0, 0.0, 0.0, 1.0); 4],
-        positions,
-        indices,
-    };
+    let mesh = ground_plane(200.0, 100.0);
     let checker = procedural_texture("checker", 64, 64, ColorSpace::Srgb, |x, y| {
         if (x / 8 + y / 8) % 2 == 0 {
             [240, 240, 240, 255]

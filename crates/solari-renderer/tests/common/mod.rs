@@ -5,12 +5,12 @@
 use solari_lights::LightTileSettings;
 #[allow(unused_imports)] // not every test file compares images
 pub use solari_reference::rmse;
-use solari_renderer::{FiniteCheck, RealtimeSettings};
+use solari_renderer::{FiniteCheck, RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDiSettings;
-use solari_scene::Scene;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
+use solari_scene::{Camera, Scene};
 
 /// Image side of the renderer tests.
 pub const SIZE: u32 = 64;
@@ -45,3 +45,44 @@ mod direct;
 
 #[allow(unused_imports)] // not every test file uses every helper
 pub use direct::{luminance, reference, reference_direct, rgb};
+
+/// The Cornell box on the test GPU: device, backend, scene, upload and camera.
+pub struct Cornell {
+    pub gpu: Gpu,
+    pub backend: Backend,
+    pub scene: Scene,
+    pub gpu_scene: GpuScene,
+    pub camera: Camera,
+}
+
+impl Cornell {
+    /// `None` where there is no adapter (and CI does not require one: `test_gpu`'s rule).
+    pub fn new() -> Option<Self> {
+        let gpu = solari_scene::gpu::test_gpu()?;
+        let backend = gpu.backend(Default::default()).expect("backend");
+        let scene = solari_scene::default_scene::cornell_box();
+        let gpu_scene = upload(&gpu, backend, &scene);
+        let camera = scene.camera(None).expect("camera");
+        Some(Self {
+            gpu,
+            backend,
+            scene,
+            gpu_scene,
+            camera,
+        })
+    }
+
+    /// A `SIZE × SIZE` renderer of the box with `settings`.
+    pub fn renderer(&self, settings: RealtimeSettings) -> RealtimeRenderer {
+        RealtimeRenderer::new(
+            &self.gpu,
+            self.backend,
+            &self.scene,
+            &self.gpu_scene,
+            SIZE,
+            SIZE,
+            settings,
+        )
+        .expect("renderer")
+    }
+}

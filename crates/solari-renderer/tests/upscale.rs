@@ -1,0 +1,145 @@
+//! The temporal upscaler in the renderer (`RealtimeSettings::internal_scale`, `antialias`),
+//! judged against the reference tracer's pixel-area average on the Cornell box: it smooths
+//! edges at full scale, and at half scale it stays near native, still or moving (GPU: lavapipe
+//! in CI). The pass itself lives in solari-denoise (`upscale.rs`).
+
+use solari_renderer::{CameraPath, RealtimeSettings};
+use solari_scene::Scene;
+use solari_scene::gpu::Gpu;
+use solari_scene::shaders::Backend;
+
+mod common;
+
+use common::{Cornell, SIZE, settings};
+
+/// Direct light over each pixel's area (the reference tracer at random sub-pixel positions)
+/// and at its centre, for the temporal upscaler's tests.
+fn area_and_centre_references(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let reference = |pixel_centre| {
+        let s = solari_reference::ReferenceSettings {
+            spp: 256,
+            max_bounces: 1,
+            selection: solari_lights::Selection::Power,
+            pixel_centre,
+        };
+        solari_reference::reference_image(gpu, backend, scene, SIZE, SIZE, &s)
+            .expect("reference")
+            .pixels
+    };
+    (reference(false), reference(true))
+}
+
+fn lum(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+/// RMSE of luminance against `reference` over `pixels`.
+fn lum_rmse(img: &[[f32; 4]], reference: &[[f32; 3]], pixels: &[usize]) -> f64 {
+    let sum: f64 = pixels
+        .iter()
+        .map(|&i| {
+            let d = lum([img[i][0], img[i][1], img[i][2]]) - lum(reference[i]);
+            (d * d) as f64
+        })
+        .sum();
+    (sum / pixels.len().max(1) as f64).sqrt()
+}
+
+/// 48 frames of the still Cornell box at `SIZE` output with the fallback denoiser: the last
+/// image and the renderer's output size.
+fn still_frames(c: &Cornell, internal_scale: f32, antialias: bool) -> (Vec<[f32; 4]>, (u32, u32)) {
+    let mut r = c.renderer(RealtimeSettings {
+        internal_scale,
+        antialias,
+        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
+        ..settings()
+    });
+    for _ in 0..48 {
+        r.render(&c.gpu, &c.scene, &c.gpu_scene, &c.camera)
+            .expect("frame");
+    }
+    (r.read_output(&c.gpu).expect("read back"), r.size())
+}
+
+/// The temporal upscaler at full scale antialiases: on a still Cornell box, 48 jittered and
+/// accumulated frames are closer than plain ones to the direct light averaged over each
+/// pixel's area, on the pixels where that average differs from the pixel centre's (edges, the
+/// emitter's included), and no farther elsewhere.
+#[test]
+fn the_temporal_upscaler_antialiases_edges() {
+    let Some(c) = Cornell::new() else { return };
+    let (area, centre) = area_and_centre_references(&c.gpu, c.backend, &c.scene);
+    let (edges, flat): (Vec<usize>, Vec<usize>) =
+        (0..area.len()).partition(|&i| (lum(area[i]) - lum(centre[i])).abs() > 0.05);
+    let (aa, size) = still_frames(&c, 1.0, true);
+    assert_eq!(size, (SIZE, SIZE));
+    let (plain, _) = still_frames(&c, 1.0, false);
+    let (ae, pe) = (
+        lum_rmse(&aa, &area, &edges),
+        lum_rmse(&plain, &area, &edges),
+    );
+    let (af, pf) = (lum_rmse(&aa, &area, &flat), lum_rmse(&plain, &area, &flat));
+    println!(
+        "{} edge pixels, RMSE against the area average: antialiased {ae:.4}, plain {pe:.4}; \
+         elsewhere {af:.4} and {pf:.4}",
+        edges.len()
+    );
+    assert!(edges.len() >= 30, "too few edge pixels: {}", edges.len());
+    assert!(ae < 0.7 * pe, "edges not smoothed: {ae} against {pe}");
+    assert!(
+        af < 1.2 * pf + 0.003,
+        "flat areas got worse: {af} against {pf}"
+    );
+}
+
+/// At half the output's width and height the upscaled image stays close to native: on a
+/// still Cornell box its error against the pixel-area reference is within 1.5× of the plain
+/// native image's, far below simply enlarging the half-size image.
+#[test]
+fn half_scale_upscales_to_near_native_error() {
+    let Some(c) = Cornell::new() else { return };
+    let (area, _) = area_and_centre_references(&c.gpu, c.backend, &c.scene);
+    let all: Vec<usize> = (0..area.len()).collect();
+    let (half, size) = still_frames(&c, 0.5, false);
+    assert_eq!(size, (SIZE, SIZE), "output at the full size");
+    let (native, _) = still_frames(&c, 1.0, false);
+    let (he, ne) = (lum_rmse(&half, &area, &all), lum_rmse(&native, &area, &all));
+    println!("RMSE against the area average: half scale upscaled {he:.4}, native {ne:.4}");
+    assert!(half.iter().flatten().all(|c| c.is_finite()));
+    assert!(he < 1.5 * ne, "half scale {he} against native {ne}");
+}
+
+/// Under a moving camera the upscaler follows the motion vectors: after 40 frames of the
+/// orbit at half scale, the last frame's error against the pixel-area reference for its own
+/// camera stays within 2× of a native frame's (no ghost trails), and every value is finite.
+#[test]
+fn half_scale_follows_a_moving_camera() {
+    let Some(c) = Cornell::new() else { return };
+    let frames = 40;
+    let run = |internal_scale: f32| {
+        let mut r = c.renderer(RealtimeSettings {
+            internal_scale,
+            denoiser: Some(solari_denoise::DenoiserKind::Fallback),
+            ..settings()
+        });
+        for frame in 0..frames {
+            let cam = CameraPath::Orbit.camera(&c.camera, &c.scene, frame);
+            r.render(&c.gpu, &c.scene, &c.gpu_scene, &cam)
+                .expect("frame");
+        }
+        r.read_output(&c.gpu).expect("read back")
+    };
+    let mut last = c.scene.clone();
+    last.cameras = vec![CameraPath::Orbit.camera(&c.camera, &c.scene, frames - 1)];
+    let (area, _) = area_and_centre_references(&c.gpu, c.backend, &last);
+    let all: Vec<usize> = (0..area.len()).collect();
+    let (half, native) = (run(0.5), run(1.0));
+    let (he, ne) = (lum_rmse(&half, &area, &all), lum_rmse(&native, &area, &all));
+    println!("moving camera, RMSE against the area average: half scale {he:.4}, native {ne:.4}");
+    assert!(half.iter().flatten().all(|c| c.is_finite()));
+    assert!(he < 2.0 * ne, "half scale {he} against native {ne}");
+}
