@@ -143,3 +143,34 @@ fn half_scale_follows_a_moving_camera() {
     assert!(half.iter().flatten().all(|c| c.is_finite()));
     assert!(he < 2.0 * ne, "half scale {he} against native {ne}");
 }
+
+/// Before any history exists, each output pixel takes one of the frame's own samples (the
+/// one inside it, or the closest): at half scale no pixel is a blend of distant neighbours,
+/// so a bright emitter cannot bleed into a dark pixel next to it.
+#[test]
+fn a_first_frame_takes_the_frames_own_samples() {
+    let Some(c) = Cornell::new() else { return };
+    let mut r = c.renderer(RealtimeSettings {
+        internal_scale: 0.5,
+        denoiser: Some(solari_denoise::DenoiserKind::None),
+        ..settings()
+    });
+    r.render(&c.gpu, &c.scene, &c.gpu_scene, &c.camera)
+        .expect("frame");
+    let samples: std::collections::HashSet<[u32; 3]> = r
+        .read_noisy(&c.gpu)
+        .expect("read")
+        .iter()
+        .map(|p| [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()])
+        .collect();
+    let out = r.read_output(&c.gpu).expect("read");
+    assert_eq!(out.len(), (SIZE * SIZE) as usize);
+    let foreign = out
+        .iter()
+        .filter(|p| !samples.contains(&[p[0].to_bits(), p[1].to_bits(), p[2].to_bits()]))
+        .count();
+    assert_eq!(
+        foreign, 0,
+        "{foreign} output pixels are not one of the frame's samples"
+    );
+}
