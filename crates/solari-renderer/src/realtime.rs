@@ -409,7 +409,7 @@ impl RealtimeRenderer {
         let (width, height) = created
             .denoiser
             .as_ref()
-            .map_or((output_width, output_height), |d| d.render_size());
+            .map_or(lighting_size, |d| d.render_size());
         let (producer, gbuffer_timing) =
             crate::gbuffer_choice::choose(gpu, scene, gpu_scene, settings.gbuffer, (width, height));
         let gbuffer = GBuffer::with_producer(

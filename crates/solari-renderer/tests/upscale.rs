@@ -157,9 +157,13 @@ fn a_first_frame_takes_the_frames_own_samples() {
     });
     r.render(&c.gpu, &c.scene, &c.gpu_scene, &c.camera)
         .expect("frame");
-    let samples: std::collections::HashSet<[u32; 3]> = r
-        .read_noisy(&c.gpu)
-        .expect("read")
+    let noisy = r.read_noisy(&c.gpu).expect("read");
+    assert_eq!(
+        noisy.len(),
+        (SIZE * SIZE / 4) as usize,
+        "lighting at half the width and height"
+    );
+    let samples: std::collections::HashSet<[u32; 3]> = noisy
         .iter()
         .map(|p| [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()])
         .collect();
