@@ -255,6 +255,19 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
     let mut wall = Times::new();
     let mut toggles = 0u64;
     let (mut last_progress, mut last_frames) = (Instant::now(), 0u64);
+    let progress = |tally: &Tally, done: u64, since: Instant, since_frames: u64| {
+        let bad: u64 = tally
+            .findings
+            .iter()
+            .map(|f| f.non_finite + f.negative)
+            .sum();
+        eprintln!(
+            "soak {name}: frame {done}/{} ({:.0} frames/s), {bad} non-finite/negative, {} cache overflows",
+            args.frames,
+            (done - since_frames) as f64 / since.elapsed().as_secs_f64().max(1e-9),
+            tally.overflow_total
+        );
+    };
     for frame in 0..args.frames {
         if let (Some(k), Some(t)) = (args.toggle_lights, toggle.as_mut())
             && frame > 0
@@ -294,23 +307,17 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             memory_max = memory_max.max(allocated(&gpu).unwrap_or(0));
             rss_max = rss_max.max(process_rss().unwrap_or(0));
         }
-        if args.progress_every > 0 && (done % args.progress_every == 0 || done == args.frames) {
-            let bad: u64 = tally
-                .findings
-                .iter()
-                .map(|f| f.non_finite + f.negative)
-                .sum();
-            eprintln!(
-                "soak {name}: frame {done}/{} ({:.0} frames/s), {bad} non-finite/negative, {} cache overflows",
-                args.frames,
-                (done - last_frames) as f64 / last_progress.elapsed().as_secs_f64().max(1e-9),
-                tally.overflow_total
-            );
+        if args.progress_every > 0 && done % args.progress_every == 0 && done < args.frames {
+            progress(&tally, done, last_progress, last_frames);
             (last_progress, last_frames) = (Instant::now(), done);
         }
     }
     for r in renderer.finish(&gpu).map_err(|e| e.to_string())? {
         tally.add(&r);
+    }
+    // The last line counts every frame, the ones still in flight when the loop ended too.
+    if args.progress_every > 0 {
+        progress(&tally, args.frames, last_progress, last_frames);
     }
     let Tally {
         findings,

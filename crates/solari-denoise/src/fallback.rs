@@ -79,8 +79,8 @@ pub struct FallbackDenoiser {
 }
 
 impl FallbackDenoiser {
-    /// Builds the passes and allocates `width × height` buffers (about 136 bytes per pixel:
-    /// 269 MiB at 1920×1080 for combined lighting, 96 bytes more per pixel for split).
+    /// Builds the passes and allocates `width × height` buffers (160 bytes per pixel: 316 MiB
+    /// at 1920×1080 for combined lighting, 96 bytes more per pixel for split).
     pub fn new(
         gpu: &Gpu,
         width: u32,

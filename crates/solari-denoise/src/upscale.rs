@@ -1,8 +1,8 @@
 //! The fallback path's temporal upscaler (`shaders/temporal_upscale.wesl`): the lighting is
 //! rendered at a fraction of the output's pixels with the camera jittered
 //! ([`solari_scene::gpu_types::halton_jitter`]), and this pass accumulates the jittered
-//! samples into an image at the output size: each frame's nearby samples weighted by their
-//! distance to the output pixel, last frame's accumulation reprojected through the motion
+//! samples into an image at the output size: each frame's samples that fall inside the output
+//! pixel (a box kernel), last frame's accumulation reprojected through the motion
 //! vectors and clamped to the range of this frame's neighbouring samples, the two merged by
 //! their weights. At a scale of 1 it antialiases (each pixel converges to its area average).
 //! DLSS-RR does this itself and does not use it.

@@ -186,7 +186,8 @@ pub struct RealtimeSettings {
     /// What the output shows (default the lit image).
     pub view: FrameView,
     /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
-    /// without them times are `None`). Waits for each frame to finish.
+    /// without them times are `None`). Times come with each frame's report (late with
+    /// [`RealtimeRenderer::submit`]).
     pub timestamps: bool,
     /// The denoiser: `None` picks the best available (DLSS-RR where it can run, else the
     /// fallback); the default is `Some(DenoiserKind::None)`, the raw image, so that library
@@ -393,6 +394,11 @@ impl RealtimeRenderer {
         dlss: &DlssAvailability,
     ) -> Result<Self, GpuError> {
         settings.validate().map_err(GpuError::Validation)?;
+        if output_width == 0 || output_height == 0 {
+            return Err(GpuError::Validation(format!(
+                "output size {output_width}×{output_height} is empty"
+            )));
+        }
         // With the temporal upscaler the lighting and its denoiser run at the render size,
         // and DLSS-RR (which upscales by itself) is not the best available.
         let upscaling = settings.upscaling();
@@ -885,18 +891,21 @@ impl RealtimeRenderer {
             cache.copy_stats(&mut last, &self.cache_readbacks[slot]);
             cache_readback = Some(slot);
         }
-        let submission = gpu.scoped(|| {
+        let submitted = gpu.scoped(|| {
             gpu.queue.submit(
                 std::iter::once(encoder.finish())
                     .chain(after)
                     .chain(std::iter::once(last.finish())),
             )
-        })?;
-        gpu.check_errors()?;
+        });
+        // The profiler's frame ends whatever happened, so the next frame's queries stay its
+        // own (reports pair with profiler frames in order).
         if let Some(p) = &mut self.profiler {
             p.end_frame()
                 .map_err(|e| GpuError::Validation(format!("GPU profiler: {e}")))?;
         }
+        let submission = submitted?;
+        gpu.check_errors()?;
         Ok(InFlight {
             frame,
             ran,
@@ -912,7 +921,16 @@ impl RealtimeRenderer {
         let mut times = [None; PASS_NAMES.len()];
         if let Some(p) = &mut self.profiler {
             // Frames reach the profiler in order, so its oldest pending frame is this one.
-            if let Some(results) = p.process_finished_frame(gpu.queue.get_timestamp_period()) {
+            let results = p.process_finished_frame(gpu.queue.get_timestamp_period());
+            if results.is_none() {
+                // Its queries were not mapped although the frame is done: this report goes
+                // untimed, and the next one would read this frame's times, so say so.
+                log::warn!(
+                    "frame {}: GPU times not ready; reports may be a frame off",
+                    f.frame
+                );
+            }
+            if let Some(results) = results {
                 for r in results {
                     let ms = r.time.map(|t| (t.end - t.start) * 1e3);
                     if let Some(i) = PASS_NAMES.iter().position(|n| *n == r.label) {
@@ -959,8 +977,8 @@ impl RealtimeRenderer {
     }
 
     /// The last frame's linear radiance (denoised, when a denoiser is on), row by row from
-    /// the top left (w: 1 on surfaces, 0 on background; 1 everywhere after DLSS-RR, whose
-    /// upscaled output has no surface mask), at [`RealtimeRenderer::size`].
+    /// the top left (w: 1 on surfaces, 0 on background; 1 everywhere after DLSS-RR or the
+    /// temporal upscaler, whose outputs have no surface mask), at [`RealtimeRenderer::size`].
     pub fn read_output(&self, gpu: &Gpu) -> Result<Vec<[f32; 4]>, GpuError> {
         if let Some(u) = &self.upscaler {
             let (w, h) = u.output_size();

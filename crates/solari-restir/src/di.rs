@@ -43,6 +43,8 @@ pub struct RestirDi {
 struct PixelBuffers {
     output: wgpu::Buffer,
     finals: [wgpu::Buffer; 2],
+    // Kept for the memory report (the bind groups hold it too).
+    initial: wgpu::Buffer,
     groups: [wgpu::BindGroup; 2],
 }
 
@@ -83,11 +85,11 @@ fn record(
 }
 
 impl RestirDi {
-    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs and image, parameters
-    /// and the light-id translation table.
+    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs (initial and two
+    /// final) and image, parameters and the light-id translation table.
     pub fn memory_bytes(&self) -> u64 {
         let pixels = self.buffers.as_ref().map_or(0, |b| {
-            b.output.size() + b.finals.iter().map(|f| f.size()).sum::<u64>()
+            b.output.size() + b.initial.size() + b.finals.iter().map(|f| f.size()).sum::<u64>()
         });
         pixels + self.params.size() + self.translation.size()
     }
@@ -232,6 +234,7 @@ impl RestirDi {
         self.buffers = Some(PixelBuffers {
             output,
             finals,
+            initial,
             groups,
         });
         self.size = (width, height);

@@ -1,4 +1,5 @@
-//! The G-buffer: per pixel, what a primary ray sees at the pixel centre (material after
+//! The G-buffer: per pixel, what a primary ray sees at the pixel's sample position (its centre,
+//! moved by the view's jitter when [`GBuffer::prepare_jittered`] asks for one: material after
 //! textures, normals after normal mapping, depth) plus screen-space motion vectors from last
 //! frame's camera and instance transforms.
 //!

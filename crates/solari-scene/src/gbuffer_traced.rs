@@ -1,5 +1,5 @@
 //! The traced G-buffer producer (`shaders/gbuffer_traced.wesl`): one primary ray per pixel
-//! centre through the scene's tracing backend, in a compute pass that writes the targets as
+//! (through its centre plus the view's jitter) through the scene's tracing backend, in a compute pass that writes the targets as
 //! storage textures.
 
 use crate::error::GpuError;

@@ -13,6 +13,8 @@ use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
 pub const MAX_ROCKS: u32 = 1 << 16;
 /// Most triangles per rock.
 pub const MAX_ROCK_TRIANGLES: u32 = 1 << 20;
+/// Most triangles in all (2^28: indices of every rock together stay well inside `u32`).
+pub const MAX_FIELD_TRIANGLES: u64 = 1 << 28;
 
 // Distance between rock centres, in rock radii.
 const SPACING: f32 = 3.0;
@@ -27,6 +29,12 @@ pub fn rock_field(rocks: u32, triangles: u32) -> Result<Scene, String> {
     if !(16..=MAX_ROCK_TRIANGLES).contains(&triangles) {
         return Err(format!(
             "triangles per rock must be 16 to {MAX_ROCK_TRIANGLES}, not {triangles}"
+        ));
+    }
+    if rocks as u64 * triangles as u64 > MAX_FIELD_TRIANGLES {
+        return Err(format!(
+            "{rocks} rocks of {triangles} triangles make more than {MAX_FIELD_TRIANGLES} \
+             triangles in all"
         ));
     }
     // A UV sphere of s segments and r rings has 2·s·(r − 1) triangles; keep s ≈ 2r.
