@@ -13,7 +13,7 @@
 # --frames 400 --frames-in-flight 2 --size 1920x1080 --json --report ...` (per-pass GPU times
 # per frame, wall and GPU frame time in the summary), raster, traced, then auto (the choice it
 # makes, in its log). Locally: SOLARI_BIN=target/release/solari RESULTS=/tmp/g OUT=/tmp/o
-# SIZE=160x90 FRAMES=8 bash benches/results/gbuffer_h200.sh Everything lands in $OUT/gbuffer_h200.tar.gz (the device
+# SIZE=160x90 FRAMES=8 bash benches/results/gbuffer_h200.sh (SCENES and MODES narrow the run) Everything lands in $OUT/gbuffer_h200.tar.gz (the device
 # tool returns at most 8 files).
 set -u
 source benches/results/device_env.sh
@@ -22,12 +22,13 @@ R=${RESULTS:-/root/gbuffer}
 mkdir -p "$R"
 SIZE=${SIZE:-1920x1080}
 FRAMES=${FRAMES:-400}
+SCENES=${SCENES:-$(ls .dev/scenes)}
+MODES=${MODES:-raster traced auto}
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
-for d in .dev/scenes/*/; do
-  s=$(basename "$d")
-  f=$(ls "$d"*.gltf 2>/dev/null | head -n 1)
+for s in $SCENES; do
+  f=$(ls .dev/scenes/"$s"/*.gltf 2>/dev/null | head -n 1)
   [ -n "$f" ] || continue
-  for g in raster traced auto; do
+  for g in $MODES; do
     echo "== $s $g $(date -u +%T)" >&2
     RUST_LOG=info "$BIN" render "$f" --mode realtime --gi cache --denoiser fallback \
       --gbuffer "$g" --frames "$FRAMES" --frames-in-flight 2 --size "$SIZE" --json \
