@@ -17,6 +17,7 @@ import sys
 # Component: (criterion group, case suffix or None for "<scene>/<n>_lights", realtime passes).
 COMPONENTS = [
     ("light tiles", "light_tiles", None, ["light_tiles"]),
+    ("light tiles, after the G-buffer", "light_tiles", "after_gbuffer", ["light_tiles"]),
     ("ReSTIR DI", "restir_di", "software", ["di_initial_temporal", "di_spatial_shade"]),
     (
         "world cache + cache GI",
@@ -66,8 +67,9 @@ def main():
             bench = criterion_ms(root, "traversal", f"{scene}_software_{kind}")
             rows.append((scene, f"traversal, {kind}", bench, rays[key]))
         for name, group, suffix, passes in COMPONENTS:
-            if suffix is None:
-                cases = glob.glob(os.path.join(root, "criterion", group, f"{scene}_*_lights"))
+            if suffix in (None, "after_gbuffer"):
+                pattern = f"{scene}_*_lights" + ("_after_gbuffer" if suffix else "")
+                cases = glob.glob(os.path.join(root, "criterion", group, pattern))
                 if not cases:
                     continue
                 case = os.path.basename(cases[0])

@@ -1,5 +1,8 @@
 //! Light-tile filling's GPU time per scene (Solari's default 128 tiles × 1024 samples), from
-//! encoder timestamps around the pass ([`PassTimer::time_span`]); throughput in samples.
+//! encoder timestamps around the pass ([`PassTimer::time_span`]); throughput in samples. Two
+//! cases per scene: the pass alone (`<scene>/<n>_lights`), and the pass right after the traced
+//! G-buffer in the same command buffer (`.../after_gbuffer`, 1920×1080), as the real-time
+//! frame runs it: the pass alone reads 8–18% faster than in the frame (benches/RESULTS.md).
 //!
 //! `cargo bench -p solari-lights --bench light_tiles`: the bundled scenes and every scene in
 //! `../shared/scenes` when it is there. Under `cargo test` (CI, lavapipe) each case runs
@@ -7,7 +10,9 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::gpu_timer::{PassTimer, full_bench};
 use solari_scene::pass::FrameContext;
 use std::time::Duration;
@@ -47,6 +52,35 @@ fn light_tiles(c: &mut Criterion) {
                             tiles.encode(e, &context, &lights);
                             Ok(())
                         })
+                        .expect("timed tiles");
+                }
+                Duration::from_secs_f64(ms * 1e-3)
+            })
+        });
+        // In the frame's context: after the G-buffer, recorded untimed just before.
+        let size = if full { (1920, 1080) } else { (64, 64) };
+        let backend = gpu.backend(Default::default()).expect("backend");
+        let gpu_scene =
+            GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("upload");
+        let variant = TraceVariant::for_scene(&gpu_scene);
+        let mut gbuffer =
+            GBuffer::traced(&gpu, backend, variant, size.0, size.1).expect("G-buffer");
+        group.bench_function(format!("{name}/{}_lights/after_gbuffer", list.len()), |b| {
+            b.iter_custom(|iters| {
+                let mut ms = 0.0;
+                for frame in 0..iters {
+                    let context = FrameContext::new(frame as u32, size, &camera, None);
+                    tiles.prepare(&gpu, &context);
+                    gbuffer.prepare(&gpu, &scene, &camera).expect("prepare");
+                    ms += timer
+                        .time_span_after(
+                            &gpu,
+                            |e| gbuffer.encode(e, &context, &gpu_scene).map(drop),
+                            |e| {
+                                tiles.encode(e, &context, &lights);
+                                Ok(())
+                            },
+                        )
                         .expect("timed tiles");
                 }
                 Duration::from_secs_f64(ms * 1e-3)

@@ -75,6 +75,18 @@ impl PassTimer {
         gpu: &Gpu,
         record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
     ) -> Result<f64, GpuError> {
+        self.time_span_after(gpu, |_| Ok(()), record)
+    }
+
+    /// As [`PassTimer::time_span`], with `before` recorded untimed in the same command
+    /// buffer just ahead of the span: a pass measured in the context a frame gives it (after
+    /// the passes that precede it there) rather than alone.
+    pub fn time_span_after(
+        &self,
+        gpu: &Gpu,
+        before: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
+        record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
+    ) -> Result<f64, GpuError> {
         if !gpu
             .features
             .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
@@ -85,6 +97,7 @@ impl PassTimer {
             )));
         }
         self.time(gpu, |encoder, (queries, first)| {
+            before(encoder)?;
             encoder.write_timestamp(queries, first);
             record(encoder)?;
             encoder.write_timestamp(queries, first + 1);
