@@ -1,15 +1,20 @@
-//! The fallback denoiser on a G-buffer the caller drew (bound by `ExternalGBuffer`) gives
-//! exactly what it gives on Solari's own G-buffer: here the caller's textures are copies of
-//! Solari's, alternated between two sets as an engine would, under a moving camera so that
-//! history and reprojection take part (GPU: lavapipe in CI).
+//! The fallback denoiser and the temporal upscaler on a G-buffer the caller drew (bound by
+//! `ExternalGBuffer`) give exactly what they give on Solari's own G-buffer: here the caller's
+//! textures are copies of Solari's, alternated between two sets as an engine would, under a
+//! moving, jittered camera so that history, reprojection and jitter take part (GPU: lavapipe
+//! in CI).
 
 use glam::Vec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_denoise::{Denoiser, DenoiserInputs, FallbackDenoiser, FallbackSettings, Lighting};
+use solari_denoise::{
+    Denoiser, DenoiserInputs, FallbackDenoiser, FallbackSettings, Lighting, TemporalUpscaler,
+    UpscaleSettings,
+};
 use solari_scene::gbuffer::{DEPTH_FORMAT, EMISSION_FORMAT, GBUFFER_FORMAT, MOTION_FORMAT};
 use solari_scene::gbuffer_input::{ExternalGBuffer, GBufferViews};
 use solari_scene::gpu::Gpu;
+use solari_scene::gpu_types::halton_jitter;
 use solari_scene::pass::FrameContext;
 
 mod common;
@@ -25,13 +30,24 @@ fn targets(gpu: &Gpu) -> [wgpu::Texture; 4] {
 }
 
 #[test]
-fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
+fn the_fallback_denoiser_and_upscaler_read_an_external_gbuffer_exactly_as_their_own() {
     let Some(mut h) = Harness::new() else { return };
     let settings = FallbackSettings::default();
     let mut own = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
     let mut external_denoiser =
         FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
     let mut external = ExternalGBuffer::new(&h.gpu, SIZE, SIZE).expect("external");
+    // Upscaling to twice the size, on each G-buffer.
+    let upscaler = || {
+        TemporalUpscaler::new(
+            &h.gpu,
+            (SIZE, SIZE),
+            (2 * SIZE, 2 * SIZE),
+            UpscaleSettings::default(),
+        )
+        .expect("upscaler")
+    };
+    let (mut own_upscaler, mut external_upscaler) = (upscaler(), upscaler());
     let sets = [targets(&h.gpu), targets(&h.gpu)];
     let views: Vec<Vec<wgpu::TextureView>> = sets
         .iter()
@@ -54,6 +70,7 @@ fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
     let mut compared = 0;
     for frame in 0..8usize {
         h.camera_offset = Vec3::new(0.02 * frame as f32, 0.0, 0.0);
+        h.jitter = halton_jitter(frame as u32);
         let input: Vec<[f32; 4]> = (0..n)
             .map(|_| {
                 let v = 0.5 + rng.random::<f32>();
@@ -80,7 +97,7 @@ fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
         camera.transform = glam::Mat4::from_translation(h.camera_offset) * camera.transform;
         let previous = (frame > 0).then(|| bind(1 - now));
         external
-            .prepare(&h.gpu, &camera, bind(now), previous)
+            .prepare_jittered(&h.gpu, &camera, bind(now), previous, h.jitter)
             .expect("bind the caller's G-buffer");
         let mut after = Vec::new();
         let lighting = Lighting::Combined(h.write_lighting(&input));
@@ -101,6 +118,23 @@ fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
             let encoded = denoiser.encode(&h.gpu, &mut encoder, &context, &inputs);
             after.extend(encoded.expect("encode").after);
         }
+        let context = FrameContext::new(frame as u32, (SIZE, SIZE), &camera, None);
+        for (upscaler, gbuffer, denoised) in [
+            (
+                &mut own_upscaler,
+                h.gbuffer() as &dyn solari_scene::gbuffer_input::GBufferSource,
+                own.output(),
+            ),
+            (
+                &mut external_upscaler,
+                &external,
+                external_denoiser.output(),
+            ),
+        ] {
+            upscaler
+                .encode(&h.gpu, &mut encoder, &context, gbuffer, denoised, false)
+                .expect("upscale");
+        }
         h.gpu
             .queue
             .submit(std::iter::once(encoder.finish()).chain(after));
@@ -117,6 +151,13 @@ fn the_fallback_denoiser_reads_an_external_gbuffer_exactly_as_its_own() {
         );
         let differing = a.iter().zip(b).filter(|(p, q)| p != q).count();
         assert_eq!(differing, 0, "frame {frame}: {differing} pixels differ");
+        let up = 4 * bytes;
+        let a = h.gpu.read_buffer(own_upscaler.output(), up).expect("read");
+        let b = h
+            .gpu
+            .read_buffer(external_upscaler.output(), up)
+            .expect("read");
+        assert_eq!(a, b, "frame {frame}: the upscaled images differ");
         compared += n;
     }
     assert!(h.gpu.check_errors().is_ok());

@@ -243,11 +243,27 @@ impl ExternalGBuffer {
         current: GBufferViews,
         previous: Option<GBufferViews>,
     ) -> Result<(), GpuError> {
+        self.prepare_jittered(gpu, camera, current, previous, [0.0; 2])
+    }
+
+    /// As [`ExternalGBuffer::prepare`], for a G-buffer your renderer drew with its samples
+    /// `jitter` pixels off the pixel centres (x right, y down: the point a ray through
+    /// centre + jitter meets lands on the pixel centre), so readers reconstruct positions
+    /// where you sampled them and the temporal upscaler can accumulate them. Your motion
+    /// vectors should stay unjittered.
+    pub fn prepare_jittered(
+        &mut self,
+        gpu: &Gpu,
+        camera: &Camera,
+        current: GBufferViews,
+        previous: Option<GBufferViews>,
+        jitter: [f32; 2],
+    ) -> Result<(), GpuError> {
         current.check("this frame's", self.size)?;
         if let Some(previous) = &previous {
             previous.check("last frame's", self.size)?;
         }
-        let view = GpuView::new(camera, self.size.0, self.size.1);
+        let view = GpuView::new(camera, self.size.0, self.size.1).with_jitter(jitter);
         self.history_valid = previous.is_some() && self.last_view.is_some();
         let before = previous.unwrap_or(current);
         let views = GpuFrameViews {

@@ -31,6 +31,9 @@ pub struct Harness {
     pub gpu: Gpu,
     /// Added to the camera's position for the next frames (default zero).
     pub camera_offset: Vec3,
+    /// The G-buffer's sample offset from the pixel centres for the next frames (default
+    /// zero).
+    pub jitter: [f32; 2],
     scene: Scene,
     gpu_scene: GpuScene,
     gbuffer: GBuffer,
@@ -61,6 +64,7 @@ impl Harness {
         Some(Self {
             gpu,
             camera_offset: Vec3::ZERO,
+            jitter: [0.0; 2],
             scene,
             gpu_scene,
             gbuffer,
@@ -83,7 +87,7 @@ impl Harness {
         let mut camera = self.scene.camera(None).expect("camera");
         camera.transform = glam::Mat4::from_translation(self.camera_offset) * camera.transform;
         self.gbuffer
-            .prepare(&self.gpu, &self.scene, &camera)
+            .prepare_jittered(&self.gpu, &self.scene, &camera, self.jitter)
             .expect("prepare");
         let frame = FrameContext::new(0, (SIZE, SIZE), &camera, None);
         let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
