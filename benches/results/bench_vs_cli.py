@@ -33,7 +33,10 @@ COMPONENTS = [
 
 
 def criterion_ms(root, group, case):
+    """Criterion's median in ms, or None where that bench was not run."""
     path = os.path.join(root, "criterion", group, case, "new", "estimates.json")
+    if not os.path.exists(path):
+        return None
     with open(path) as f:
         return json.load(f)["median"]["point_estimate"] * 1e-6
 
@@ -61,11 +64,15 @@ def main():
     )
     rows = []
     for scene in scenes:
-        with open(os.path.join(root, "cli", f"rays_{scene}.jsonl")) as f:
-            rays = json.loads(f.readline())
+        rays_path = os.path.join(root, "cli", f"rays_{scene}.jsonl")
+        rays = {}
+        if os.path.exists(rays_path):  # a run limited to some benches skips bench-rays
+            with open(rays_path) as f:
+                rays = json.loads(f.readline())
         for kind, key in [("primary", "primary_ms"), ("primary+hemi", "ao_ms")]:
             bench = criterion_ms(root, "traversal", f"{scene}_software_{kind}")
-            rows.append((scene, f"traversal, {kind}", bench, rays[key]))
+            if bench is not None and key in rays:
+                rows.append((scene, f"traversal, {kind}", bench, rays[key]))
         for name, group, suffix, passes in COMPONENTS:
             if suffix in (None, "after_gbuffer"):
                 pattern = f"{scene}_*_lights" + ("_after_gbuffer" if suffix else "")
@@ -76,9 +83,10 @@ def main():
             else:
                 case = f"{scene}_{suffix}"
             cli = realtime_ms(root, scene, passes)
-            if cli is None:
+            bench = criterion_ms(root, group, case)
+            if cli is None or bench is None:
                 continue
-            rows.append((scene, name, criterion_ms(root, group, case), cli))
+            rows.append((scene, name, bench, cli))
     print("| scene | component | cargo bench ms | CLI ms | difference |")
     print("|---|---|---|---|---|")
     worst = 0.0
