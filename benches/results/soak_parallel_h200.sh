@@ -15,7 +15,9 @@
 #   SEQUENTIAL=1 RUNS="interior:1000 sun_boxes:" bash benches/results/soak_parallel_h200.sh start
 #   bash benches/results/soak_parallel_h200.sh poll 570
 # RUNS lists scene:toggle pairs (empty toggle: static lights); FRAMES defaults to 100000;
-# SEQUENTIAL=1 runs them one after another. The machine goes back 30 s after a command ends
+# SEQUENTIAL=1 runs them one after another. Never pipe `start` (e.g. into `tail`): the runs
+# inherit its stdout, so the pipe stays open, the device command runs into its time limit and
+# looks failed, and a second `start` would run a second chain beside the first. The machine goes back 30 s after a command ends
 # with no next one, killing the runs: issue the polls back to back.
 # Settings as in soak_h200_2026-11-23.sh: 1920x1080, orbit camera, cache GI, fallback
 # denoiser, software BVH, the non-finite detector on every pass of every frame.
