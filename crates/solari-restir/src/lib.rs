@@ -47,15 +47,28 @@
 //! README has a compiled one.
 
 pub mod di;
+pub mod gi;
+pub mod gi_reservoir;
+pub mod gi_settings;
 pub mod reservoir;
 pub mod settings;
 
 pub use di::{DI_BINDINGS, PASS_LABELS, RestirDi};
+pub use gi::{GI_BINDINGS, GI_PASS_LABELS, GI_TARGET_BINDINGS, RestirGi};
+pub use gi_reservoir::{GpuGiReservoir, gi_reservoir_check};
+pub use gi_settings::{GpuGiParams, RestirGiSettings};
 pub use reservoir::{GpuReservoir, reservoir_check};
 pub use settings::{GpuDiParams, RestirDiSettings};
 
 /// The crate's importable WGSL modules, by module name.
-pub const MODULES: &[(&str, &str)] = &[("restir_di", include_str!("../shaders/restir_di.wesl"))];
+pub const MODULES: &[(&str, &str)] = &[
+    (
+        "restir_common",
+        include_str!("../shaders/restir_common.wesl"),
+    ),
+    ("restir_di", include_str!("../shaders/restir_di.wesl")),
+    ("restir_gi", include_str!("../shaders/restir_gi.wesl")),
+];
 
 /// The crate's entry-point shaders, by module name.
 pub const ENTRY_POINTS: &[(&str, &str)] = &[
@@ -82,6 +95,24 @@ pub fn modules() -> Vec<(&'static str, &'static str)> {
         ENTRY_POINTS,
     ]
     .concat()
+}
+
+/// ReSTIR GI's entry-point shaders, by module name.
+pub const GI_ENTRY_POINTS: &[(&str, &str)] = &[
+    (
+        "restir_gi_initial",
+        include_str!("../shaders/restir_gi_initial.wesl"),
+    ),
+    (
+        "restir_gi_spatial",
+        include_str!("../shaders/restir_gi_spatial.wesl"),
+    ),
+];
+
+/// Every module ReSTIR GI's shaders need beyond `solari-scene`'s: the world cache's and this
+/// crate's.
+pub fn gi_modules() -> Vec<(&'static str, &'static str)> {
+    [solari_worldcache::MODULES, MODULES, GI_ENTRY_POINTS].concat()
 }
 
 /// The README's example, compiled and run as a doc test.

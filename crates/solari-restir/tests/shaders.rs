@@ -81,3 +81,56 @@ fn bindings_are_bound_by_their_wgsl_names() {
     )
     .unwrap_or_else(|e| panic!("{e}"));
 }
+
+fn gi_layouts() -> CheckedShaders {
+    use solari_restir::{GI_ENTRY_POINTS, gi_modules};
+    let own: Vec<_> = [MODULES, GI_ENTRY_POINTS].concat();
+    CheckedShaders::new(&own, GI_ENTRY_POINTS, &gi_modules())
+}
+
+#[test]
+fn gi_entry_points_compose_and_mirrors_match() {
+    use solari_restir::{GpuGiParams, GpuGiReservoir};
+    let l = gi_layouts();
+    l.mirror(
+        "GiReservoir",
+        size_of::<GpuGiReservoir>(),
+        &[
+            ("position", offset_of!(GpuGiReservoir, position)),
+            ("weight", offset_of!(GpuGiReservoir, weight)),
+            ("radiance", offset_of!(GpuGiReservoir, radiance)),
+            ("normal", offset_of!(GpuGiReservoir, normal)),
+            ("confidence", offset_of!(GpuGiReservoir, confidence)),
+        ],
+    );
+    l.mirror(
+        "GiParams",
+        size_of::<GpuGiParams>(),
+        &[
+            ("flags", offset_of!(GpuGiParams, flags)),
+            ("spatial_radius", offset_of!(GpuGiParams, spatial_radius)),
+            ("jacobian_bound", offset_of!(GpuGiParams, jacobian_bound)),
+            (
+                "max_ray_distance",
+                offset_of!(GpuGiParams, max_ray_distance),
+            ),
+        ],
+    );
+}
+
+#[test]
+fn gi_bindings_are_bound_by_their_wgsl_names() {
+    use solari_restir::{GI_BINDINGS, GI_TARGET_BINDINGS, gi_modules};
+    use solari_scene::bindings::check_groups;
+    use solari_worldcache::CACHE_BINDINGS;
+    let initial = [&GI_BINDINGS, &CACHE_BINDINGS];
+    let spatial = [&GI_BINDINGS, &GI_TARGET_BINDINGS];
+    check_groups(
+        &[
+            ("restir_gi_initial", &initial),
+            ("restir_gi_spatial", &spatial),
+        ],
+        &gi_modules(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+}

@@ -1,0 +1,333 @@
+//! ReSTIR GI: per-pixel diffuse indirect light from one traced sample per pixel, reused across
+//! frames and neighbouring pixels, with the world cache ending every path.
+//!
+//! ## The algorithm (after Solari 0.17–0.19)
+//!
+//! 1. **Initial sample**: a cosine-distributed direction about the shading normal is traced.
+//!    At its hit, the radiance toward the pixel is the hit's base colour times the world
+//!    cache's irradiance / π there (its total channel: the hit's direct light belongs to GI).
+//!    Emissive hits give no sample (ReSTIR DI owns that light); a miss gives a far sample
+//!    point lit by the scene's constant environment. W = π / cos.
+//! 2. **Temporal reuse** of last frame's final reservoir at the reprojected pixel, permuted
+//!    within 4×4 blocks, rejected where the surfaces differ; confidence capped
+//!    ([`RestirGiSettings::confidence_cap`]).
+//! 3. **Spatial reuse** of one neighbour ([`RestirGiSettings::spatial_radius`], up to
+//!    [`RestirGiSettings::spatial_tries`] tries with the radius halved), whose sample point
+//!    must be visible from the pixel (one ray).
+//! 4. **Merges** are generalised RIS with the balance heuristic over confidence-weighted
+//!    target functions (the diffuse lobe's contribution, luminance of L · f · cos), made
+//!    comparable by the reconnection Jacobian in both directions; reuse is refused where
+//!    either Jacobian exceeds [`RestirGiSettings::jacobian_bound`]. The CPU twin is
+//!    [`crate::gi_reservoir`].
+//! 5. The merged reservoir is stored for the next frame, then shaded: its contribution
+//!    times W is added to the target image. Diffuse lobe only; smooth metals (metallic
+//!    > 0.9999, roughness ≤ 0.4) skip the passes.
+//!
+//! With [`RestirGiSettings::plain`] (no reuse) this is plain path GI: the initial sample
+//! shaded as it is, an unbiased one-sample estimate of the cache-terminated bounce.
+//!
+//! ## Memory
+//!
+//! Two reservoir buffers of 32 bytes per pixel (66 MB each at 1920×1080): the initial pass
+//! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
+//! buffer is needed.
+
+use crate::gi_reservoir::GpuGiReservoir;
+use crate::gi_settings::{GpuGiParams, RestirGiSettings, flags};
+use bytemuck::Zeroable;
+use solari_scene::GpuError;
+use solari_scene::bindings::{Buf, BufferGroup};
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_input::GBufferSource;
+use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::pass::{FrameContext, Ran};
+use solari_scene::shaders::{Backend, compose};
+use solari_worldcache::WorldCache;
+
+/// Bind group 2 of the GI shaders (`restir_gi.wesl`) below the world cache's bindings, by
+/// WGSL name.
+pub const GI_BINDINGS: BufferGroup = BufferGroup::new(
+    2,
+    0,
+    &[
+        ("gi_params", Buf::Uniform),
+        ("gi_history", Buf::ReadWrite),
+        ("gi_initial", Buf::ReadWrite),
+    ],
+);
+
+/// Bind group 3 of the GI shaders: the image shading adds to.
+pub const GI_TARGET_BINDINGS: BufferGroup = BufferGroup::new(3, 0, &[("lit", Buf::ReadWrite)]);
+
+/// Labels of the two dispatches (and profiler scopes).
+pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
+
+/// ReSTIR GI: reads the G-buffer (group 1), the scene (group 0) and the world cache, and adds
+/// diffuse indirect light to a target image (`vec4<f32>` per pixel, group 3,
+/// [`RestirGi::target_group`]).
+pub struct RestirGi {
+    settings: RestirGiSettings,
+    variant: TraceVariant,
+    size: (u32, u32),
+    initial: wgpu::ComputePipeline,
+    spatial: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    target_layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    buffers: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    group: Option<wgpu::BindGroup>,
+    frame: u32,
+    history: bool,
+}
+
+impl RestirGi {
+    /// Builds the pipelines for scenes uploaded with `backend` and traced with `variant`,
+    /// and allocates `width × height` reservoirs bound with `cache`'s table.
+    pub fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        variant: TraceVariant,
+        width: u32,
+        height: u32,
+        settings: RestirGiSettings,
+        cache: &WorldCache,
+    ) -> Result<Self, GpuError> {
+        settings.validate()?;
+        let variant = variant.for_backend(backend);
+        let mut entries = GI_BINDINGS.layout_entries(wgpu::ShaderStages::COMPUTE);
+        entries.extend(WorldCache::layout_entries(wgpu::ShaderStages::COMPUTE));
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_restir/gi"),
+                entries: &entries,
+            });
+        let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let gbuffer_layout = GBuffer::reader_layout(gpu);
+        let layouts = [
+            Some(&scene_layout),
+            Some(&gbuffer_layout),
+            Some(&layout),
+            Some(&target_layout),
+        ];
+        let modules = crate::gi_modules();
+        let pipeline = |entry: &str| -> Result<_, GpuError> {
+            let wgsl = compose(entry, backend, &modules)?;
+            gpu.compute_pipeline(
+                &format!("solari_restir/{entry}"),
+                &wgsl,
+                &layouts,
+                ShaderChecks::BoundsOnly,
+                variant.constants(),
+            )
+        };
+        let initial = pipeline("restir_gi_initial")?;
+        let spatial = pipeline("restir_gi_spatial")?;
+        let params = gpu.uniform_buffer("solari_restir/gi_params", &GpuGiParams::zeroed());
+        let mut gi = Self {
+            settings,
+            variant,
+            size: (0, 0),
+            initial,
+            spatial,
+            layout,
+            target_layout,
+            params,
+            buffers: None,
+            group: None,
+            frame: 0,
+            history: false,
+        };
+        gi.resize(gpu, width, height, cache)?;
+        Ok(gi)
+    }
+
+    /// GPU memory ReSTIR GI holds, in bytes: two reservoirs per pixel and the parameters.
+    pub fn memory_bytes(&self) -> u64 {
+        let pixels = self
+            .buffers
+            .as_ref()
+            .map_or(0, |(a, b)| a.size() + b.size());
+        pixels + self.params.size()
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> RestirGiSettings {
+        self.settings
+    }
+
+    /// Changes the settings; history is kept (every knob is valid with any history).
+    pub fn set_settings(&mut self, settings: RestirGiSettings) -> Result<(), GpuError> {
+        settings.validate()?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// The traversal the pipelines were built for; [`RestirGi::encode`] refuses a scene this
+    /// variant cannot trace.
+    pub fn variant(&self) -> TraceVariant {
+        self.variant
+    }
+
+    /// Reallocates the reservoirs (64 bytes per pixel) and binds them with `cache`'s table
+    /// (call it too after the cache was rebuilt); history restarts.
+    pub fn resize(
+        &mut self,
+        gpu: &Gpu,
+        width: u32,
+        height: u32,
+        cache: &WorldCache,
+    ) -> Result<(), GpuError> {
+        let pixels = width as u64 * height as u64;
+        if pixels == 0 {
+            return Err(GpuError::Validation(format!(
+                "ReSTIR GI image size {width}×{height} is empty"
+            )));
+        }
+        let bytes = pixels * size_of::<GpuGiReservoir>() as u64;
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        if bytes > limit {
+            return Err(GpuError::OverLimit {
+                what: "ReSTIR GI reservoirs".into(),
+                needed: bytes,
+                limit,
+            });
+        }
+        let buffer = |label: &str| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            })
+        };
+        let history = buffer("solari_restir/gi_history");
+        let initial = buffer("solari_restir/gi_initial");
+        let mut entries = GI_BINDINGS.entries(&[
+            ("gi_params", &self.params),
+            ("gi_history", &history),
+            ("gi_initial", &initial),
+        ]);
+        entries.extend(cache.bind_group_entries());
+        self.group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_restir/gi"),
+            layout: &self.layout,
+            entries: &entries,
+        }));
+        self.buffers = Some((history, initial));
+        self.size = (width, height);
+        self.history = false;
+        Ok(())
+    }
+
+    /// The bind group of the image shading adds to (`width × height` `vec4<f32>`, row by
+    /// row), for example [`crate::RestirDi::output`].
+    pub fn target_group(&self, gpu: &Gpu, target: &wgpu::Buffer) -> wgpu::BindGroup {
+        GI_TARGET_BINDINGS.bind(
+            gpu,
+            "solari_restir/gi_target",
+            &self.target_layout,
+            &[("lit", target)],
+        )
+    }
+
+    /// Drops history: the next frame uses no temporal reuse (for camera cuts).
+    pub fn reset(&mut self) {
+        self.history = false;
+    }
+
+    /// Writes the frame's parameters. `gbuffer` is the G-buffer this frame reads (its
+    /// history decides whether temporal reuse may run).
+    pub fn prepare(&mut self, gpu: &Gpu, frame: &FrameContext, gbuffer: &dyn GBufferSource) {
+        self.frame = frame.index;
+        let s = self.settings;
+        let mut bits = 0;
+        if s.temporal {
+            bits |= flags::TEMPORAL;
+        }
+        if s.spatial {
+            bits |= flags::SPATIAL;
+        }
+        if s.permutation_sampling {
+            bits |= flags::PERMUTATION;
+        }
+        if self.history && gbuffer.history_valid() {
+            bits |= flags::HISTORY;
+        }
+        if s.unbiased_spatial {
+            bits |= flags::UNBIASED_SPATIAL;
+        }
+        let params = GpuGiParams {
+            width: self.size.0,
+            height: self.size.1,
+            frame: frame.index,
+            flags: bits,
+            spatial_radius: s.spatial_radius,
+            confidence_cap: s.confidence_cap,
+            spatial_tries: s.spatial_tries,
+            jacobian_bound: s.jacobian_bound,
+            max_ray_distance: s.max_ray_distance,
+            _pad: [0; 3],
+        };
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Records both dispatches, each in a profiler scope named as in [`GI_PASS_LABELS`],
+    /// and returns which ran. Run it after the world cache's upkeep and after whatever wrote
+    /// the direct light into `target` ([`RestirGi::target_group`]).
+    ///
+    /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
+    /// `scene` no longer has, or when the G-buffer's or the frame's size is not this pass's.
+    pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        scene: &GpuScene,
+        gbuffer: &dyn GBufferSource,
+        target: &wgpu::BindGroup,
+    ) -> Result<Ran, GpuError> {
+        self.variant.check(scene)?;
+        for (what, size) in [("G-buffer", gbuffer.size()), ("frame", frame.size)] {
+            if size != self.size {
+                return Err(GpuError::Validation(format!(
+                    "ReSTIR GI: built for {:?} pixels, the {what} is {size:?}",
+                    self.size
+                )));
+            }
+        }
+        let group = self.group.as_ref().expect("resize binds the reservoirs");
+        let groups = [scene.bind_group(), gbuffer.bind_group()?, group, target];
+        let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
+        let mut ran = Ran::none();
+        for (&label, pipeline) in GI_PASS_LABELS.iter().zip([&self.initial, &self.spatial]) {
+            frame.scope(label, encoder, &mut ran, |e| {
+                let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(label),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(pipeline);
+                for (i, g) in groups.iter().enumerate() {
+                    pass.set_bind_group(i as u32, *g, &[]);
+                }
+                pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
+            });
+        }
+        self.history = true;
+        Ok(ran)
+    }
+
+    /// This frame's final reservoirs ([`GpuGiReservoir`] per pixel, row by row), which the
+    /// next frame reuses; layout for the non-finite detector:
+    /// [`crate::gi_reservoir::gi_reservoir_check`].
+    pub fn reservoirs(&self) -> &wgpu::Buffer {
+        &self.buffers.as_ref().expect("resize allocates").0
+    }
+
+    /// Image size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+}

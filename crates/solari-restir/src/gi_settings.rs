@@ -1,0 +1,145 @@
+//! ReSTIR GI's knobs, each with its default and its cost.
+
+use crate::settings::MAX_SPATIAL_TRIES;
+use bytemuck::{Pod, Zeroable};
+use solari_scene::GpuError;
+
+/// Every knob of [`crate::RestirGi`]. With `temporal` and `spatial` both off it is plain
+/// path GI: one traced sample per pixel, shaded as it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestirGiSettings {
+    /// Reuse last frame's reservoir at the reprojected pixel (default on).
+    pub temporal: bool,
+    /// Reuse one neighbour's reservoir (default on). Costs one visibility ray per pixel.
+    pub spatial: bool,
+    /// Permute the temporal source pixel within 4×4 blocks each frame (default off). Solari
+    /// 0.17 found that DLSS-RR turns unpermuted GI reuse into blotches, so turn it on for
+    /// DLSS-RR. It costs accuracy: the permuted pixel's history is reused without a visibility
+    /// ray, which measured 0.8% darker on the Cornell box (48², 256-frame mean), and its
+    /// single-frame error was 12% higher (`tests/gi.rs`).
+    pub permutation_sampling: bool,
+    /// Cap on the confidence history carries into a frame (default 8, Bevy's value): higher
+    /// is smoother on static views, slower to follow moving light (there is no validation
+    /// ray, so moving lights leave trails for about this many frames).
+    pub confidence_cap: f32,
+    /// First spatial search radius in pixels (default 30), halved after each rejected try.
+    pub spatial_radius: f32,
+    /// Neighbours tried before spatial reuse gives up for the pixel (default 5).
+    pub spatial_tries: u32,
+    /// Reuse is refused where either reconnection Jacobian exceeds this (default 2, Solari
+    /// 0.17's). It is what keeps reuse from concentrating a sample's weight on pixels that
+    /// see it at a much larger solid angle, the source of fireflies and overflow.
+    pub jacobian_bound: f32,
+    /// Longest GI ray (default unbounded); a miss is lit by the scene's environment.
+    pub max_ray_distance: f32,
+    /// In spatial reuse, also trace whether the neighbour sees this pixel's own sample, and
+    /// count the neighbour in that sample's MIS weight only if it does (default on). Costs
+    /// a third ray per pixel. Off, the neighbour counts as if it could have produced every
+    /// sample, which darkens indirect light near occluders.
+    pub unbiased_spatial: bool,
+}
+
+impl Default for RestirGiSettings {
+    fn default() -> Self {
+        Self {
+            temporal: true,
+            spatial: true,
+            permutation_sampling: false,
+            confidence_cap: 8.0,
+            spatial_radius: 30.0,
+            spatial_tries: 5,
+            jacobian_bound: 2.0,
+            max_ray_distance: f32::MAX,
+            unbiased_spatial: true,
+        }
+    }
+}
+
+impl RestirGiSettings {
+    /// Plain path GI: the same initial sample with no reuse.
+    pub fn plain() -> Self {
+        Self {
+            temporal: false,
+            spatial: false,
+            ..Self::default()
+        }
+    }
+
+    /// Whether any reuse is on (off: plain path GI).
+    pub fn reuse(&self) -> bool {
+        self.temporal || self.spatial
+    }
+
+    /// Checks every knob is in range; the error names the bad one.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        let bad = |what: String| Err(GpuError::Validation(format!("ReSTIR GI settings: {what}")));
+        if self.spatial_tries > MAX_SPATIAL_TRIES {
+            return bad(format!(
+                "spatial_tries is {}, expected at most {MAX_SPATIAL_TRIES}",
+                self.spatial_tries
+            ));
+        }
+        if !(self.confidence_cap.is_finite() && self.confidence_cap >= 1.0) {
+            return bad(format!(
+                "confidence_cap is {}, expected a finite value of at least 1",
+                self.confidence_cap
+            ));
+        }
+        if !(self.spatial_radius.is_finite() && self.spatial_radius >= 1.0) {
+            return bad(format!(
+                "spatial_radius is {}, expected a finite value of at least 1 pixel",
+                self.spatial_radius
+            ));
+        }
+        if !(self.jacobian_bound.is_finite() && self.jacobian_bound >= 1.0) {
+            return bad(format!(
+                "jacobian_bound is {}, expected a finite value of at least 1",
+                self.jacobian_bound
+            ));
+        }
+        if self.max_ray_distance.is_nan() || self.max_ray_distance <= 0.0 {
+            return bad(format!(
+                "max_ray_distance is {}, expected a positive distance",
+                self.max_ray_distance
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `GI_FLAG_*` in `restir_gi.wesl`.
+pub(crate) mod flags {
+    pub const TEMPORAL: u32 = 1;
+    pub const SPATIAL: u32 = 2;
+    pub const PERMUTATION: u32 = 4;
+    pub const HISTORY: u32 = 8;
+    pub const UNBIASED_SPATIAL: u32 = 16;
+}
+
+/// WGSL twin: `GiParams` in `restir_gi.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuGiParams {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frame index (seeds random numbers).
+    pub frame: u32,
+    /// `GI_FLAG_*` bits.
+    pub flags: u32,
+    /// [`RestirGiSettings::spatial_radius`].
+    pub spatial_radius: f32,
+    /// [`RestirGiSettings::confidence_cap`].
+    pub confidence_cap: f32,
+    /// [`RestirGiSettings::spatial_tries`].
+    pub spatial_tries: u32,
+    /// [`RestirGiSettings::jacobian_bound`].
+    pub jacobian_bound: f32,
+    /// [`RestirGiSettings::max_ray_distance`].
+    pub max_ray_distance: f32,
+    /// Padding.
+    pub _pad: [u32; 3],
+}
+
+const _: () = assert!(size_of::<GpuGiParams>() == 48);

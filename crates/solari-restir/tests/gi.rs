@@ -1,0 +1,291 @@
+//! ReSTIR GI on lavapipe, composed as the renderer does (G-buffer → light tiles → ReSTIR DI →
+//! world cache upkeep → ReSTIR GI adding to DI's image; the DI frame is this crate's test
+//! harness): against the full-bounce reference path tracer on the Cornell box, plain path GI
+//! against reuse, the non-finite detector on every frame, and bad settings. Figures are
+//! printed for the issue notes
+//! (`cargo test --release -p solari-restir --test gi -- --nocapture`).
+
+mod common;
+
+use common::{DirectLight, di_settings, reference, tile_settings};
+use solari_restir::{RestirGi, RestirGiSettings, gi_reservoir_check};
+use solari_scene::finite_check::{FiniteChecker, RecordLayout, first_offender};
+use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::gpu_scene::TraceVariant;
+use solari_scene::{Scene, default_scene};
+use solari_worldcache::{WorldCache, WorldCacheSettings};
+
+/// Which indirect light the frame adds to DI.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mode {
+    /// The cache at the pixel itself (cache-only GI).
+    Cache,
+    /// ReSTIR GI with the given settings.
+    Gi(RestirGiSettings),
+}
+
+struct Setup {
+    direct: DirectLight,
+    cache: WorldCache,
+    cache_target: wgpu::BindGroup,
+    gi: RestirGi,
+    gi_target: wgpu::BindGroup,
+    mode: Mode,
+    checker: FiniteChecker,
+    frames: u64,
+}
+
+fn setup(gpu: &Gpu, scene: &Scene, size: u32, mode: Mode) -> Setup {
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let direct = DirectLight::new(gpu, backend, scene, size, di_settings(), tile_settings());
+    let variant = TraceVariant::for_scene(&direct.gpu_scene);
+    let settings = WorldCacheSettings {
+        capacity: 1 << 14,
+        ..Default::default()
+    };
+    let cache = WorldCache::new(gpu, backend, variant, settings, tile_settings()).expect("cache");
+    let gi_settings = match mode {
+        Mode::Gi(s) => s,
+        Mode::Cache => RestirGiSettings::default(),
+    };
+    let gi = RestirGi::new(gpu, backend, variant, size, size, gi_settings, &cache).expect("GI");
+    Setup {
+        cache_target: cache.target_group(gpu, direct.di.output()),
+        gi_target: gi.target_group(gpu, direct.di.output()),
+        direct,
+        cache,
+        gi,
+        mode,
+        checker: FiniteChecker::new(gpu, &["gi_reservoirs", "image"]).expect("detector"),
+        frames: 0,
+    }
+}
+
+impl Setup {
+    /// One frame of the scene's camera; panics if the GI reservoirs or the image hold a NaN,
+    /// an infinity, a negative value or an over-confident reservoir.
+    fn frame(&mut self, gpu: &Gpu, scene: &Scene) {
+        let camera = scene.camera(None).unwrap();
+        self.direct.prepare(gpu, scene, &camera);
+        let context = *self.direct.context();
+        self.cache
+            .prepare(gpu, &context, self.direct.lights.light_count);
+        self.gi.prepare(gpu, &context, &self.direct.gbuffer);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        self.checker.begin_frame(&mut encoder);
+        self.direct.encode_inputs(&mut encoder);
+        self.direct.encode_di(&mut encoder);
+        let d = &self.direct;
+        self.cache
+            .encode(&mut encoder, &context, &d.gpu_scene, &d.lights_group)
+            .expect("cache upkeep");
+        match self.mode {
+            Mode::Cache => {
+                self.cache
+                    .encode_gi(&mut encoder, &context, &d.gbuffer, &self.cache_target)
+                    .expect("cache GI");
+            }
+            Mode::Gi(_) => {
+                let ran = self
+                    .gi
+                    .encode(
+                        &mut encoder,
+                        &context,
+                        &d.gpu_scene,
+                        &d.gbuffer,
+                        &self.gi_target,
+                    )
+                    .expect("GI");
+                assert!(ran.contains("gi_spatial_shade"));
+            }
+        }
+        let (w, h) = d.di.size();
+        let pixels = w as u64 * h as u64;
+        let cap = self.gi.settings().confidence_cap;
+        let c = &mut self.checker;
+        c.check_buffer(
+            gpu,
+            &mut encoder,
+            0,
+            self.gi.reservoirs(),
+            pixels,
+            gi_reservoir_check(cap),
+        )
+        .expect("check reservoirs");
+        c.check_buffer(
+            gpu,
+            &mut encoder,
+            1,
+            d.di.output(),
+            pixels,
+            RecordLayout::RGBA_NON_NEGATIVE,
+        )
+        .expect("check image");
+        c.end_frame(&mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+        let counts = self.checker.read(gpu).expect("detector");
+        if let Some(bad) = first_offender(&counts) {
+            panic!("frame {}: {bad:?}", self.frames);
+        }
+        self.frames += 1;
+    }
+
+    /// The mean image over `frames` frames after `warmup`, and the last frame alone.
+    fn mean(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        warmup: u32,
+        frames: u32,
+    ) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+        for _ in 0..warmup {
+            self.frame(gpu, scene);
+        }
+        let mut sum: Vec<[f64; 3]> = Vec::new();
+        let mut last = Vec::new();
+        for _ in 0..frames {
+            self.frame(gpu, scene);
+            last = self
+                .direct
+                .read_output(gpu)
+                .iter()
+                .map(|p| [p[0] as f64, p[1] as f64, p[2] as f64])
+                .collect::<Vec<_>>();
+            sum.resize(last.len(), [0.0; 3]);
+            for (a, b) in sum.iter_mut().zip(&last) {
+                for c in 0..3 {
+                    a[c] += b[c] / frames as f64;
+                }
+            }
+        }
+        (sum, last)
+    }
+}
+
+fn rmse(image: &[[f64; 3]], reference: &[[f32; 3]]) -> f64 {
+    let sum: f64 = image
+        .iter()
+        .zip(reference)
+        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c] as f64).powi(2)))
+        .sum();
+    (sum / (image.len() * 3) as f64).sqrt()
+}
+
+fn total(image: &[[f64; 3]]) -> f64 {
+    image.iter().flatten().sum()
+}
+
+#[test]
+fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
+    let Some(gpu) = test_gpu() else { return };
+    let size = 48;
+    let scene = default_scene::cornell_box();
+    let backend = gpu.backend(Default::default()).unwrap();
+    let truth = reference(&gpu, backend, &scene, size, 512, u32::MAX);
+    let truth_total: f64 = truth.iter().flatten().map(|&x| x as f64).sum();
+    let mut results = Vec::new();
+    let modes = [
+        ("cache", Mode::Cache),
+        ("plain", Mode::Gi(RestirGiSettings::plain())),
+        (
+            "restir",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "restir, biased spatial",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                unbiased_spatial: false,
+                ..Default::default()
+            }),
+        ),
+        (
+            "restir, permuted",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                permutation_sampling: true,
+                ..Default::default()
+            }),
+        ),
+    ];
+    for (name, mode) in modes {
+        let mut s = setup(&gpu, &scene, size, mode);
+        let (mean, last) = s.mean(&gpu, &scene, 100, 256);
+        let (e_mean, e_last) = (rmse(&mean, &truth), rmse(&last, &truth));
+        let bias = total(&mean) / truth_total - 1.0;
+        eprintln!(
+            "cornell {size}x{size} {name}: RMSE vs full reference, one frame {e_last:.4}, \
+             mean of 256 frames {e_mean:.4}; total light {:+.2}%",
+            bias * 100.0
+        );
+        results.push((name, e_last, e_mean, bias));
+    }
+    // Measured (lavapipe, 100 + 256 frames): total light cache -0.62%, plain -0.08%, ReSTIR
+    // -0.01%; without the spatial pass's second visibility ray -0.74%; with temporal
+    // permutation -1.03%. One-frame RMSE plain 0.044, ReSTIR 0.024.
+    let (cache, plain, restir) = (results[0], results[1], results[2]);
+    for gi in [plain, restir] {
+        // Both estimate the cache-terminated bounce without bias.
+        assert!(
+            gi.3.abs() < 0.005,
+            "{}: total light off by {:+.2}%",
+            gi.0,
+            gi.3 * 100.0
+        );
+        // And their means are as close to the full reference as cache GI's (the remaining
+        // error is mostly the reference's own noise at 512 paths).
+        assert!(
+            gi.2 < 1.15 * cache.2,
+            "{}: 256-frame mean RMSE {} against cache GI's {}",
+            gi.0,
+            gi.2,
+            cache.2
+        );
+    }
+    // Reuse is what ReSTIR is for: a single frame is less noisy than plain sampling.
+    assert!(
+        restir.1 < 0.7 * plain.1,
+        "one frame: ReSTIR GI {} vs plain {}",
+        restir.1,
+        plain.1
+    );
+}
+
+#[test]
+fn bad_gi_settings_are_refused_with_the_knob_named() {
+    let cases = [
+        RestirGiSettings {
+            jacobian_bound: f32::NAN,
+            ..Default::default()
+        },
+        RestirGiSettings {
+            jacobian_bound: 0.5,
+            ..Default::default()
+        },
+        RestirGiSettings {
+            confidence_cap: 0.0,
+            ..Default::default()
+        },
+        RestirGiSettings {
+            spatial_tries: 17,
+            ..Default::default()
+        },
+        RestirGiSettings {
+            max_ray_distance: -1.0,
+            ..Default::default()
+        },
+        RestirGiSettings {
+            spatial_radius: f32::INFINITY,
+            ..Default::default()
+        },
+    ];
+    for s in cases {
+        let e = s.validate().expect_err("refused").to_string();
+        assert!(e.contains("ReSTIR GI settings"), "{e}");
+    }
+    RestirGiSettings::default().validate().unwrap();
+    RestirGiSettings::plain().validate().unwrap();
+}
