@@ -15,7 +15,7 @@ use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{
     CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
-use solari_restir::RestirDiSettings;
+use solari_restir::{RestirDiSettings, RestirGiSettings};
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
@@ -287,10 +287,22 @@ pub struct RealtimeArgs {
     /// estimation in the reference tracer.
     #[arg(long, default_value = "power", value_parser = values::selection)]
     pub selection: Selection,
-    /// Indirect light, off or cache (albedo × the world cache's indirect irradiance, added
-    /// to ReSTIR DI).
+    /// Indirect light: off; cache (albedo × the world cache's indirect irradiance at each
+    /// pixel); path (one traced diffuse bounce per pixel lit by the world cache, no reuse);
+    /// restir (the same bounce with ReSTIR GI's temporal and spatial reuse). Added to ReSTIR
+    /// DI.
     #[arg(long, default_value = "off", value_parser = values::gi)]
     pub gi: GiMode,
+    /// ReSTIR GI's first spatial search radius, in pixels.
+    #[arg(long, default_value_t = 30.0, value_parser = values::finite)]
+    pub gi_spatial_radius: f32,
+    /// ReSTIR GI refuses reuse where a reconnection Jacobian exceeds this.
+    #[arg(long, default_value_t = 2.0, value_parser = values::finite)]
+    pub gi_jacobian_bound: f32,
+    /// Permute ReSTIR GI's temporal source pixel within 4×4 blocks (for DLSS-RR; costs
+    /// accuracy, see `RestirGiSettings::permutation_sampling`).
+    #[arg(long)]
+    pub gi_permutation: bool,
     /// World-cache cell size at the finest level, in scene units.
     #[arg(long, default_value_t = 0.25, value_parser = values::finite, allow_hyphen_values = true)]
     pub cache_cell_size: f32,
@@ -346,6 +358,12 @@ impl RealtimeArgs {
             },
             selection: self.selection,
             gi: self.gi,
+            restir_gi: RestirGiSettings {
+                spatial_radius: self.gi_spatial_radius,
+                jacobian_bound: self.gi_jacobian_bound,
+                permutation_sampling: self.gi_permutation,
+                ..Default::default()
+            },
             cache: WorldCacheSettings {
                 cell_size: self.cache_cell_size,
                 update_budget: self.cache_budget,

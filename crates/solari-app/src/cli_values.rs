@@ -111,7 +111,7 @@ pub fn gbuffer(s: &str) -> Result<GBufferChoice, String> {
 
 /// `off` or `cache`.
 pub fn gi(s: &str) -> Result<GiMode, String> {
-    named(s, GiMode::parse(s), "off or cache")
+    named(s, GiMode::parse(s), "off, cache, path or restir")
 }
 
 /// `none`, `fallback` or `dlss-rr`.
@@ -211,7 +211,9 @@ mod tests {
 
     #[test]
     fn enums_name_their_values() {
-        assert!(gi("bogus").unwrap_err().contains("off or cache"));
+        assert!(gi("bogus").unwrap_err().contains("off, cache, path or restir"));
+        assert_eq!(gi("restir"), Ok(GiMode::Restir));
+        assert_eq!(gi("path"), Ok(GiMode::Path));
         assert!(view("bogus").unwrap_err().contains("world-cache"));
         assert_eq!(view("lit"), Ok(ViewArg::Frame(FrameView::Lit)));
         assert!(list("1,x", "--candidates", number::<u32>).is_err());

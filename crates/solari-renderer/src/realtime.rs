@@ -18,7 +18,10 @@ use solari_denoise::{
     TemporalUpscaler, UpscaleSettings,
 };
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
-use solari_restir::{PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings};
+use solari_restir::{
+    GI_PASS_LABELS, PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings, RestirGi,
+    RestirGiSettings,
+};
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
@@ -34,10 +37,11 @@ use solari_worldcache::PASS_LABELS as CACHE;
 
 /// Pass names as [`FrameReport`] lists them, in frame order: the G-buffer, light tiles, the
 /// world cache's upkeep ([`solari_worldcache::PASS_LABELS`]), ReSTIR DI
-/// ([`solari_restir::PASS_LABELS`]), cache-only GI or the cache view, then the fallback
+/// ([`solari_restir::PASS_LABELS`]), ReSTIR GI or plain path GI
+/// ([`solari_restir::GI_PASS_LABELS`]), cache-only GI or the cache view, then the fallback
 /// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
 /// (DLSS-RR itself records outside the profiler's reach).
-pub const PASS_NAMES: [&str; 16] = [
+pub const PASS_NAMES: [&str; 18] = [
     solari_scene::gbuffer::PASS_LABELS[0],
     solari_lights::PASS_LABELS[0],
     CACHE[0],
@@ -47,6 +51,8 @@ pub const PASS_NAMES: [&str; 16] = [
     DI_LABELS[0],
     DI_LABELS[1],
     DI_LABELS[2],
+    GI_PASS_LABELS[0],
+    GI_PASS_LABELS[1],
     CACHE[4],
     CACHE[5],
     DENOISE[0],
@@ -60,13 +66,14 @@ use solari_denoise::fallback::PASS_LABELS as DENOISE;
 
 /// The passes whose outputs the non-finite detector checks, in frame order (a slot counts
 /// what its pass wrote: the G-buffer's emission, motion and depth; the tile samples; the
-/// world cache's cells; ReSTIR DI's reservoirs and image; the image after cache GI (or the
-/// cache view); the denoiser's output).
-pub const FINITE_SLOTS: [&str; 6] = [
+/// world cache's cells; ReSTIR DI's reservoirs and image; ReSTIR GI's reservoirs; the image
+/// after GI of any kind (or the cache view); the denoiser's output).
+pub const FINITE_SLOTS: [&str; 7] = [
     "gbuffer",
     "light_tiles",
     "world_cache",
     "restir_di",
+    "restir_gi",
     "cache_gi",
     "denoise",
 ];
@@ -76,8 +83,9 @@ const SLOT_GBUFFER: usize = 0;
 const SLOT_TILES: usize = 1;
 const SLOT_CACHE: usize = 2;
 const SLOT_DI: usize = 3;
-const SLOT_CACHE_GI: usize = 4;
-const SLOT_DENOISE: usize = 5;
+const SLOT_GI: usize = 4;
+const SLOT_CACHE_GI: usize = 5;
+const SLOT_DENOISE: usize = 6;
 
 /// Which of [`PASS_NAMES`] ran this frame, marked by name (a name not in the list is
 /// ignored: it has no row in the report).
@@ -132,16 +140,29 @@ pub enum GiMode {
     /// ReSTIR DI plus albedo × the world cache's indirect irradiance at each pixel: the
     /// cheapest GI tier (blocky where cells are large; no glossy indirect light).
     WorldCache,
+    /// Plain path GI: one traced diffuse bounce per pixel, lit by the world cache at its
+    /// hit, no reuse ([`solari_restir::RestirGi`] with [`RestirGiSettings::plain`]).
+    Path,
+    /// ReSTIR GI: the same traced bounce, reused across frames and neighbours
+    /// ([`RealtimeSettings::restir_gi`]).
+    Restir,
 }
 
 impl GiMode {
-    /// Parses `off` or `cache`.
+    /// Parses `off`, `cache`, `path` or `restir`.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "off" | "none" => Some(Self::Off),
             "cache" | "world-cache" => Some(Self::WorldCache),
+            "path" | "plain" => Some(Self::Path),
+            "restir" => Some(Self::Restir),
             _ => None,
         }
+    }
+
+    /// Whether the mode traces per-pixel GI rays ([`solari_restir::RestirGi`]).
+    pub fn traced(self) -> bool {
+        matches!(self, Self::Path | Self::Restir)
     }
 }
 
@@ -181,8 +202,11 @@ pub struct RealtimeSettings {
     pub selection: Selection,
     /// Indirect light (default off).
     pub gi: GiMode,
-    /// The world cache's knobs (used with [`GiMode::WorldCache`] or [`FrameView::WorldCache`]).
+    /// The world cache's knobs (used with any GI mode or [`FrameView::WorldCache`]).
     pub cache: WorldCacheSettings,
+    /// ReSTIR GI's knobs (with [`GiMode::Restir`]; [`GiMode::Path`] uses them with reuse
+    /// off).
+    pub restir_gi: RestirGiSettings,
     /// What the output shows (default the lit image).
     pub view: FrameView,
     /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
@@ -214,6 +238,23 @@ pub struct RealtimeSettings {
 }
 
 impl RealtimeSettings {
+    /// Whether the frame keeps a world cache: every GI mode reads it, and so does its view.
+    pub fn needs_cache(&self) -> bool {
+        self.gi != GiMode::Off || self.view == FrameView::WorldCache
+    }
+
+    /// The ReSTIR GI settings the GI mode runs with (reuse off for [`GiMode::Path`]).
+    pub fn gi_settings(&self) -> RestirGiSettings {
+        match self.gi {
+            GiMode::Path => RestirGiSettings {
+                temporal: false,
+                spatial: false,
+                ..self.restir_gi
+            },
+            _ => self.restir_gi,
+        }
+    }
+
     /// Whether frames go through the temporal upscaler (jittered).
     pub fn upscaling(&self) -> bool {
         self.internal_scale < 1.0 || self.antialias
@@ -229,8 +270,11 @@ impl RealtimeSettings {
     /// Checks every component's knobs (the message names the bad one).
     pub fn validate(&self) -> Result<(), String> {
         self.di.validate().map_err(|e| e.to_string())?;
-        if self.gi == GiMode::WorldCache || self.view == FrameView::WorldCache {
+        if self.needs_cache() {
             self.cache.validate().map_err(|e| e.to_string())?;
+        }
+        if self.gi.traced() {
+            self.restir_gi.validate().map_err(|e| e.to_string())?;
         }
         if self.denoiser != Some(DenoiserKind::None) {
             self.denoise.validate().map_err(|e| e.to_string())?;
@@ -270,6 +314,7 @@ impl Default for RealtimeSettings {
             selection: Selection::Power,
             gi: GiMode::Off,
             cache: WorldCacheSettings::default(),
+            restir_gi: RestirGiSettings::default(),
             view: FrameView::Lit,
             timestamps: false,
             denoiser: Some(DenoiserKind::None),
@@ -332,6 +377,9 @@ pub struct RealtimeRenderer {
     // The world cache and its pixel passes' target (ReSTIR DI's output), when GI or the
     // cache view is on.
     cache: Option<(WorldCache, wgpu::BindGroup)>,
+    // ReSTIR GI (or plain path GI) and its target group (ReSTIR DI's output), with a traced
+    // GI mode.
+    gi: Option<(RestirGi, wgpu::BindGroup)>,
     list: LightList,
     lights: GpuLights,
     lights_group: wgpu::BindGroup,
@@ -449,7 +497,7 @@ impl RealtimeRenderer {
         let list = LightList::build(scene);
         let lights = GpuLights::new(gpu, &list, settings.selection)?;
         let lights_group = tiles.reader_group(gpu, &lights);
-        let cache = if settings.gi == GiMode::WorldCache || settings.view == FrameView::WorldCache {
+        let cache = if settings.needs_cache() {
             let cache = WorldCache::new(
                 gpu,
                 backend,
@@ -461,6 +509,23 @@ impl RealtimeRenderer {
             Some((cache, target))
         } else {
             None
+        };
+        let gi = match &cache {
+            Some((cache, _)) if settings.gi.traced() => {
+                let variant = TraceVariant::for_scene(gpu_scene);
+                let gi = RestirGi::new(
+                    gpu,
+                    backend,
+                    variant,
+                    width,
+                    height,
+                    settings.gi_settings(),
+                    cache,
+                )?;
+                let target = gi.target_group(gpu, di.output());
+                Some((gi, target))
+            }
+            _ => None,
         };
         let checker = match settings.finite_check {
             FiniteCheck::Off => None,
@@ -494,6 +559,7 @@ impl RealtimeRenderer {
             tiles,
             di,
             cache,
+            gi,
             list,
             lights,
             lights_group,
@@ -540,7 +606,7 @@ impl RealtimeRenderer {
     /// the temporal upscaler's accumulation, when it runs). The
     /// scene's own memory is the caller's ([`GpuScene::memory_bytes`]); the profiler's and the
     /// detector's few kilobytes are left out.
-    pub fn memory(&self) -> [(&'static str, u64); 5] {
+    pub fn memory(&self) -> [(&'static str, u64); 6] {
         [
             ("gbuffer", self.gbuffer.memory_bytes()),
             (
@@ -552,6 +618,10 @@ impl RealtimeRenderer {
                 self.cache.as_ref().map_or(0, |(c, _)| c.memory_bytes()),
             ),
             ("restir_di", self.di.memory_bytes()),
+            (
+                "restir_gi",
+                self.gi.as_ref().map_or(0, |(g, _)| g.memory_bytes()),
+            ),
             (
                 "denoiser",
                 self.denoiser_memory_bytes()
@@ -624,6 +694,10 @@ impl RealtimeRenderer {
         if let Some((cache, target)) = &mut self.cache {
             *cache = WorldCache::new(gpu, backend, variant, cache.settings(), self.settings.tiles)?;
             *target = cache.target_group(gpu, self.di.output());
+            if let Some((gi, gi_target)) = &mut self.gi {
+                *gi = RestirGi::new(gpu, backend, variant, w, h, gi.settings(), cache)?;
+                *gi_target = gi.target_group(gpu, self.di.output());
+            }
         }
         Ok(())
     }
@@ -654,6 +728,17 @@ impl RealtimeRenderer {
     pub fn set_di_settings(&mut self, settings: RestirDiSettings) -> Result<(), GpuError> {
         self.di.set_settings(settings)?;
         self.settings.di = settings;
+        Ok(())
+    }
+
+    /// Changes ReSTIR GI's settings (history is kept). With [`GiMode::Path`] reuse stays
+    /// off whatever `settings` say; without a traced GI mode only the stored settings change.
+    pub fn set_gi_settings(&mut self, settings: RestirGiSettings) -> Result<(), GpuError> {
+        settings.validate()?;
+        self.settings.restir_gi = settings;
+        if let Some((gi, _)) = &mut self.gi {
+            gi.set_settings(self.settings.gi_settings())?;
+        }
         Ok(())
     }
 
@@ -754,6 +839,9 @@ impl RealtimeRenderer {
         if let Some((cache, _)) = &mut self.cache {
             cache.prepare(gpu, &context, light_count);
         }
+        if let Some((gi, _)) = &mut self.gi {
+            gi.prepare(gpu, &context, &self.gbuffer);
+        }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let mut ran = Marks([false; PASS_NAMES.len()]);
         let denoising = self.denoising();
@@ -824,6 +912,13 @@ impl RealtimeRenderer {
                 ran.add(&cache.encode_view(&mut encoder, &context, &self.gbuffer, target)?);
             } else if self.settings.gi == GiMode::WorldCache {
                 ran.add(&cache.encode_gi(&mut encoder, &context, &self.gbuffer, target)?);
+            } else if let Some((gi, gi_target)) = &mut self.gi {
+                ran.add(&gi.encode(&mut encoder, &context, gpu_scene, &self.gbuffer, gi_target)?);
+                if let Some(c) = checker.as_mut() {
+                    let cap = gi.settings().confidence_cap;
+                    let layout = solari_restir::gi_reservoir_check(cap);
+                    c.check_buffer(gpu, &mut encoder, SLOT_GI, gi.reservoirs(), pixels, layout)?;
+                }
             }
             if let Some(c) = checker.as_mut() {
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;
@@ -1075,6 +1170,7 @@ mod tests {
             (SLOT_TILES, "light_tiles"),
             (SLOT_CACHE, "world_cache"),
             (SLOT_DI, "restir_di"),
+            (SLOT_GI, "restir_gi"),
             (SLOT_CACHE_GI, "cache_gi"),
             (SLOT_DENOISE, "denoise"),
         ];
