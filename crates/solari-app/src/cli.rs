@@ -418,6 +418,11 @@ pub struct RenderArgs {
     /// Real-time mode: frames to run; the last one is written.
     #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
+    /// Real-time mode: write the mean of the last N frames instead of the last frame alone
+    /// (for error measurements; those frames wait for the GPU, so wall time counts the
+    /// frames before them).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub mean_of: u32,
     /// Real-time mode: the renderer's knobs.
     #[command(flatten)]
     pub realtime: RealtimeArgs,

@@ -211,7 +211,11 @@ mod tests {
 
     #[test]
     fn enums_name_their_values() {
-        assert!(gi("bogus").unwrap_err().contains("off, cache, path or restir"));
+        assert!(
+            gi("bogus")
+                .unwrap_err()
+                .contains("off, cache, path or restir")
+        );
         assert_eq!(gi("restir"), Ok(GiMode::Restir));
         assert_eq!(gi("path"), Ok(GiMode::Path));
         assert!(view("bogus").unwrap_err().contains("world-cache"));

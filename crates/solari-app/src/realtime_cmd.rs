@@ -69,6 +69,10 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     // `--frames-in-flight` - 1 frames late. Wall time counts from the second frame (the first
     // builds pipelines) to the last frame's completion.
     let mut loop_start = None;
+    // `--mean-of`: the last frames are read back one by one and averaged.
+    let mean_from = args.frames - args.mean_of.min(args.frames);
+    let mut loop_end = None;
+    let mut sum: Vec<[f64; 3]> = Vec::new();
     for frame in 0..args.frames {
         if frame == 1 {
             loop_start = Some(Instant::now());
@@ -80,15 +84,37 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         {
             take(r)?;
         }
+        if args.mean_of > 1 && frame >= mean_from {
+            for r in renderer.finish(&gpu).map_err(|e| e.to_string())? {
+                take(r)?;
+            }
+            loop_end.get_or_insert((Instant::now(), frame));
+            let pixels = renderer.read_output(&gpu).map_err(|e| e.to_string())?;
+            sum.resize(pixels.len(), [0.0; 3]);
+            for (s, p) in sum.iter_mut().zip(&pixels) {
+                for c in 0..3 {
+                    s[c] += p[c] as f64;
+                }
+            }
+        }
         bar.inc(1);
     }
     for r in renderer.finish(&gpu).map_err(|e| e.to_string())? {
         take(r)?;
     }
-    let wall_ms = loop_start.map(|t| t.elapsed().as_secs_f64() * 1e3 / (args.frames - 1) as f64);
+    // Wall time per frame from the second frame to the last one submitted without waiting.
+    let (end, last) = loop_end.unwrap_or((Instant::now(), args.frames));
+    let wall_ms = loop_start
+        .filter(|_| last > 1)
+        .map(|t| (end - t).as_secs_f64() * 1e3 / (last - 1) as f64);
     bar.finish_and_clear();
-    let pixels = renderer.read_output(&gpu).map_err(|e| e.to_string())?;
-    let rgb: Vec<[f32; 3]> = pixels.iter().map(|p| [p[0], p[1], p[2]]).collect();
+    let rgb: Vec<[f32; 3]> = if sum.is_empty() {
+        let pixels = renderer.read_output(&gpu).map_err(|e| e.to_string())?;
+        pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
+    } else {
+        let n = args.mean_of.min(args.frames) as f64;
+        sum.iter().map(|s| s.map(|v| (v / n) as f32)).collect()
+    };
     let (ow, oh) = renderer.size();
     plan.outputs.write(ow, oh, &rgb, args.exposure)?;
     if let Some(out) = report {
