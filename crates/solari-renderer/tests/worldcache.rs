@@ -75,3 +75,41 @@ fn the_detector_names_the_pass_that_holds_a_poisoned_value() {
         other => panic!("{other}"),
     }
 }
+
+/// Regression: ReSTIR DI once reallocated its output buffer when the light list outgrew its
+/// first light-id table (any scene with more than one light), after the GI passes had been
+/// bound to the old buffer. Their light was lost, bit for bit (`--gi cache` and `--gi off`
+/// gave identical images on many_lights and interior). Every GI mode must now add light on a
+/// many-light scene.
+#[test]
+fn every_gi_mode_adds_light_on_a_scene_with_many_lights() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = solari_scene::load_gltf(solari_testdata::scene("many_lights")).expect("scene");
+    let mean = |gi: GiMode| {
+        let (_, mut s) = setup(
+            &gpu,
+            &scene,
+            32,
+            RealtimeSettings {
+                gi,
+                ..settings(1 << 14)
+            },
+        );
+        run(&gpu, &scene, &mut s, 12);
+        let pixels = s.renderer.read_output(&gpu).unwrap();
+        pixels
+            .iter()
+            .map(|p| (p[0] + p[1] + p[2]) as f64)
+            .sum::<f64>()
+            / pixels.len() as f64
+    };
+    let off = mean(GiMode::Off);
+    for gi in [GiMode::WorldCache, GiMode::Path, GiMode::Restir] {
+        let with = mean(gi);
+        eprintln!("many_lights 32x32: mean {off:.5} without GI, {with:.5} with {gi:?}");
+        assert!(
+            with > off * 1.002,
+            "{gi:?} adds no light: {with} against {off}"
+        );
+    }
+}

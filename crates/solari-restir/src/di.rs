@@ -215,22 +215,7 @@ impl RestirDi {
         ];
         let initial = buffer("solari_restir/di_reservoirs_initial", reservoir_bytes);
         let output = buffer("solari_restir/di_output", output_bytes);
-        // Group p writes final[p] and reads final[1 - p], last frame's.
-        let groups = [0, 1].map(|p| {
-            DI_BINDINGS.bind(
-                gpu,
-                "solari_restir/di",
-                &self.own_layout,
-                &[
-                    ("params", &self.params),
-                    ("reservoirs_previous", &finals[p ^ 1]),
-                    ("reservoirs_initial", &initial),
-                    ("reservoirs_final", &finals[p]),
-                    ("di_output", &output),
-                    ("light_translation", &self.translation),
-                ],
-            )
-        });
+        let groups = self.groups_for(gpu, &finals, &initial, &output);
         self.buffers = Some(PixelBuffers {
             output,
             finals,
@@ -240,6 +225,31 @@ impl RestirDi {
         self.size = (width, height);
         self.history = false;
         Ok(())
+    }
+
+    // Group p writes final[p] and reads final[1 - p], last frame's.
+    fn groups_for(
+        &self,
+        gpu: &Gpu,
+        finals: &[wgpu::Buffer; 2],
+        initial: &wgpu::Buffer,
+        output: &wgpu::Buffer,
+    ) -> [wgpu::BindGroup; 2] {
+        [0, 1].map(|p| {
+            DI_BINDINGS.bind(
+                gpu,
+                "solari_restir/di",
+                &self.own_layout,
+                &[
+                    ("params", &self.params),
+                    ("reservoirs_previous", &finals[p ^ 1]),
+                    ("reservoirs_initial", initial),
+                    ("reservoirs_final", &finals[p]),
+                    ("di_output", output),
+                    ("light_translation", &self.translation),
+                ],
+            )
+        })
     }
 
     /// Sets the map from last frame's light indices to this frame's
@@ -257,12 +267,15 @@ impl RestirDi {
                 bytemuck::cast_slice(table),
                 wgpu::BufferUsages::empty(),
             )?;
-            // The bind groups hold the old buffer: rebuilding them reallocates the
-            // reservoirs too, so this frame starts without history (rare: the light list
-            // grew past every earlier size).
-            let (w, h) = self.size;
-            self.buffers = None;
-            self.resize(gpu, w, h)?;
+            // The bind groups hold the old table: rebind them to the new one. The per-pixel
+            // buffers stay, so the output buffer that other passes were bound to (GI adding
+            // to it, the denoiser reading it) is still the one DI writes; reallocating it
+            // here once left those passes writing to an orphaned buffer on any scene with
+            // more than one light (their light was lost, bit for bit).
+            if let Some(b) = self.buffers.take() {
+                let groups = self.groups_for(gpu, &b.finals, &b.initial, &b.output);
+                self.buffers = Some(PixelBuffers { groups, ..b });
+            }
         } else if !table.is_empty() {
             gpu.queue
                 .write_buffer(&self.translation, 0, bytemuck::cast_slice(table));
