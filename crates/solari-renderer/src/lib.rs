@@ -2,7 +2,7 @@
 //!
 //! The composed real-time frame of the Solari workspace, for a game, a tool or a test that
 //! wants the whole pipeline rather than single components: G-buffer → light tiles → world
-//! cache upkeep → ReSTIR DI → cache-only GI → denoiser, one frame per
+//! cache upkeep → ReSTIR DI → GI (ReSTIR GI, plain path GI or cache-only) → denoiser, one frame per
 //! [`RealtimeRenderer::render`] call, with a report of the passes that ran, their GPU times
 //! and (optionally) the non-finite detector's counts per pass.
 

@@ -1,11 +1,11 @@
 //! The real-time renderer: G-buffer → light tiles → world cache upkeep → ReSTIR DI →
-//! cache-only GI → denoiser, one frame per call, with a report of which passes ran and their
+//! GI (ReSTIR GI, plain path GI or cache-only, [`GiMode`]) → denoiser, one frame per call, with a report of which passes ran and their
 //! GPU times.
 //!
 //! Passes a frame does not need are skipped: with no lights, neither the light tiles nor
-//! ReSTIR DI run, and the frame shows emission only (pass `emission_only`); without
-//! [`GiMode::WorldCache`] (and outside [`FrameView::WorldCache`]) the world cache neither
-//! runs nor holds memory.
+//! ReSTIR DI run, and the frame shows emission only (pass `emission_only`); with
+//! [`GiMode::Off`] (and outside [`FrameView::WorldCache`]) the world cache neither runs nor
+//! holds memory, and ReSTIR GI runs only in the traced GI modes.
 //!
 //! With [`RealtimeSettings::finite_check`] on, every pass's output is checked for NaN,
 //! infinite and negative values on the GPU every frame ([`solari_scene::finite_check`]), and
