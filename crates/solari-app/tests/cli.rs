@@ -256,7 +256,7 @@ fn bad_arguments_are_refused_before_any_work() {
             "--frames",
         ),
         (&["render", "--mode", "bogus"], "bogus"),
-        (&["render", "--gi", "bogus"], "off or cache"),
+        (&["render", "--gi", "bogus"], "off, cache, path or restir"),
         (
             &["render", "--denoiser", "bogus"],
             "none, fallback or dlss-rr",

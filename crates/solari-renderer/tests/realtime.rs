@@ -309,8 +309,9 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
+    // ReSTIR GI: every component holds memory (the world cache with it).
     let renderer = c.renderer(RealtimeSettings {
-        gi: solari_renderer::GiMode::WorldCache,
+        gi: solari_renderer::GiMode::Restir,
         denoiser: Some(solari_denoise::DenoiserKind::Fallback),
         ..settings()
     });

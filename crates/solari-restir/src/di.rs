@@ -317,21 +317,10 @@ impl RestirDi {
         self.parity ^= 1;
         self.frame = frame;
         let s = self.settings;
-        let mut bits = 0;
-        if s.temporal {
-            bits |= flags::TEMPORAL;
-        }
-        if s.spatial {
-            bits |= flags::SPATIAL;
-        }
-        if s.permutation_sampling {
-            bits |= flags::PERMUTATION;
-        }
+        let history = self.history && gbuffer_history;
+        let mut bits = flags::reuse(s.temporal, s.spatial, s.permutation_sampling, history);
         if s.initial_visibility {
             bits |= flags::INITIAL_VISIBILITY;
-        }
-        if self.history && gbuffer_history {
-            bits |= flags::HISTORY;
         }
         let params = GpuDiParams {
             width: self.size.0,

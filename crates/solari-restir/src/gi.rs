@@ -34,6 +34,7 @@
 
 use crate::gi_reservoir::GpuGiReservoir;
 use crate::gi_settings::{GpuGiParams, RestirGiSettings, flags};
+use crate::settings::flags::reuse;
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
@@ -243,19 +244,8 @@ impl RestirGi {
     pub fn prepare(&mut self, gpu: &Gpu, frame: &FrameContext, gbuffer: &dyn GBufferSource) {
         self.frame = frame.index;
         let s = self.settings;
-        let mut bits = 0;
-        if s.temporal {
-            bits |= flags::TEMPORAL;
-        }
-        if s.spatial {
-            bits |= flags::SPATIAL;
-        }
-        if s.permutation_sampling {
-            bits |= flags::PERMUTATION;
-        }
-        if self.history && gbuffer.history_valid() {
-            bits |= flags::HISTORY;
-        }
+        let history = self.history && gbuffer.history_valid();
+        let mut bits = reuse(s.temporal, s.spatial, s.permutation_sampling, history);
         if s.unbiased_spatial {
             bits |= flags::UNBIASED_SPATIAL;
         }

@@ -1,6 +1,5 @@
 //! ReSTIR GI's knobs, each with its default and its cost.
 
-use crate::settings::MAX_SPATIAL_TRIES;
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
 
@@ -73,24 +72,12 @@ impl RestirGiSettings {
     /// Checks every knob is in range; the error names the bad one.
     pub fn validate(&self) -> Result<(), GpuError> {
         let bad = |what: String| Err(GpuError::Validation(format!("ReSTIR GI settings: {what}")));
-        if self.spatial_tries > MAX_SPATIAL_TRIES {
-            return bad(format!(
-                "spatial_tries is {}, expected at most {MAX_SPATIAL_TRIES}",
-                self.spatial_tries
-            ));
-        }
-        if !(self.confidence_cap.is_finite() && self.confidence_cap >= 1.0) {
-            return bad(format!(
-                "confidence_cap is {}, expected a finite value of at least 1",
-                self.confidence_cap
-            ));
-        }
-        if !(self.spatial_radius.is_finite() && self.spatial_radius >= 1.0) {
-            return bad(format!(
-                "spatial_radius is {}, expected a finite value of at least 1 pixel",
-                self.spatial_radius
-            ));
-        }
+        crate::settings::check_reuse(
+            "ReSTIR GI",
+            self.spatial_tries,
+            self.confidence_cap,
+            self.spatial_radius,
+        )?;
         if !(self.jacobian_bound.is_finite() && self.jacobian_bound >= 1.0) {
             return bad(format!(
                 "jacobian_bound is {}, expected a finite value of at least 1",
@@ -107,12 +94,9 @@ impl RestirGiSettings {
     }
 }
 
-/// `GI_FLAG_*` in `restir_gi.wesl`.
+/// `GI_FLAG_*` in `restir_gi.wesl` beyond the reuse bits shared with DI
+/// (`settings::flags::reuse`).
 pub(crate) mod flags {
-    pub const TEMPORAL: u32 = 1;
-    pub const SPATIAL: u32 = 2;
-    pub const PERMUTATION: u32 = 4;
-    pub const HISTORY: u32 = 8;
     pub const UNBIASED_SPATIAL: u32 = 16;
 }
 

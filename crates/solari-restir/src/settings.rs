@@ -62,35 +62,61 @@ impl RestirDiSettings {
                 self.initial_candidates
             ));
         }
-        if self.spatial_tries > MAX_SPATIAL_TRIES {
-            return bad(format!(
-                "spatial_tries is {}, expected at most {MAX_SPATIAL_TRIES}",
-                self.spatial_tries
-            ));
-        }
-        if !(self.confidence_cap.is_finite() && self.confidence_cap >= 1.0) {
-            return bad(format!(
-                "confidence_cap is {}, expected a finite value of at least 1",
-                self.confidence_cap
-            ));
-        }
-        if !(self.spatial_radius.is_finite() && self.spatial_radius >= 1.0) {
-            return bad(format!(
-                "spatial_radius is {}, expected a finite value of at least 1 pixel",
-                self.spatial_radius
-            ));
-        }
-        Ok(())
+        check_reuse(
+            "ReSTIR DI",
+            self.spatial_tries,
+            self.confidence_cap,
+            self.spatial_radius,
+        )
     }
 }
 
-/// `DI_FLAG_*` in `restir_di.wesl`.
+/// The reuse knobs DI and GI share, checked the same way; the error names the pass and knob.
+pub(crate) fn check_reuse(
+    pass: &str,
+    spatial_tries: u32,
+    confidence_cap: f32,
+    spatial_radius: f32,
+) -> Result<(), GpuError> {
+    let bad = |what: String| Err(GpuError::Validation(format!("{pass} settings: {what}")));
+    if spatial_tries > MAX_SPATIAL_TRIES {
+        return bad(format!(
+            "spatial_tries is {spatial_tries}, expected at most {MAX_SPATIAL_TRIES}"
+        ));
+    }
+    if !(confidence_cap.is_finite() && confidence_cap >= 1.0) {
+        return bad(format!(
+            "confidence_cap is {confidence_cap}, expected a finite value of at least 1"
+        ));
+    }
+    if !(spatial_radius.is_finite() && spatial_radius >= 1.0) {
+        return bad(format!(
+            "spatial_radius is {spatial_radius}, expected a finite value of at least 1 pixel"
+        ));
+    }
+    Ok(())
+}
+
+/// `DI_FLAG_*` in `restir_di.wesl`; the first four are `GI_FLAG_*` in `restir_gi.wesl` too.
 pub(crate) mod flags {
     pub const TEMPORAL: u32 = 1;
     pub const SPATIAL: u32 = 2;
     pub const PERMUTATION: u32 = 4;
     pub const HISTORY: u32 = 8;
     pub const INITIAL_VISIBILITY: u32 = 16;
+
+    /// The reuse bits DI and GI share.
+    pub fn reuse(temporal: bool, spatial: bool, permutation: bool, history: bool) -> u32 {
+        [
+            (temporal, TEMPORAL),
+            (spatial, SPATIAL),
+            (permutation, PERMUTATION),
+            (history, HISTORY),
+        ]
+        .iter()
+        .filter(|(on, _)| *on)
+        .fold(0, |bits, (_, bit)| bits | bit)
+    }
 }
 
 /// WGSL twin: `DiParams` in `restir_di.wesl`.
