@@ -66,7 +66,8 @@ pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
 /// the emission copy that replaces both when a scene has no lights.
 pub const PASS_LABELS: [&str; 3] = ["di_initial_temporal", "di_spatial_shade", "emission_only"];
 
-fn record(
+/// Records one 2D compute dispatch with its four bind groups (DI's and GI's passes).
+pub(crate) fn record(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
     pipeline: &wgpu::ComputePipeline,

@@ -32,6 +32,7 @@
 //! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
 //! buffer is needed.
 
+use crate::di::record;
 use crate::gi_reservoir::GpuGiReservoir;
 use crate::gi_settings::{GpuGiParams, RestirGiSettings, flags};
 use crate::settings::flags::reuse;
@@ -294,15 +295,7 @@ impl RestirGi {
         let mut ran = Ran::none();
         for (&label, pipeline) in GI_PASS_LABELS.iter().zip([&self.initial, &self.spatial]) {
             frame.scope(label, encoder, &mut ran, |e| {
-                let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(label),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(pipeline);
-                for (i, g) in groups.iter().enumerate() {
-                    pass.set_bind_group(i as u32, *g, &[]);
-                }
-                pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
+                record(e, label, pipeline, &groups, workgroups)
             });
         }
         self.history = true;
