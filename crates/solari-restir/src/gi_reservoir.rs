@@ -43,7 +43,8 @@ fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-/// The reconnection Jacobian of ReSTIR GI (WGSL twin `reconnection_jacobian`): moving a
+/// The reconnection Jacobian of ReSTIR GI (WGSL twin `reconnection_jacobian` in
+/// `restir_gi_math.wesl`): moving a
 /// sample point `sample` (unit normal `normal`) from the pixel at `from` to the pixel at
 /// `to` multiplies its solid-angle density by
 /// `(cos toward to / cos toward from) · (|from − s|² / |to − s|²)`. Zero where `to` is behind
@@ -60,7 +61,8 @@ pub fn reconnection_jacobian(
     let cos_from = dot(normal, a) / la.sqrt();
     let cos_to = dot(normal, b) / lb.sqrt();
     let j = (cos_to / cos_from) * (la / lb);
-    if j > 0.0 && j < f32::MAX { j } else { 0.0 }
+    // 3.4e38: the shaders' finiteness bound.
+    if j > 0.0 && j < 3.4e38 { j } else { 0.0 }
 }
 
 /// Balance-heuristic weight of `f` against `g` (WGSL twin `balance_heuristic` in
@@ -73,7 +75,7 @@ pub fn balance_heuristic(f: f32, g: f32) -> f32 {
     if w.is_nan() { 0.5 } else { w.clamp(0.0, 1.0) }
 }
 
-/// One side of a GI merge: a reservoir's confidence and weight, its sample's target
+/// One side of a GI merge (WGSL twin `GiMergeSide` in `restir_gi_math.wesl`): a reservoir's confidence and weight, its sample's target
 /// function at both pixels, and the Jacobian moving its sample to the other pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MergeSide {
@@ -90,7 +92,7 @@ pub struct MergeSide {
 }
 
 /// Resampling weights of the canonical side `c` and the other side `o` in the canonical
-/// pixel's measure (WGSL twin: the body of `gi_merge`), or `None` where `o` is refused
+/// pixel's measure (WGSL twin `gi_merge_weights`), or `None` where `o` is refused
 /// because a Jacobian exceeds `bound` (the canonical reservoir is then kept unchanged).
 /// `c.target_there` is c's sample at o's pixel; `o.target_there` is o's sample at c's.
 pub fn merge_weights(c: MergeSide, o: MergeSide, bound: f32) -> Option<(f32, f32)> {

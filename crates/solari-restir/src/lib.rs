@@ -68,6 +68,10 @@ pub const MODULES: &[(&str, &str)] = &[
     ),
     ("restir_di", include_str!("../shaders/restir_di.wesl")),
     ("restir_gi", include_str!("../shaders/restir_gi.wesl")),
+    (
+        "restir_gi_math",
+        include_str!("../shaders/restir_gi_math.wesl"),
+    ),
 ];
 
 /// The crate's entry-point shaders, by module name.

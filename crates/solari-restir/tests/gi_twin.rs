@@ -1,0 +1,180 @@
+//! ReSTIR GI's reuse math on the GPU (`restir_gi_math.wesl`, run by `restir_gi_test.wesl`)
+//! against its Rust twins (`solari_restir::gi_reservoir`): the reconnection Jacobian and the
+//! merge weights on random and adversarial cases (coincident points, samples behind a surface,
+//! empty reservoirs, zero and huge targets, Jacobians at and over the bound).
+
+use bytemuck::{Pod, Zeroable};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_restir::gi_reservoir::{MergeSide, merge_weights, reconnection_jacobian};
+use solari_scene::gpu::{ShaderChecks, test_gpu};
+use solari_scene::shaders::{Backend, compose};
+
+/// WGSL twin: `Case` in `restir_gi_test.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Case {
+    sample: [f32; 4],
+    normal: [f32; 4],
+    source: [f32; 4],
+    dest: [f32; 4],
+    c: [f32; 4],
+    o: [f32; 4],
+    jacobians: [f32; 4],
+}
+
+fn point(rng: &mut Pcg32) -> [f32; 3] {
+    [0, 1, 2].map(|_| rng.random_range(-5.0..5.0))
+}
+
+fn unit(rng: &mut Pcg32) -> [f32; 3] {
+    let z: f32 = rng.random_range(-1.0..1.0);
+    let phi: f32 = rng.random_range(0.0..std::f32::consts::TAU);
+    let s = (1.0 - z * z).max(0.0).sqrt();
+    [s * phi.cos(), s * phi.sin(), z]
+}
+
+/// A target value: mostly ordinary, sometimes zero, tiny or huge.
+fn target(rng: &mut Pcg32) -> f32 {
+    match rng.random_range(0..10) {
+        0 => 0.0,
+        1 => 1e-30,
+        2 => 1e30,
+        _ => rng.random_range(0.0..4.0),
+    }
+}
+
+fn side(rng: &mut Pcg32) -> [f32; 4] {
+    let weight = if rng.random_range(0..5) == 0 {
+        0.0
+    } else {
+        rng.random_range(0.0..10.0)
+    };
+    [
+        rng.random_range(0.0..20.0),
+        weight,
+        target(rng),
+        target(rng),
+    ]
+}
+
+fn cases() -> Vec<Case> {
+    let mut rng = Pcg32::seed_from_u64(18);
+    (0..4000)
+        .map(|i| {
+            let sample = point(&mut rng);
+            let source = if i % 50 == 0 { sample } else { point(&mut rng) };
+            let dest = if i % 40 == 0 { source } else { point(&mut rng) };
+            let bound = [1.0, 1.2, 2.0, 1e30][i % 4];
+            // Jacobians around the bound, and exactly on it.
+            let jacobian = |rng: &mut Pcg32| match rng.random_range(0..6) {
+                0 => bound,
+                1 => 0.0,
+                _ => rng.random_range(0.0..3.0),
+            };
+            let with = |p: [f32; 3], w: f32| [p[0], p[1], p[2], w];
+            Case {
+                sample: with(sample, bound),
+                normal: with(unit(&mut rng), 0.0),
+                source: with(source, 0.0),
+                dest: with(dest, 0.0),
+                c: side(&mut rng),
+                o: side(&mut rng),
+                jacobians: [jacobian(&mut rng), jacobian(&mut rng), 0.0, 0.0],
+            }
+        })
+        .collect()
+}
+
+fn close(a: f32, b: f32, tol: f32) -> bool {
+    a == b || (a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-30)
+}
+
+#[test]
+fn gi_reuse_math_matches_its_rust_twin() {
+    let Some(gpu) = test_gpu() else { return };
+    let (empty_layout, empty) = gpu.empty_group();
+    let io_layout = gpu.buffer_layout(
+        "restir_gi_test",
+        &[
+            wgpu::BufferBindingType::Storage { read_only: true },
+            wgpu::BufferBindingType::Storage { read_only: false },
+        ],
+    );
+    let source = include_str!("../shaders/restir_gi_test.wesl");
+    let modules: Vec<_> = solari_restir::gi_modules()
+        .into_iter()
+        .chain([("restir_gi_test", source)])
+        .collect();
+    let wgsl = compose("restir_gi_test", Backend::Software, &modules).expect("compose");
+    let pipeline = gpu
+        .compute_pipeline(
+            "restir_gi_test",
+            &wgsl,
+            &[Some(&empty_layout), Some(&empty_layout), Some(&io_layout)],
+            ShaderChecks::BoundsOnly,
+            &[],
+        )
+        .expect("pipeline");
+    let cases = cases();
+    let results: Vec<[f32; 4]> = gpu
+        .run_cases(
+            "restir_gi_test",
+            &pipeline,
+            &io_layout,
+            &[Some(&empty), Some(&empty), None],
+            &cases,
+        )
+        .expect("dispatch");
+    let (mut refused, mut merged) = (0, 0);
+    for (k, r) in cases.iter().zip(&results) {
+        let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];
+        let j = reconnection_jacobian(xyz(k.sample), xyz(k.normal), xyz(k.source), xyz(k.dest));
+        // inverseSqrt on the GPU may differ from 1/sqrt in the last bits.
+        assert!(
+            close(r[0], j, 1e-4),
+            "Jacobian: GPU {} CPU {j} for {k:?}",
+            r[0]
+        );
+        let side = |v: [f32; 4], jacobian: f32| MergeSide {
+            confidence: v[0],
+            weight: v[1],
+            target_here: v[2],
+            target_there: v[3],
+            jacobian,
+        };
+        let cpu = merge_weights(
+            side(k.c, k.jacobians[0]),
+            side(k.o, k.jacobians[1]),
+            k.sample[3],
+        );
+        match cpu {
+            None => {
+                assert_eq!(
+                    r[3], 1.0,
+                    "GPU merged where the twin refused: {k:?} -> {r:?}"
+                );
+                refused += 1;
+            }
+            Some((wc, wo)) => {
+                assert_eq!(r[3], 0.0, "GPU refused where the twin merged: {k:?}");
+                assert!(
+                    close(r[1], wc, 1e-5),
+                    "w_c: GPU {} CPU {wc} for {k:?}",
+                    r[1]
+                );
+                assert!(
+                    close(r[2], wo, 1e-5),
+                    "w_o: GPU {} CPU {wo} for {k:?}",
+                    r[2]
+                );
+                merged += 1;
+            }
+        }
+    }
+    // Both branches were exercised.
+    assert!(
+        refused > 100 && merged > 1000,
+        "refused {refused}, merged {merged}"
+    );
+}
