@@ -17,7 +17,7 @@ use solari_worldcache::{CELL_CHECK, CacheStats, GpuCacheCell, WorldCache, WorldC
 #[path = "../../solari-restir/tests/common/mod.rs"]
 mod direct;
 
-use direct::{DirectLight, di_settings, reference, tile_settings};
+use direct::{DirectLight, di_settings, reference, rmse, tile_settings, total_light_bias};
 
 /// Whether cache GI is added to the direct light, or the cache only kept up to date.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -227,15 +227,6 @@ fn cache_converges_to_the_analytic_furnaces() {
     }
 }
 
-fn rmse(image: &[[f64; 3]], reference: &[[f32; 3]]) -> f64 {
-    let sum: f64 = image
-        .iter()
-        .zip(reference)
-        .flat_map(|(a, b)| (0..3).map(move |c| (a[c] - b[c] as f64).powi(2)))
-        .sum();
-    (sum / (image.len() * 3) as f64).sqrt()
-}
-
 /// Mean output over `frames` frames after `warmup`, and the last frame alone.
 fn mean_output(
     gpu: &Gpu,
@@ -243,27 +234,12 @@ fn mean_output(
     s: &mut Setup,
     warmup: u32,
     frames: u32,
-) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
     run(gpu, scene, s, warmup);
-    let mut sum: Vec<[f64; 3]> = Vec::new();
-    let mut last = Vec::new();
-    for _ in 0..frames {
+    direct::frame_mean(frames, || {
         run(gpu, scene, s, 1);
-        let out = s.read_output(gpu);
-        last = out
-            .iter()
-            .map(|p| [p[0] as f64, p[1] as f64, p[2] as f64])
-            .collect();
-        if sum.is_empty() {
-            sum = vec![[0.0; 3]; last.len()];
-        }
-        for (a, b) in sum.iter_mut().zip(&last) {
-            for c in 0..3 {
-                a[c] += b[c] / frames as f64;
-            }
-        }
-    }
-    (sum, last)
+        s.read_output(gpu)
+    })
 }
 
 #[test]
@@ -279,9 +255,7 @@ fn cache_gi_is_closer_to_the_full_reference_than_direct_light_alone() {
         let mut s = setup_with(&gpu, &scene, size, cache_settings(1 << 14), gi).expect("cache");
         let (mean, last) = mean_output(&gpu, &scene, &mut s, 200, 64);
         let (e_mean, e_last) = (rmse(&mean, &reference), rmse(&last, &reference));
-        let bias = mean.iter().flatten().sum::<f64>()
-            / reference.iter().flatten().map(|&x| x as f64).sum::<f64>()
-            - 1.0;
+        let bias = total_light_bias(&mean, &reference);
         eprintln!(
             "cornell {size}x{size} {gi:?}: RMSE vs full reference, one frame {e_last:.4}, \
              mean of 64 frames {e_mean:.4}; total light {:+.1}%",

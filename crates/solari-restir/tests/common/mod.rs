@@ -223,3 +223,30 @@ pub fn luminance(c: [f32; 3]) -> f64 {
 pub fn rgb(pixels: &[[f32; 4]]) -> Vec<[f32; 3]> {
     pixels.iter().map(|p| [p[0], p[1], p[2]]).collect()
 }
+
+/// The mean of `frames` images that `next` renders one after another (accumulated in f64),
+/// and the last one alone, as rgb.
+pub fn frame_mean(
+    frames: u32,
+    mut next: impl FnMut() -> Vec<[f32; 4]>,
+) -> (Vec<[f32; 3]>, Vec<[f32; 3]>) {
+    let mut sum: Vec<[f64; 3]> = Vec::new();
+    let mut last = Vec::new();
+    for _ in 0..frames {
+        last = rgb(&next());
+        sum.resize(last.len(), [0.0; 3]);
+        for (a, b) in sum.iter_mut().zip(&last) {
+            for c in 0..3 {
+                a[c] += b[c] as f64 / frames as f64;
+            }
+        }
+    }
+    let mean = sum.iter().map(|p| p.map(|v| v as f32)).collect();
+    (mean, last)
+}
+
+/// Total light of `image` over that of `reference`, minus 1 (0: the same total).
+pub fn total_light_bias(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
+    let total = |i: &[[f32; 3]]| i.iter().flatten().map(|&x| x as f64).sum::<f64>();
+    total(image) / total(reference) - 1.0
+}
