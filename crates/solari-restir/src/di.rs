@@ -66,6 +66,26 @@ pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
 /// the emission copy that replaces both when a scene has no lights.
 pub const PASS_LABELS: [&str; 3] = ["di_initial_temporal", "di_spatial_shade", "emission_only"];
 
+/// Composes entry point `entry` of this crate for `backend` and builds its pipeline over
+/// `layouts` (DI's and GI's passes).
+pub(crate) fn pass_pipeline(
+    gpu: &Gpu,
+    backend: Backend,
+    modules: &[(&str, &str)],
+    layouts: &[Option<&wgpu::BindGroupLayout>],
+    entry: &str,
+    constants: &[(&str, f64)],
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    let wgsl = compose(entry, backend, modules)?;
+    gpu.compute_pipeline(
+        &format!("solari_restir/{entry}"),
+        &wgsl,
+        layouts,
+        ShaderChecks::BoundsOnly,
+        constants,
+    )
+}
+
 /// Records one 2D compute dispatch with its four bind groups (DI's and GI's passes).
 pub(crate) fn record(
     encoder: &mut wgpu::CommandEncoder,
@@ -120,15 +140,8 @@ impl RestirDi {
             Some(&lights_layout),
         ];
         let modules = crate::modules();
-        let pipeline = |entry: &str, constants: &[(&str, f64)]| -> Result<_, GpuError> {
-            let wgsl = compose(entry, backend, &modules)?;
-            gpu.compute_pipeline(
-                &format!("solari_restir/{entry}"),
-                &wgsl,
-                &layouts,
-                ShaderChecks::BoundsOnly,
-                constants,
-            )
+        let pipeline = |entry: &str, constants: &[(&str, f64)]| {
+            pass_pipeline(gpu, backend, &modules, &layouts, entry, constants)
         };
         let initial = pipeline("restir_di_initial", variant.constants())?;
         let spatial = pipeline("restir_di_spatial", variant.constants())?;

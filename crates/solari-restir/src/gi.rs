@@ -32,7 +32,7 @@
 //! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
 //! buffer is needed.
 
-use crate::di::record;
+use crate::di::{pass_pipeline, record};
 use crate::gi_reservoir::GpuGiReservoir;
 use crate::gi_settings::{GpuGiParams, RestirGiSettings, flags};
 use crate::settings::flags::reuse;
@@ -41,10 +41,10 @@ use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
-use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::pass::{FrameContext, Ran};
-use solari_scene::shaders::{Backend, compose};
+use solari_scene::shaders::Backend;
 use solari_worldcache::WorldCache;
 
 /// Bind group 2 of the GI shaders (`restir_gi.wesl`) below the world cache's bindings, by
@@ -115,15 +115,8 @@ impl RestirGi {
             Some(&target_layout),
         ];
         let modules = crate::gi_modules();
-        let pipeline = |entry: &str| -> Result<_, GpuError> {
-            let wgsl = compose(entry, backend, &modules)?;
-            gpu.compute_pipeline(
-                &format!("solari_restir/{entry}"),
-                &wgsl,
-                &layouts,
-                ShaderChecks::BoundsOnly,
-                variant.constants(),
-            )
+        let pipeline = |entry: &str| {
+            pass_pipeline(gpu, backend, &modules, &layouts, entry, variant.constants())
         };
         let initial = pipeline("restir_gi_initial")?;
         let spatial = pipeline("restir_gi_spatial")?;

@@ -1,6 +1,6 @@
 //! # solari-restir
 //!
-//! ReSTIR DI for the Solari workspace: direct light from every light in a scene at a cost of
+//! ReSTIR DI and ReSTIR GI ([`gi`], with plain path GI) for the Solari workspace. ReSTIR DI: direct light from every light in a scene at a cost of
 //! one shadow ray per pixel, by resampling light samples across candidates, frames and
 //! neighbouring pixels.
 //!
