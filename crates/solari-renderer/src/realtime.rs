@@ -731,6 +731,16 @@ impl RealtimeRenderer {
         Ok(())
     }
 
+    /// The settings the renderer runs with (after the `set_*_settings` calls).
+    pub fn settings(&self) -> &RealtimeSettings {
+        &self.settings
+    }
+
+    /// The settings ReSTIR GI runs with, when a traced GI mode is on.
+    pub fn gi_settings(&self) -> Option<RestirGiSettings> {
+        self.gi.as_ref().map(|(gi, _)| gi.settings())
+    }
+
     /// Changes ReSTIR GI's settings (history is kept). With [`GiMode::Path`] reuse stays
     /// off whatever `settings` say; without a traced GI mode only the stored settings change.
     pub fn set_gi_settings(&mut self, settings: RestirGiSettings) -> Result<(), GpuError> {

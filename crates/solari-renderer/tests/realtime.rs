@@ -329,3 +329,33 @@ fn memory_report_counts_each_component() {
     }
     assert!(gpu_scene.memory_bytes() > 0);
 }
+
+/// ReSTIR GI's settings change in place; bad ones are refused with the knob named; plain path
+/// GI keeps reuse off whatever the settings say.
+#[test]
+fn gi_settings_change_in_place_and_bad_ones_are_refused() {
+    use solari_renderer::GiMode;
+    use solari_restir::RestirGiSettings;
+    let Some(c) = Cornell::new() else { return };
+    let mut path = c.renderer(RealtimeSettings {
+        gi: GiMode::Path,
+        ..settings()
+    });
+    let bad = RestirGiSettings {
+        jacobian_bound: f32::NAN,
+        ..Default::default()
+    };
+    let e = path.set_gi_settings(bad).expect_err("refused").to_string();
+    assert!(e.contains("jacobian_bound"), "{e}");
+    let wider = RestirGiSettings {
+        spatial_radius: 4.0,
+        ..Default::default()
+    };
+    path.set_gi_settings(wider).unwrap();
+    let running = path.gi_settings().expect("path GI runs ReSTIR GI's passes");
+    assert_eq!(running.spatial_radius, 4.0);
+    assert!(!running.reuse(), "plain path GI must not reuse");
+    assert_eq!(path.settings().restir_gi, wider);
+    let off = c.renderer(settings());
+    assert_eq!(off.gi_settings(), None);
+}
