@@ -7,7 +7,8 @@ use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use solari_restir::gi_reservoir::{MergeSide, merge_weights, reconnection_jacobian};
-use solari_scene::gpu::{ShaderChecks, test_gpu};
+use solari_scene::case_kernel::CaseKernel;
+use solari_scene::gpu::test_gpu;
 use solari_scene::shaders::{Backend, compose};
 
 /// WGSL twin: `Case` in `restir_gi_test.wesl`.
@@ -94,37 +95,17 @@ fn close(a: f32, b: f32, tol: f32) -> bool {
 fn gi_reuse_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
     let (empty_layout, empty) = gpu.empty_group();
-    let io_layout = gpu.buffer_layout(
-        "restir_gi_test",
-        &[
-            wgpu::BufferBindingType::Storage { read_only: true },
-            wgpu::BufferBindingType::Storage { read_only: false },
-        ],
-    );
     let source = include_str!("../shaders/restir_gi_test.wesl");
     let modules: Vec<_> = solari_restir::gi_modules()
         .into_iter()
         .chain([("restir_gi_test", source)])
         .collect();
     let wgsl = compose("restir_gi_test", Backend::Software, &modules).expect("compose");
-    let pipeline = gpu
-        .compute_pipeline(
-            "restir_gi_test",
-            &wgsl,
-            &[Some(&empty_layout), Some(&empty_layout), Some(&io_layout)],
-            ShaderChecks::BoundsOnly,
-            &[],
-        )
-        .expect("pipeline");
+    let layouts = [Some(&empty_layout), Some(&empty_layout), None];
+    let kernel = CaseKernel::new(&gpu, "restir_gi_test", &wgsl, &layouts, 2).expect("kernel");
     let cases = cases();
-    let results: Vec<[f32; 4]> = gpu
-        .run_cases(
-            "restir_gi_test",
-            &pipeline,
-            &io_layout,
-            &[Some(&empty), Some(&empty), None],
-            &cases,
-        )
+    let results: Vec<[f32; 4]> = kernel
+        .run(&gpu, &[Some(&empty), Some(&empty)], &cases)
         .expect("dispatch");
     let (mut refused, mut merged) = (0, 0);
     for (k, r) in cases.iter().zip(&results) {

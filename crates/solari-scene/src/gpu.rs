@@ -507,8 +507,8 @@ impl Gpu {
     /// Runs a kernel with one invocation per case and reads its results back: `cases` go to
     /// binding 0 and `cases.len()` values of `O` come from binding 1 of `io_layout`, bound at
     /// the `None` slot of `groups`. Workgroups are 64 wide and fold into y past 65,535, so the
-    /// kernel indexes `id.x + id.y * num_workgroups.x * 64`. The GPU-twin tests and the
-    /// trace pass use it.
+    /// kernel indexes `id.x + id.y * num_workgroups.x * 64`. The GPU-twin tests (through
+    /// [`crate::case_kernel::CaseKernel`]) and the trace pass use it.
     pub fn run_cases<I: bytemuck::Pod, O: bytemuck::Pod>(
         &self,
         label: &str,

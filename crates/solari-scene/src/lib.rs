@@ -17,6 +17,7 @@ pub mod asset_io;
 pub mod bindings;
 pub mod brdf;
 pub mod bvh;
+pub mod case_kernel;
 pub mod default_scene;
 pub mod error;
 pub mod finite_check;

@@ -6,8 +6,9 @@ use glam::Vec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use solari_scene::brdf::{self, BrdfMaterial, Lobe};
+use solari_scene::case_kernel::CaseKernel;
 use solari_scene::default_scene::cornell_box;
-use solari_scene::gpu::{ShaderChecks, test_gpu};
+use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::{Backend, compose};
 use std::f32::consts::PI;
@@ -132,35 +133,15 @@ fn gpu_brdf_matches_the_cpu_twin() {
         &GpuSceneOptions::default(),
     )
     .expect("scene");
-    let io_layout = gpu.buffer_layout(
-        "brdf_test",
-        &[
-            wgpu::BufferBindingType::Storage { read_only: true },
-            wgpu::BufferBindingType::Storage { read_only: false },
-        ],
-    );
     let (empty_layout, empty) = gpu.empty_group();
     let wgsl = compose("brdf_test", Backend::Software, &[]).expect("compose");
-    let pipeline = gpu
-        .compute_pipeline(
-            "brdf_test",
-            &wgsl,
-            &[Some(scene.layout()), Some(&empty_layout), Some(&io_layout)],
-            ShaderChecks::BoundsOnly,
-            &[],
-        )
-        .expect("pipeline");
+    let layouts = [Some(scene.layout()), Some(&empty_layout), None];
+    let kernel = CaseKernel::new(&gpu, "brdf_test", &wgsl, &layouts, 2).expect("kernel");
 
     let cases = cases();
     let raw: Vec<BrdfCase> = cases.iter().map(|c| c.1).collect();
-    let results: Vec<BrdfResult> = gpu
-        .run_cases(
-            "brdf_test",
-            &pipeline,
-            &io_layout,
-            &[Some(scene.bind_group()), Some(&empty), None],
-            &raw,
-        )
+    let results: Vec<BrdfResult> = kernel
+        .run(&gpu, &[Some(scene.bind_group()), Some(&empty)], &raw)
         .expect("dispatch");
 
     let rel = 2e-3;

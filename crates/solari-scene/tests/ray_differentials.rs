@@ -6,8 +6,9 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DVec2, Vec2, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
+use solari_scene::case_kernel::CaseKernel;
 use solari_scene::default_scene::cornell_box;
-use solari_scene::gpu::{ShaderChecks, test_gpu};
+use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::ray_differentials::barycentric_differentials;
 use solari_scene::shaders::{Backend, compose};
@@ -82,37 +83,17 @@ fn gpu_differentials_match_the_cpu_twin() {
         &GpuSceneOptions::default(),
     )
     .expect("scene");
-    let io_layout = gpu.buffer_layout(
-        "differentials_test",
-        &[
-            wgpu::BufferBindingType::Storage { read_only: true },
-            wgpu::BufferBindingType::Storage { read_only: false },
-        ],
-    );
     let (empty_layout, empty) = gpu.empty_group();
     let module = [(
         "differentials_test",
         include_str!("shaders/differentials_test.wesl"),
     )];
     let wgsl = compose("differentials_test", Backend::Software, &module).expect("compose");
-    let pipeline = gpu
-        .compute_pipeline(
-            "differentials_test",
-            &wgsl,
-            &[Some(scene.layout()), Some(&empty_layout), Some(&io_layout)],
-            ShaderChecks::BoundsOnly,
-            &[],
-        )
-        .expect("pipeline");
+    let layouts = [Some(scene.layout()), Some(&empty_layout), None];
+    let kernel = CaseKernel::new(&gpu, "differentials_test", &wgsl, &layouts, 2).expect("kernel");
     let cases = cases();
-    let results: Vec<[f32; 4]> = gpu
-        .run_cases(
-            "differentials_test",
-            &pipeline,
-            &io_layout,
-            &[Some(scene.bind_group()), Some(&empty), None],
-            &cases,
-        )
+    let results: Vec<[f32; 4]> = kernel
+        .run(&gpu, &[Some(scene.bind_group()), Some(&empty)], &cases)
         .expect("dispatch");
     let mut zero = 0;
     for (i, (c, r)) in cases.iter().zip(&results).enumerate() {

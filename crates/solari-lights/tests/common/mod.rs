@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 use solari_lights::MODULES;
-use solari_scene::gpu::{Gpu, ShaderChecks};
+use solari_scene::gpu::Gpu;
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::{DirectionalLight, Scene};
 
@@ -39,11 +39,10 @@ pub fn scenes() -> Vec<(String, Scene)> {
     ]
 }
 
-/// A compute kernel run over a list of cases (`Gpu::run_cases`).
+/// A case kernel over this crate's modules (`solari_scene::case_kernel`), with the case
+/// buffers in group 2 and the lights (or tiles) in group 3.
 pub struct CaseKernel {
-    name: &'static str,
-    pipeline: wgpu::ComputePipeline,
-    io_layout: wgpu::BindGroupLayout,
+    kernel: solari_scene::case_kernel::CaseKernel,
     empty: wgpu::BindGroup,
 }
 
@@ -57,35 +56,12 @@ impl CaseKernel {
         group3: &wgpu::BindGroupLayout,
     ) -> Self {
         let (empty_layout, empty) = gpu.empty_group();
-        let io_layout = gpu.buffer_layout(
-            name,
-            &[
-                wgpu::BufferBindingType::Storage { read_only: true },
-                wgpu::BufferBindingType::Storage { read_only: false },
-            ],
-        );
         let extra: Vec<(&str, &str)> = MODULES.iter().copied().chain([(name, source)]).collect();
         let wgsl = compose(name, Backend::Software, &extra).expect("compose");
-        let pipeline = gpu
-            .compute_pipeline(
-                name,
-                &wgsl,
-                &[
-                    Some(&empty_layout),
-                    Some(&empty_layout),
-                    Some(&io_layout),
-                    Some(group3),
-                ],
-                ShaderChecks::BoundsOnly,
-                &[],
-            )
+        let layouts = [Some(&empty_layout), Some(&empty_layout), None, Some(group3)];
+        let kernel = solari_scene::case_kernel::CaseKernel::new(gpu, name, &wgsl, &layouts, 2)
             .expect("pipeline");
-        Self {
-            name,
-            pipeline,
-            io_layout,
-            empty,
-        }
+        Self { kernel, empty }
     }
 
     /// One output per case, with `group3` bound.
@@ -95,13 +71,7 @@ impl CaseKernel {
         group3: &wgpu::BindGroup,
         cases: &[I],
     ) -> Vec<O> {
-        gpu.run_cases(
-            self.name,
-            &self.pipeline,
-            &self.io_layout,
-            &[Some(&self.empty), Some(&self.empty), None, Some(group3)],
-            cases,
-        )
-        .expect("dispatch")
+        let groups = [Some(&self.empty), Some(&self.empty), None, Some(group3)];
+        self.kernel.run(gpu, &groups, cases).expect("dispatch")
     }
 }

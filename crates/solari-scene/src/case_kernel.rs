@@ -1,0 +1,68 @@
+//! A compute kernel run once per case, for the GPU-twin tests: cases go in, one result per
+//! case comes out ([`Gpu::run_cases`]), so a shader function can be held to its Rust twin.
+
+use crate::GpuError;
+use crate::gpu::{Gpu, ShaderChecks};
+
+/// A pipeline whose group `io_group` holds the cases (binding 0, read) and the results
+/// (binding 1, read-write), with its own layout for that group.
+pub struct CaseKernel {
+    label: String,
+    pipeline: wgpu::ComputePipeline,
+    io_layout: wgpu::BindGroupLayout,
+    io_group: usize,
+}
+
+impl CaseKernel {
+    /// Builds the kernel from composed `wgsl` (entry point `main`) over `layouts`, whose slot
+    /// `io_group` must be `None`: the case buffers' layout goes there.
+    pub fn new(
+        gpu: &Gpu,
+        label: &str,
+        wgsl: &str,
+        layouts: &[Option<&wgpu::BindGroupLayout>],
+        io_group: usize,
+    ) -> Result<Self, GpuError> {
+        if layouts.get(io_group).is_none_or(|l| l.is_some()) {
+            return Err(GpuError::Validation(format!(
+                "case kernel {label}: layout slot {io_group} must be the empty (None) case slot"
+            )));
+        }
+        let io_layout = gpu.buffer_layout(
+            label,
+            &[
+                wgpu::BufferBindingType::Storage { read_only: true },
+                wgpu::BufferBindingType::Storage { read_only: false },
+            ],
+        );
+        let layouts: Vec<_> = layouts
+            .iter()
+            .enumerate()
+            .map(|(i, l)| if i == io_group { Some(&io_layout) } else { *l })
+            .collect();
+        let pipeline =
+            gpu.compute_pipeline(label, wgsl, &layouts, ShaderChecks::BoundsOnly, &[])?;
+        Ok(Self {
+            label: label.to_owned(),
+            pipeline,
+            io_layout,
+            io_group,
+        })
+    }
+
+    /// One result per case, with `groups` bound at the other slots (the case slot's entry is
+    /// ignored).
+    pub fn run<I: bytemuck::Pod, O: bytemuck::Pod>(
+        &self,
+        gpu: &Gpu,
+        groups: &[Option<&wgpu::BindGroup>],
+        cases: &[I],
+    ) -> Result<Vec<O>, GpuError> {
+        let mut groups = groups.to_vec();
+        if groups.len() <= self.io_group {
+            groups.resize(self.io_group + 1, None);
+        }
+        groups[self.io_group] = None;
+        gpu.run_cases(&self.label, &self.pipeline, &self.io_layout, &groups, cases)
+    }
+}
