@@ -246,6 +246,40 @@ pub fn sample(m: &BrdfMaterial, wo: Vec3, u: [f32; 3]) -> Option<BrdfSample> {
     finish(m, wo, wi, Lobe::Specular)
 }
 
+/// Samples the specular lobe alone from `u` (two uniform numbers), for passes that own that
+/// lobe (specular GI: the diffuse lobe's indirect light is ReSTIR GI's). The weight is
+/// [`eval_specular`] × cos / pdf with the bounded-VNDF pdf, or the Fresnel term for the mirror
+/// (pdf infinite). `None` below the surface, like [`sample`]. WGSL twin:
+/// `brdf_sample_specular`.
+pub fn sample_specular(m: &BrdfMaterial, wo: Vec3, u: [f32; 2]) -> Option<BrdfSample> {
+    if !(wo.z > 0.0) {
+        return None;
+    }
+    if m.is_mirror() {
+        return Some(BrdfSample {
+            wi: Vec3::new(-wo.x, -wo.y, wo.z),
+            weight: m.fresnel(wo.z),
+            pdf: f32::INFINITY,
+            lobe: Lobe::Mirror,
+        });
+    }
+    let wi = sample_vndf(wo, m.alpha(), Vec2::new(u[0], u[1]));
+    if !(wi.z > 0.0) {
+        return None;
+    }
+    let p = vndf_pdf(wo, wi, m.alpha());
+    if !(p > 0.0 && p.is_finite()) {
+        return None;
+    }
+    let weight = eval_specular(m, wo, wi) / p;
+    weight.is_finite().then_some(BrdfSample {
+        wi,
+        weight,
+        pdf: p,
+        lobe: Lobe::Specular,
+    })
+}
+
 fn finish(m: &BrdfMaterial, wo: Vec3, wi: Vec3, lobe: Lobe) -> Option<BrdfSample> {
     // Rejects NaN too.
     if !(wi.z > 0.0) {

@@ -412,3 +412,57 @@ fn orthonormal_basis_is_orthonormal_and_right_handed() {
         );
     }
 }
+
+/// Specular GI samples the specular lobe alone: the mean of its weight is the specular
+/// lobe's albedo ∫ f_spec cos dω (quadrature), and with the diffuse lobe's albedo it makes up
+/// the whole BRDF's, so GI's diffuse part and specular GI's part add to the full bounce.
+#[test]
+fn specular_lobe_sampling_estimates_the_specular_albedo() {
+    let mut rng = Pcg32::seed_from_u64(31);
+    for case in 0..24 {
+        let mut m = random_material(&mut rng);
+        m.roughness = rng.random_range(0.3..1.0);
+        let wo = view([0.2f32, 0.6, 0.95][case % 3]);
+        let (n, mut sum, mut sum2) = (256usize, 0.0f64, 0.0f64);
+        for i in 0..n {
+            for j in 0..n {
+                let u = [
+                    (i as f32 + rng.random::<f32>()) / n as f32,
+                    (j as f32 + rng.random::<f32>()) / n as f32,
+                ];
+                let w = brdf::sample_specular(&m, wo, u).map_or(0.0, |s| {
+                    assert_eq!(s.lobe, Lobe::Specular);
+                    assert!(s.weight.is_finite() && s.weight.min_element() >= 0.0);
+                    s.weight.x as f64
+                });
+                sum += w;
+                sum2 += w * w;
+            }
+        }
+        let count = (n * n) as f64;
+        let mean = sum / count;
+        let err = ((sum2 / count - mean * mean).max(0.0) / count).sqrt();
+        let quad = |f: fn(&BrdfMaterial, Vec3, Vec3) -> Vec3| {
+            integrate_sphere(|wi| if wi.z > 0.0 { f(&m, wo, wi).x } else { 0.0 }, 3000, 600)
+        };
+        let specular = quad(brdf::eval_specular);
+        assert!(
+            (mean - specular).abs() < 4.0 * err + 2e-3 * specular.max(0.05),
+            "{m:?} cos_o {}: sampled {mean:.5} ± {err:.5}, quadrature {specular:.5}",
+            wo.z
+        );
+        let whole = quad(brdf::eval);
+        let diffuse = quad(brdf::eval_diffuse);
+        assert!(
+            (specular + diffuse - whole).abs() < 1e-4,
+            "lobes {specular} + {diffuse} vs whole {whole}"
+        );
+    }
+    // The mirror: the reflected direction with weight F and an infinite pdf.
+    let m = material(0.8, 1.0, 0.0);
+    let s = brdf::sample_specular(&m, view(0.5), [0.3, 0.7]).expect("mirror sample");
+    assert_eq!(s.lobe, Lobe::Mirror);
+    assert!(s.pdf.is_infinite());
+    assert!((s.weight - m.fresnel(0.5)).abs().max_element() < 1e-6);
+    assert!(brdf::sample_specular(&m, view(-0.5), [0.3, 0.7]).is_none());
+}

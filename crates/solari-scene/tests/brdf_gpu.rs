@@ -40,7 +40,13 @@ struct BrdfResult {
     sample_weight: [f32; 3],
     sample_flags: u32,
     mis: f32,
-    _pad: [f32; 3],
+    spec_pdf: f32,
+    spec_flags: u32,
+    _pad0: f32,
+    spec_wi: [f32; 3],
+    _pad1: f32,
+    spec_weight: [f32; 3],
+    _pad2: f32,
 }
 
 fn direction(rng: &mut Pcg32, upper: bool) -> Vec3 {
@@ -145,7 +151,7 @@ fn gpu_brdf_matches_the_cpu_twin() {
         .expect("dispatch");
 
     let rel = 2e-3;
-    let (mut compared_samples, mut failures) = (0, Vec::new());
+    let (mut compared_samples, mut compared_specular, mut failures) = (0, 0, Vec::new());
     for ((m, c), r) in cases.iter().zip(results) {
         let (wo, wi) = (Vec3::from(c.wo), Vec3::from(c.wi));
         let mut fail = |what: String| failures.push(format!("{m:?} wo {wo} wi {wi}: {what}"));
@@ -160,6 +166,25 @@ fn gpu_brdf_matches_the_cpu_twin() {
         let mis = brdf::balance_heuristic(c.mis_f, c.mis_g);
         if !close(mis, r.mis, 1e-5) {
             fail(format!("mis cpu {mis} gpu {}", r.mis));
+        }
+        // The specular lobe alone (specular GI's sampling); validity is a threshold on
+        // wi.z, so samples within float noise of the horizon are skipped.
+        let spec_valid = r.spec_flags >> 8 == 1;
+        match brdf::sample_specular(m, wo, [c.u[1], c.u[2]]) {
+            Some(s) if s.wi.z > 1e-3 && wo.z > 1e-4 => {
+                compared_specular += 1;
+                let lobe = if s.lobe == Lobe::Mirror { 2 } else { 1 };
+                if !spec_valid || r.spec_flags & 0xff != lobe {
+                    fail(format!("specular sample {s:?} but gpu flags {:#x}", r.spec_flags));
+                } else if (s.wi - Vec3::from(r.spec_wi)).abs().max_element() > 1e-3
+                    || !close3(s.weight, r.spec_weight.into(), 5e-3)
+                    || !close(s.pdf, r.spec_pdf, sharp_tolerance(m))
+                {
+                    fail(format!("specular sample cpu {s:?} gpu {r:?}"));
+                }
+            }
+            None if spec_valid && wo.z <= 0.0 => fail("gpu accepted a specular sample below".into()),
+            _ => {}
         }
         // The lobe choice and the validity test are thresholds: skip samples within float
         // noise of either.
@@ -191,10 +216,11 @@ fn gpu_brdf_matches_the_cpu_twin() {
         }
     }
     eprintln!(
-        "{} cases, {compared_samples} samples compared, {} mismatches",
+        "{} cases, {compared_samples} samples and {compared_specular} specular samples compared, {} mismatches",
         cases.len(),
         failures.len()
     );
+    assert!(compared_specular > 3000, "too few specular samples compared: {compared_specular}");
     assert!(
         failures.is_empty(),
         "{} mismatches, first: {:#?}",
