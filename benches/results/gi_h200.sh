@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # GI modes on the H200 (device tool), one command. Issue 18, "Time against error" (first
-# slice: diffuse GI only; specular GI does not exist yet):
+# slice: diffuse GI, and specular GI with a mode ending in +spec; no PSR yet):
 #   1. timing at 1920x1080: `solari render --mode realtime --gi MODE --denoiser fallback
 #      --frames 200 --json` per scene and mode (per-pass GPU ms in the summary);
 #   2. error at 960x540 (a quarter of the pixels, so `solari compare` stays quick): the
 #      last frame and the mean of 16 frames (`--mean-of 16`) after 120, against a full-bounce
 #      reference (`--mode reference --spp $SPP`, default bounces).
 # Needs .gl, .dev/solari (stripped release build of the commit under test) and .dev/scenes
-# carried. Usage: bash benches/results/gi_h200.sh   (SCENES, MODES, SPP override). Everything
-# lands in $OUT/gi_h200.tar.gz.
+# carried. Usage: bash benches/results/gi_h200.sh   (SCENES, MODES, SPP override). A mode
+# ending in +spec adds `--specular-gi` (e.g. MODES="path path+spec"). Everything lands in
+# $OUT/gi_h200.tar.gz.
 set -u
 source benches/results/device_env.sh
 BIN=${SOLARI_BIN:-.dev/solari}
@@ -17,12 +18,14 @@ SPP=${SPP:-1024}
 SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
 MODES=${MODES:-off cache path restir}
 mkdir -p "$R" "$OUT"
+# "cache+spec" -> --gi cache --specular-gi
+flags() { local g=${1%+spec}; echo "--gi $g"; [ "$g" != "$1" ] && echo "--specular-gi"; }
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
 for s in $SCENES; do
   f=$(ls .dev/scenes/"$s"/*.gltf | head -n 1)
   for g in $MODES; do
     echo "== $s $g timing $(date -u +%T)" >&2
-    "$BIN" render "$f" --mode realtime --gi "$g" --denoiser fallback --frames 200 \
+    "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
       --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_1080p.json" 2> "$R/${s}_${g}_1080p.log"
   done
 done
@@ -34,7 +37,7 @@ for s in $SCENES; do
   for g in $MODES; do
     for m in 1 16; do
       n="${s}_${g}_mean$m"
-      "$BIN" render "$f" --mode realtime --gi "$g" --denoiser fallback --frames 136 \
+      "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
         --mean-of $m --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
       "$BIN" compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
       rm -f "$R/$n.exr"
@@ -53,12 +56,15 @@ def load(p):
         return None
 scenes = sorted({f.split("_ref.json")[0] for f in os.listdir(r) if f.endswith("_ref.json")})
 for s in scenes:
-    for g in "off cache path restir".split():
+    for g in "off cache path restir path+spec restir+spec".split():
         t = load(f"{s}_{g}_1080p.json") or {}
         p = t.get("passes", {})
+        if not t:
+            continue
         gi = sum((p.get(n) or {}).get("mean_ms") or 0 for n in ("gi_initial_temporal", "gi_spatial_shade", "world_cache_gi"))
+        spec = (p.get("specular_gi") or {}).get("mean_ms") or 0
         e = [(load(f"{s}_{g}_mean{m}.compare.json") or {}).get("all", {}) for m in (1, 16)]
-        print(f"{s:14} {g:7} GPU {t.get('gpu_frame_ms') or float('nan'):7.3f} ms  GI passes {gi:6.3f} ms  "
+        print(f"{s:14} {g:11} GPU {t.get('gpu_frame_ms') or float('nan'):7.3f} ms  GI passes {gi:6.3f} ms  specular {spec:6.3f} ms  "
               f"relMSE 1 frame {e[0].get('rel_mse', float('nan')):.5f}  16 frames {e[1].get('rel_mse', float('nan')):.5f}  "
-              f"FLIP {e[0].get('flip', float('nan')):.4f}")
+              f"FLIP {e[0].get('flip', float('nan')):.4f}  mean/ref {e[0].get('mean_ratio') or float('nan'):.4f}")
 PY

@@ -15,7 +15,7 @@ use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{
     CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
-use solari_restir::{RestirDiSettings, RestirGiSettings};
+use solari_restir::{RestirDiSettings, RestirGiSettings, SpecularGiSettings};
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
@@ -303,6 +303,17 @@ pub struct RealtimeArgs {
     /// accuracy, see `RestirGiSettings::permutation_sampling`).
     #[arg(long)]
     pub gi_permutation: bool,
+    /// Specular GI: the indirect light of the specular lobe (reflections of everything but
+    /// the lights, which are DI's), traced for glossy and mirror pixels; rough ones reuse
+    /// the ReSTIR GI reservoir with `--gi path|restir`. Needs no `--gi` mode.
+    #[arg(long)]
+    pub specular_gi: bool,
+    /// Specular GI: path segments after the primary surface (1–8).
+    #[arg(long, default_value_t = 3)]
+    pub specular_bounces: u32,
+    /// Specular GI: pixels rougher than this reuse the GI reservoir instead of tracing.
+    #[arg(long, default_value_t = 0.4, value_parser = values::finite)]
+    pub specular_rough_threshold: f32,
     /// World-cache cell size at the finest level, in scene units.
     #[arg(long, default_value_t = 0.25, value_parser = values::finite, allow_hyphen_values = true)]
     pub cache_cell_size: f32,
@@ -362,6 +373,12 @@ impl RealtimeArgs {
                 spatial_radius: self.gi_spatial_radius,
                 jacobian_bound: self.gi_jacobian_bound,
                 permutation_sampling: self.gi_permutation,
+                ..Default::default()
+            },
+            specular_gi: self.specular_gi,
+            specular: SpecularGiSettings {
+                max_bounces: self.specular_bounces,
+                rough_threshold: self.specular_rough_threshold,
                 ..Default::default()
             },
             cache: WorldCacheSettings {

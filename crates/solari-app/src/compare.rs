@@ -61,11 +61,12 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
 
 fn print(label: &str, m: &Metrics) {
     println!(
-        "{label}: RMSE {:.5}  relMSE {:.5}  FLIP {:.4}  FLIP(HDR) {:.4}  over {} pixels{}",
+        "{label}: RMSE {:.5}  relMSE {:.5}  FLIP {:.4}  FLIP(HDR) {:.4}  mean/reference {:.4}  over {} pixels{}",
         m.rmse,
         m.rel_mse,
         m.flip,
         m.flip_hdr,
+        m.mean_ratio,
         m.pixels,
         if m.non_finite > 0 {
             format!(", {} NON-FINITE test pixels", m.non_finite)

@@ -335,7 +335,7 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
     let summary = serde_json::json!({
         "scene": name, "frames": args.frames, "width": w, "height": h,
         "camera_path": format!("{:?}", args.realtime.camera_path).to_lowercase(),
-        "gi": format!("{:?}", settings.gi), "denoiser": renderer.denoiser_kind().name(),
+        "gi": format!("{:?}", settings.gi), "specular_gi": settings.specular_gi, "denoiser": renderer.denoiser_kind().name(),
         "tracer": backend.name(), "adapter": gpu.info.name,
         "toggle_lights_every": args.toggle_lights,
         "lights_switched": toggle.as_ref().map(Toggle::switched), "toggles": toggles,

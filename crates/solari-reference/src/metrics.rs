@@ -27,6 +27,10 @@ pub struct Metrics {
     pub pixels: usize,
     /// Test pixels that were not finite (counted as errors of the reference's magnitude + 1).
     pub non_finite: usize,
+    /// The test image's mean over the reference's (all channels, finite test pixels only):
+    /// how much of the reference's light the test image has (1 for none missing). NaN when
+    /// the reference is black.
+    pub mean_ratio: f64,
 }
 
 /// FLIP's viewing condition: 0.7 m from a 24-inch 4K monitor, its default.
@@ -71,11 +75,15 @@ pub fn compare(
     }
     let mut out = Metrics::default();
     let (mut se, mut rel, mut fl, mut fh) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut test_sum, mut ref_sum) = (0.0f64, 0.0f64);
     for i in (0..n).filter(|&i| keep(i)) {
         out.pixels += 1;
         let finite = test[i].iter().all(|c| c.is_finite());
         if !finite {
             out.non_finite += 1;
+        } else {
+            test_sum += test[i].iter().map(|&c| c as f64).sum::<f64>();
+            ref_sum += reference[i].iter().map(|&c| c as f64).sum::<f64>();
         }
         for c in 0..3 {
             let b = reference[i][c] as f64;
@@ -96,6 +104,11 @@ pub fn compare(
     out.rel_mse = rel / (3.0 * count);
     out.flip = fl / count;
     out.flip_hdr = fh / count;
+    out.mean_ratio = if ref_sum > 0.0 {
+        test_sum / ref_sum
+    } else {
+        f64::NAN
+    };
     Ok((out, hdr))
 }
 

@@ -22,6 +22,23 @@ fn identical_images_have_no_error() {
         (0.0, 0.0, 0.0, 0.0)
     );
     assert!(map.iter().all(|&v| v == 0.0));
+    assert_eq!(m.mean_ratio, 1.0);
+}
+
+#[test]
+fn mean_ratio_is_the_share_of_the_reference_light() {
+    let reference = gradient(32, 16);
+    let half: Vec<[f32; 3]> = reference.iter().map(|p| p.map(|c| 0.55 * c)).collect();
+    let (m, _) = compare(&half, &reference, 32, 16, None).unwrap();
+    assert!((m.mean_ratio - 0.55).abs() < 1e-6, "{}", m.mean_ratio);
+    let black = vec![[0.0f32; 3]; reference.len()];
+    assert!(
+        compare(&reference, &black, 32, 16, None)
+            .unwrap()
+            .0
+            .mean_ratio
+            .is_nan()
+    );
 }
 
 #[test]

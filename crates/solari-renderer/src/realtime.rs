@@ -20,7 +20,7 @@ use solari_denoise::{
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{
     GI_PASS_LABELS, PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings, RestirGi,
-    RestirGiSettings,
+    RestirGiSettings, SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings,
 };
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
@@ -38,10 +38,11 @@ use solari_worldcache::PASS_LABELS as CACHE;
 /// Pass names as [`FrameReport`] lists them, in frame order: the G-buffer, light tiles, the
 /// world cache's upkeep ([`solari_worldcache::PASS_LABELS`]), ReSTIR DI
 /// ([`solari_restir::PASS_LABELS`]), ReSTIR GI or plain path GI
-/// ([`solari_restir::GI_PASS_LABELS`]), cache-only GI or the cache view, then the fallback
+/// ([`solari_restir::GI_PASS_LABELS`]), cache-only GI or the cache view, specular GI
+/// ([`solari_restir::SPECULAR_PASS_LABELS`]), then the fallback
 /// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
 /// (DLSS-RR itself records outside the profiler's reach).
-pub const PASS_NAMES: [&str; 18] = [
+pub const PASS_NAMES: [&str; 19] = [
     solari_scene::gbuffer::PASS_LABELS[0],
     solari_lights::PASS_LABELS[0],
     CACHE[0],
@@ -55,6 +56,7 @@ pub const PASS_NAMES: [&str; 18] = [
     GI_PASS_LABELS[1],
     CACHE[4],
     CACHE[5],
+    SPECULAR_PASS_LABELS[0],
     DENOISE[0],
     DENOISE[1],
     DENOISE[2],
@@ -67,7 +69,7 @@ use solari_denoise::fallback::PASS_LABELS as DENOISE;
 /// The passes whose outputs the non-finite detector checks, in frame order (a slot counts
 /// what its pass wrote: the G-buffer's emission, motion and depth; the tile samples; the
 /// world cache's cells; ReSTIR DI's reservoirs and image; ReSTIR GI's reservoirs; the image
-/// after GI of any kind (or the cache view); the denoiser's output).
+/// after GI of any kind and specular GI (or the cache view); the denoiser's output).
 pub const FINITE_SLOTS: [&str; 7] = [
     "gbuffer",
     "light_tiles",
@@ -207,6 +209,13 @@ pub struct RealtimeSettings {
     /// ReSTIR GI's knobs (with [`GiMode::Restir`]; [`GiMode::Path`] uses them with reuse
     /// off).
     pub restir_gi: RestirGiSettings,
+    /// Specular GI, the indirect light of the specular lobe (default off): reflections in
+    /// metals and glossy surfaces of everything but the lights themselves (DI's). With any
+    /// GI mode; with [`GiMode::Path`] and [`GiMode::Restir`] rough pixels reuse the GI
+    /// reservoirs instead of tracing.
+    pub specular_gi: bool,
+    /// Specular GI's knobs.
+    pub specular: SpecularGiSettings,
     /// What the output shows (default the lit image).
     pub view: FrameView,
     /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
@@ -238,9 +247,10 @@ pub struct RealtimeSettings {
 }
 
 impl RealtimeSettings {
-    /// Whether the frame keeps a world cache: every GI mode reads it, and so does its view.
+    /// Whether the frame keeps a world cache: every GI mode reads it, and so do specular GI
+    /// and the cache view.
     pub fn needs_cache(&self) -> bool {
-        self.gi != GiMode::Off || self.view == FrameView::WorldCache
+        self.gi != GiMode::Off || self.specular_gi || self.view == FrameView::WorldCache
     }
 
     /// The ReSTIR GI settings the GI mode runs with (reuse off for [`GiMode::Path`]).
@@ -275,6 +285,9 @@ impl RealtimeSettings {
         }
         if self.gi.traced() {
             self.restir_gi.validate().map_err(|e| e.to_string())?;
+        }
+        if self.specular_gi {
+            self.specular.validate().map_err(|e| e.to_string())?;
         }
         if self.denoiser != Some(DenoiserKind::None) {
             self.denoise.validate().map_err(|e| e.to_string())?;
@@ -315,6 +328,8 @@ impl Default for RealtimeSettings {
             gi: GiMode::Off,
             cache: WorldCacheSettings::default(),
             restir_gi: RestirGiSettings::default(),
+            specular_gi: false,
+            specular: SpecularGiSettings::default(),
             view: FrameView::Lit,
             timestamps: false,
             denoiser: Some(DenoiserKind::None),
@@ -380,6 +395,8 @@ pub struct RealtimeRenderer {
     // ReSTIR GI (or plain path GI) and its target group (ReSTIR DI's output), with a traced
     // GI mode.
     gi: Option<(RestirGi, wgpu::BindGroup)>,
+    // Specular GI, bound to the world cache, ReSTIR DI's output and ReSTIR GI (if any).
+    specular: Option<SpecularGi>,
     list: LightList,
     lights: GpuLights,
     lights_group: wgpu::BindGroup,
@@ -527,6 +544,23 @@ impl RealtimeRenderer {
             }
             _ => None,
         };
+        let specular = match &cache {
+            Some((cache, _)) if settings.specular_gi => {
+                let variant = TraceVariant::for_scene(gpu_scene);
+                let mut specular = SpecularGi::new(
+                    gpu,
+                    backend,
+                    variant,
+                    width,
+                    height,
+                    settings.specular,
+                    settings.tiles,
+                )?;
+                specular.bind(gpu, cache, di.output(), gi.as_ref().map(|(g, _)| g))?;
+                Some(specular)
+            }
+            _ => None,
+        };
         let checker = match settings.finite_check {
             FiniteCheck::Off => None,
             _ => Some(FiniteChecker::with_frames_in_flight(
@@ -560,6 +594,7 @@ impl RealtimeRenderer {
             di,
             cache,
             gi,
+            specular,
             list,
             lights,
             lights_group,
@@ -698,6 +733,13 @@ impl RealtimeRenderer {
                 *gi = RestirGi::new(gpu, backend, variant, w, h, gi.settings(), cache)?;
                 *gi_target = gi.target_group(gpu, self.di.output());
             }
+            if let Some(specular) = &mut self.specular {
+                let settings = specular.settings();
+                *specular =
+                    SpecularGi::new(gpu, backend, variant, w, h, settings, self.settings.tiles)?;
+                let gi = self.gi.as_ref().map(|(g, _)| g);
+                specular.bind(gpu, cache, self.di.output(), gi)?;
+            }
         }
         Ok(())
     }
@@ -734,6 +776,24 @@ impl RealtimeRenderer {
     /// The settings the renderer runs with (after the `set_*_settings` calls).
     pub fn settings(&self) -> &RealtimeSettings {
         &self.settings
+    }
+
+    /// Specular GI's settings, when it runs.
+    pub fn specular_settings(&self) -> Option<SpecularGiSettings> {
+        self.specular.as_ref().map(|s| s.settings())
+    }
+
+    /// Changes specular GI's settings (it keeps no history). Errors if specular GI was not
+    /// built ([`RealtimeSettings::specular_gi`] off) or a knob is out of range.
+    pub fn set_specular_settings(&mut self, settings: SpecularGiSettings) -> Result<(), GpuError> {
+        let Some(specular) = &mut self.specular else {
+            return Err(GpuError::Validation(
+                "specular GI is off in this renderer (RealtimeSettings::specular_gi)".into(),
+            ));
+        };
+        specular.set_settings(settings)?;
+        self.settings.specular = settings;
+        Ok(())
     }
 
     /// The settings ReSTIR GI runs with, when a traced GI mode is on.
@@ -852,6 +912,9 @@ impl RealtimeRenderer {
         if let Some((gi, _)) = &mut self.gi {
             gi.prepare(gpu, &context, &self.gbuffer);
         }
+        if let Some(specular) = &self.specular {
+            specular.prepare(gpu, &context);
+        }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         let mut ran = Marks([false; PASS_NAMES.len()]);
         let denoising = self.denoising();
@@ -929,6 +992,18 @@ impl RealtimeRenderer {
                     let layout = solari_restir::gi_reservoir_check(cap);
                     c.check_buffer(gpu, &mut encoder, SLOT_GI, gi.reservoirs(), pixels, layout)?;
                 }
+            }
+            if let Some(specular) = &self.specular
+                && self.settings.view != FrameView::WorldCache
+            {
+                let lights = &self.lights_group;
+                ran.add(&specular.encode(
+                    &mut encoder,
+                    &context,
+                    gpu_scene,
+                    &self.gbuffer,
+                    lights,
+                )?);
             }
             if let Some(c) = checker.as_mut() {
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;

@@ -15,7 +15,8 @@
 //!    [`RestirGiSettings::spatial_tries`] tries with the radius halved), whose sample point
 //!    must be visible from the pixel (one ray).
 //! 4. **Merges** are generalised RIS with the balance heuristic over confidence-weighted
-//!    target functions (the diffuse lobe's contribution, luminance of L · f · cos), made
+//!    target functions (the sample's contribution through the whole BRDF, luminance of
+//!    L · f · cos, so that specular GI can reuse the reservoirs of rough pixels), made
 //!    comparable by the reconnection Jacobian in both directions; reuse is refused where
 //!    either Jacobian exceeds [`RestirGiSettings::jacobian_bound`]. The CPU twin is
 //!    [`crate::gi_reservoir`].

@@ -52,6 +52,7 @@ pub mod gi_reservoir;
 pub mod gi_settings;
 pub mod reservoir;
 pub mod settings;
+pub mod specular;
 
 pub use di::{DI_BINDINGS, PASS_LABELS, RestirDi};
 pub use gi::{GI_BINDINGS, GI_PASS_LABELS, GI_TARGET_BINDINGS, RestirGi};
@@ -59,6 +60,7 @@ pub use gi_reservoir::{GpuGiReservoir, gi_reservoir_check};
 pub use gi_settings::{GpuGiParams, RestirGiSettings};
 pub use reservoir::{GpuReservoir, reservoir_check};
 pub use settings::{GpuDiParams, RestirDiSettings};
+pub use specular::{SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings};
 
 /// The crate's importable WGSL modules, by module name.
 pub const MODULES: &[(&str, &str)] = &[
@@ -117,6 +119,22 @@ pub const GI_ENTRY_POINTS: &[(&str, &str)] = &[
 /// crate's.
 pub fn gi_modules() -> Vec<(&'static str, &'static str)> {
     [solari_worldcache::MODULES, MODULES, GI_ENTRY_POINTS].concat()
+}
+
+/// Specular GI's entry-point shader, by module name.
+pub const SPECULAR_ENTRY_POINTS: &[(&str, &str)] =
+    &[("specular_gi", include_str!("../shaders/specular_gi.wesl"))];
+
+/// Every module specular GI's shader needs beyond `solari-scene`'s: the lights', the world
+/// cache's and this crate's.
+pub fn specular_modules() -> Vec<(&'static str, &'static str)> {
+    [
+        solari_lights::MODULES,
+        solari_worldcache::MODULES,
+        MODULES,
+        SPECULAR_ENTRY_POINTS,
+    ]
+    .concat()
 }
 
 /// The README's example, compiled and run as a doc test.

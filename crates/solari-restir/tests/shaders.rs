@@ -134,3 +134,37 @@ fn gi_bindings_are_bound_by_their_wgsl_names() {
     )
     .unwrap_or_else(|e| panic!("{e}"));
 }
+
+#[test]
+fn specular_gi_composes_its_mirror_matches_and_bindings_have_their_names() {
+    use solari_restir::specular::{GpuSpecularParams, SPECULAR_BINDINGS};
+    use solari_restir::{SPECULAR_ENTRY_POINTS, specular_modules};
+    use solari_scene::bindings::check_groups;
+    use solari_worldcache::CACHE_BINDINGS;
+    let own: Vec<_> = [MODULES, SPECULAR_ENTRY_POINTS].concat();
+    let l = CheckedShaders::new(&own, SPECULAR_ENTRY_POINTS, &specular_modules());
+    l.mirror(
+        "SpecularParams",
+        size_of::<GpuSpecularParams>(),
+        &[
+            ("flags", offset_of!(GpuSpecularParams, flags)),
+            (
+                "rough_threshold",
+                offset_of!(GpuSpecularParams, rough_threshold),
+            ),
+            ("tile_samples", offset_of!(GpuSpecularParams, tile_samples)),
+            (
+                "max_ray_distance",
+                offset_of!(GpuSpecularParams, max_ray_distance),
+            ),
+        ],
+    );
+    let groups = [
+        &SPECULAR_BINDINGS,
+        &CACHE_BINDINGS,
+        &solari_lights::LIGHT_BINDINGS,
+        &solari_lights::TILE_BINDINGS,
+    ];
+    check_groups(&[("specular_gi", &groups)], &specular_modules())
+        .unwrap_or_else(|e| panic!("{e}"));
+}

@@ -443,7 +443,11 @@ fn specular_lobe_sampling_estimates_the_specular_albedo() {
         let mean = sum / count;
         let err = ((sum2 / count - mean * mean).max(0.0) / count).sqrt();
         let quad = |f: fn(&BrdfMaterial, Vec3, Vec3) -> Vec3| {
-            integrate_sphere(|wi| if wi.z > 0.0 { f(&m, wo, wi).x } else { 0.0 }, 3000, 600)
+            integrate_sphere(
+                |wi| if wi.z > 0.0 { f(&m, wo, wi).x } else { 0.0 },
+                3000,
+                600,
+            )
         };
         let specular = quad(brdf::eval_specular);
         assert!(

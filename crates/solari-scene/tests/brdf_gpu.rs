@@ -175,7 +175,10 @@ fn gpu_brdf_matches_the_cpu_twin() {
                 compared_specular += 1;
                 let lobe = if s.lobe == Lobe::Mirror { 2 } else { 1 };
                 if !spec_valid || r.spec_flags & 0xff != lobe {
-                    fail(format!("specular sample {s:?} but gpu flags {:#x}", r.spec_flags));
+                    fail(format!(
+                        "specular sample {s:?} but gpu flags {:#x}",
+                        r.spec_flags
+                    ));
                 } else if (s.wi - Vec3::from(r.spec_wi)).abs().max_element() > 1e-3
                     || !close3(s.weight, r.spec_weight.into(), 5e-3)
                     || !close(s.pdf, r.spec_pdf, sharp_tolerance(m))
@@ -183,7 +186,9 @@ fn gpu_brdf_matches_the_cpu_twin() {
                     fail(format!("specular sample cpu {s:?} gpu {r:?}"));
                 }
             }
-            None if spec_valid && wo.z <= 0.0 => fail("gpu accepted a specular sample below".into()),
+            None if spec_valid && wo.z <= 0.0 => {
+                fail("gpu accepted a specular sample below".into())
+            }
             _ => {}
         }
         // The lobe choice and the validity test are thresholds: skip samples within float
@@ -220,7 +225,10 @@ fn gpu_brdf_matches_the_cpu_twin() {
         cases.len(),
         failures.len()
     );
-    assert!(compared_specular > 3000, "too few specular samples compared: {compared_specular}");
+    assert!(
+        compared_specular > 3000,
+        "too few specular samples compared: {compared_specular}"
+    );
     assert!(
         failures.is_empty(),
         "{} mismatches, first: {:#?}",

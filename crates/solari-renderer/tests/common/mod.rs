@@ -44,7 +44,7 @@ pub fn upload(gpu: &Gpu, backend: Backend, scene: &Scene) -> GpuScene {
 mod direct;
 
 #[allow(unused_imports)] // not every test file uses every helper
-pub use direct::{luminance, reference, reference_direct, rgb};
+pub use direct::{frame_mean, luminance, reference, reference_direct, rgb};
 
 /// The Cornell box on the test GPU: device, backend, scene, upload and camera.
 pub struct Cornell {

@@ -1,0 +1,364 @@
+//! Specular GI: the indirect light of each pixel's specular lobe, the part of the bounce that
+//! ReSTIR GI (diffuse lobe only) and the diffuse world cache cannot give. Without it metals
+//! reflect only what DI gives them: they look black wherever the light is indirect.
+//!
+//! ## The algorithm (after Solari 0.18 "Specular GI" and 0.19 "Path Termination")
+//!
+//! One compute pass, after ReSTIR GI, adding to the same lit image.
+//!
+//! - **Rough pixels** (perceptual roughness above
+//!   [`SpecularGiSettings::rough_threshold`], when ReSTIR GI ran this frame) trace nothing:
+//!   they weigh this frame's final GI reservoir by the specular lobe, `L · f_spec · cos · W`.
+//!   ReSTIR GI's target function includes the specular lobe, so its reservoirs also serve
+//!   rough metals, which have no diffuse lobe.
+//! - **Other pixels** trace a path. The first direction samples the specular lobe alone
+//!   (bounded VNDF, or the mirror's reflection with weight F); later ones the whole BRDF.
+//!   At every hit: emission, MIS-weighted (balance heuristic, safe for the mirror's infinite
+//!   pdf) against one light-tile sample of next-event estimation; then either the end in the
+//!   world cache or one more bounce. Emission met by the first segment is DI's (weight 0),
+//!   except behind a mirror, where DI sees nothing. Misses add the constant environment.
+//! - **Termination** ([`SpecularGiSettings::cache_termination`]): the path's spread grows
+//!   by `t² · ½α²/(1 − α²)` per segment (α of the surface it left; the primary's α over the
+//!   camera distance to start, Bevy's form); once a segment is longer than √3 cells and the
+//!   spread exceeds a cell², the hit's base colour times the cache's irradiance ends the
+//!   path. A path also ends in the cache at its last bounce
+//!   ([`SpecularGiSettings::max_bounces`]).
+//!
+//! Cost: up to `2 × max_bounces` rays per traced pixel (one segment and one shadow ray per
+//! bounce); none for rough pixels.
+
+use crate::di::{pass_pipeline, record};
+use crate::gi::RestirGi;
+use bytemuck::{Pod, Zeroable};
+use solari_lights::{LightTileSettings, LightTiles};
+use solari_scene::GpuError;
+use solari_scene::bindings::{Buf, BufferGroup};
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_input::GBufferSource;
+use solari_scene::gpu::Gpu;
+use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::pass::{FrameContext, Ran};
+use solari_scene::shaders::Backend;
+use solari_worldcache::WorldCache;
+
+/// Most bounces a specular path may take (the shader loop's bound).
+pub const MAX_SPECULAR_BOUNCES: u32 = 8;
+
+/// Bind group 2 of `specular_gi.wesl` below the world cache's bindings, by WGSL name.
+pub const SPECULAR_BINDINGS: BufferGroup = BufferGroup::new(
+    2,
+    0,
+    &[
+        ("spec_params", Buf::Uniform),
+        ("spec_gi", Buf::Read),
+        ("spec_lit", Buf::ReadWrite),
+    ],
+);
+
+/// The pass's label (dispatch, profiler scope and report name).
+pub const SPECULAR_PASS_LABELS: [&str; 1] = ["specular_gi"];
+
+/// Specular GI's knobs, each with its default and its cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpecularGiSettings {
+    /// Pixels rougher than this (perceptual roughness) reuse ReSTIR GI's reservoir instead of
+    /// tracing (default 0.4, Solari's). Lower saves rays on glossy surfaces and blurs their
+    /// reflections toward the diffuse reservoir's noise; it applies only when ReSTIR GI runs.
+    pub rough_threshold: f32,
+    /// Path segments after the primary surface (default 3, Solari's; 1–8). Each costs up to
+    /// two rays per traced pixel.
+    pub max_bounces: u32,
+    /// One light-tile sample with a shadow ray at every path vertex (default on). Off, lights
+    /// reach the path only where it hits them, which is noisy for small lights.
+    pub next_event: bool,
+    /// End paths in the world cache once their spread covers a cell (default on). Off, paths
+    /// run their full `max_bounces` and still end in the cache at their last hit.
+    pub cache_termination: bool,
+    /// Longest ray (default unbounded); a miss is lit by the scene's environment.
+    pub max_ray_distance: f32,
+}
+
+impl Default for SpecularGiSettings {
+    fn default() -> Self {
+        Self {
+            rough_threshold: 0.4,
+            max_bounces: 3,
+            next_event: true,
+            cache_termination: true,
+            max_ray_distance: f32::MAX,
+        }
+    }
+}
+
+impl SpecularGiSettings {
+    /// Checks every knob is in range; the error names the bad one.
+    pub fn validate(&self) -> Result<(), GpuError> {
+        let bad = |what: String| {
+            Err(GpuError::Validation(format!(
+                "specular GI settings: {what}"
+            )))
+        };
+        if !(0.0..=1.0).contains(&self.rough_threshold) {
+            return bad(format!(
+                "rough_threshold is {}, expected a roughness in [0, 1]",
+                self.rough_threshold
+            ));
+        }
+        if self.max_bounces == 0 || self.max_bounces > MAX_SPECULAR_BOUNCES {
+            return bad(format!(
+                "max_bounces is {}, expected 1 to {MAX_SPECULAR_BOUNCES}",
+                self.max_bounces
+            ));
+        }
+        if self.max_ray_distance.is_nan() || self.max_ray_distance <= 0.0 {
+            return bad(format!(
+                "max_ray_distance is {}, expected a positive distance",
+                self.max_ray_distance
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `SPECULAR_FLAG_*` in `specular_gi.wesl`.
+mod flags {
+    pub const REUSE_GI: u32 = 1;
+    pub const NEE: u32 = 2;
+    pub const CACHE_END: u32 = 4;
+}
+
+/// WGSL twin: `SpecularParams` in `specular_gi.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
+pub struct GpuSpecularParams {
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// Frame index (seeds random numbers).
+    pub frame: u32,
+    /// `SPECULAR_FLAG_*` bits.
+    pub flags: u32,
+    /// [`SpecularGiSettings::rough_threshold`].
+    pub rough_threshold: f32,
+    /// [`SpecularGiSettings::max_bounces`].
+    pub max_bounces: u32,
+    /// Light-tile samples in all.
+    pub tile_samples: u32,
+    /// [`SpecularGiSettings::max_ray_distance`].
+    pub max_ray_distance: f32,
+}
+
+const _: () = assert!(size_of::<GpuSpecularParams>() == 32);
+
+/// Specular GI: reads the scene (group 0), the G-buffer (group 1), the world cache and
+/// optionally ReSTIR GI's reservoirs (group 2, [`SpecularGi::bind`]) and the lights and
+/// tiles (group 3, [`LightTiles::reader_group`]); adds to a lit image.
+pub struct SpecularGi {
+    settings: SpecularGiSettings,
+    variant: TraceVariant,
+    size: (u32, u32),
+    tile_samples: u32,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    // Stands in for ReSTIR GI's reservoirs when it does not run (bindings must not dangle).
+    no_reservoirs: wgpu::Buffer,
+    group: Option<wgpu::BindGroup>,
+    reuse_gi: bool,
+}
+
+impl SpecularGi {
+    /// Builds the pipeline for scenes uploaded with `backend` and traced with `variant`, for
+    /// `width × height` pixels and light tiles of `tiles`. Bind it ([`SpecularGi::bind`])
+    /// before the first frame.
+    pub fn new(
+        gpu: &Gpu,
+        backend: Backend,
+        variant: TraceVariant,
+        width: u32,
+        height: u32,
+        settings: SpecularGiSettings,
+        tiles: LightTileSettings,
+    ) -> Result<Self, GpuError> {
+        settings.validate()?;
+        if width == 0 || height == 0 {
+            return Err(GpuError::Validation(format!(
+                "specular GI image size {width}×{height} is empty"
+            )));
+        }
+        let variant = variant.for_backend(backend);
+        let mut entries = SPECULAR_BINDINGS.layout_entries(wgpu::ShaderStages::COMPUTE);
+        entries.extend(WorldCache::layout_entries(wgpu::ShaderStages::COMPUTE));
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_restir/specular_gi"),
+                entries: &entries,
+            });
+        let scene_layout = GpuScene::layout_for(gpu, backend);
+        let gbuffer_layout = GBuffer::reader_layout(gpu);
+        let lights_layout = LightTiles::reader_layout(gpu);
+        let layouts = [
+            Some(&scene_layout),
+            Some(&gbuffer_layout),
+            Some(&layout),
+            Some(&lights_layout),
+        ];
+        let pipeline = pass_pipeline(
+            gpu,
+            backend,
+            &crate::specular_modules(),
+            &layouts,
+            "specular_gi",
+            variant.constants(),
+        )?;
+        let params = gpu.uniform_buffer(
+            "solari_restir/specular_params",
+            &GpuSpecularParams::zeroed(),
+        );
+        let no_reservoirs = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_restir/specular_no_reservoirs"),
+            size: size_of::<crate::GpuGiReservoir>() as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        Ok(Self {
+            settings,
+            variant,
+            size: (width, height),
+            tile_samples: u32::try_from(tiles.sample_count()).unwrap_or(u32::MAX),
+            pipeline,
+            layout,
+            params,
+            no_reservoirs,
+            group: None,
+            reuse_gi: false,
+        })
+    }
+
+    /// Binds the world cache, the image to add to (`width × height` `vec4<f32>`, for
+    /// example [`crate::RestirDi::output`]) and ReSTIR GI, whose final reservoirs rough
+    /// pixels reuse (`None`: every pixel traces). Call it again after any of them was
+    /// rebuilt or resized.
+    pub fn bind(
+        &mut self,
+        gpu: &Gpu,
+        cache: &WorldCache,
+        target: &wgpu::Buffer,
+        gi: Option<&RestirGi>,
+    ) -> Result<(), GpuError> {
+        if let Some(gi) = gi
+            && gi.size() != self.size
+        {
+            return Err(GpuError::Validation(format!(
+                "specular GI: built for {:?} pixels, ReSTIR GI has {:?}",
+                self.size,
+                gi.size()
+            )));
+        }
+        let reservoirs = gi.map_or(&self.no_reservoirs, |g| g.reservoirs());
+        let mut entries = SPECULAR_BINDINGS.entries(&[
+            ("spec_params", &self.params),
+            ("spec_gi", reservoirs),
+            ("spec_lit", target),
+        ]);
+        entries.extend(cache.bind_group_entries());
+        self.group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_restir/specular_gi"),
+            layout: &self.layout,
+            entries: &entries,
+        }));
+        self.reuse_gi = gi.is_some();
+        Ok(())
+    }
+
+    /// The settings in use.
+    pub fn settings(&self) -> SpecularGiSettings {
+        self.settings
+    }
+
+    /// Changes the settings (the pass keeps no history).
+    pub fn set_settings(&mut self, settings: SpecularGiSettings) -> Result<(), GpuError> {
+        settings.validate()?;
+        self.settings = settings;
+        Ok(())
+    }
+
+    /// GPU memory the pass holds, in bytes (parameters and the stand-in reservoir: no
+    /// per-pixel buffers).
+    pub fn memory_bytes(&self) -> u64 {
+        self.params.size() + self.no_reservoirs.size()
+    }
+
+    /// Image size in pixels.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+
+    /// Writes the frame's parameters.
+    pub fn prepare(&self, gpu: &Gpu, frame: &FrameContext) {
+        let s = self.settings;
+        let mut bits = 0;
+        if self.reuse_gi {
+            bits |= flags::REUSE_GI;
+        }
+        if s.next_event {
+            bits |= flags::NEE;
+        }
+        if s.cache_termination {
+            bits |= flags::CACHE_END;
+        }
+        let params = GpuSpecularParams {
+            width: self.size.0,
+            height: self.size.1,
+            frame: frame.index,
+            flags: bits,
+            rough_threshold: s.rough_threshold,
+            max_bounces: s.max_bounces,
+            tile_samples: self.tile_samples,
+            max_ray_distance: s.max_ray_distance,
+        };
+        gpu.queue
+            .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Records the pass in a profiler scope named [`SPECULAR_PASS_LABELS`]`[0]`. Run it after
+    /// ReSTIR GI (whose final reservoirs it reads) and the light tiles; `lights` is the tiles'
+    /// reader group.
+    ///
+    /// Errors, recording nothing, before [`SpecularGi::bind`], when the pipeline was
+    /// specialised for a scene shape that `scene` no longer has, or when the G-buffer's or
+    /// the frame's size is not this pass's.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+        scene: &GpuScene,
+        gbuffer: &dyn GBufferSource,
+        lights: &wgpu::BindGroup,
+    ) -> Result<Ran, GpuError> {
+        self.variant.check(scene)?;
+        for (what, size) in [("G-buffer", gbuffer.size()), ("frame", frame.size)] {
+            if size != self.size {
+                return Err(GpuError::Validation(format!(
+                    "specular GI: built for {:?} pixels, the {what} is {size:?}",
+                    self.size
+                )));
+            }
+        }
+        let Some(group) = self.group.as_ref() else {
+            return Err(GpuError::Validation(
+                "specular GI: encode before bind (no cache or target bound)".into(),
+            ));
+        };
+        let groups = [scene.bind_group(), gbuffer.bind_group()?, group, lights];
+        let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
+        let mut ran = Ran::none();
+        let label = SPECULAR_PASS_LABELS[0];
+        frame.scope(label, encoder, &mut ran, |e| {
+            record(e, label, &self.pipeline, &groups, workgroups)
+        });
+        Ok(ran)
+    }
+}
