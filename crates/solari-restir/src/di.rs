@@ -86,6 +86,27 @@ pub(crate) fn pass_pipeline(
     )
 }
 
+/// Refuses to encode `pass` (built for `built` pixels) over a scene its pipelines were not
+/// specialised for, or a G-buffer or frame of another size (GI's and specular GI's passes).
+pub(crate) fn check_encode(
+    pass: &str,
+    variant: TraceVariant,
+    built: (u32, u32),
+    scene: &GpuScene,
+    gbuffer: &dyn GBufferSource,
+    frame: &FrameContext,
+) -> Result<(), GpuError> {
+    variant.check(scene)?;
+    for (what, size) in [("G-buffer", gbuffer.size()), ("frame", frame.size)] {
+        if size != built {
+            return Err(GpuError::Validation(format!(
+                "{pass}: built for {built:?} pixels, the {what} is {size:?}"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Records one 2D compute dispatch with its four bind groups (DI's and GI's passes).
 pub(crate) fn record(
     encoder: &mut wgpu::CommandEncoder,

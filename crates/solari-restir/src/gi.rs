@@ -33,7 +33,7 @@
 //! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
 //! buffer is needed.
 
-use crate::di::{pass_pipeline, record};
+use crate::di::{check_encode, pass_pipeline, record};
 use crate::gi_reservoir::GpuGiReservoir;
 use crate::gi_settings::{GpuGiParams, RestirGiSettings, flags};
 use crate::settings::flags::reuse;
@@ -274,15 +274,7 @@ impl RestirGi {
         gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
     ) -> Result<Ran, GpuError> {
-        self.variant.check(scene)?;
-        for (what, size) in [("G-buffer", gbuffer.size()), ("frame", frame.size)] {
-            if size != self.size {
-                return Err(GpuError::Validation(format!(
-                    "ReSTIR GI: built for {:?} pixels, the {what} is {size:?}",
-                    self.size
-                )));
-            }
-        }
+        check_encode("ReSTIR GI", self.variant, self.size, scene, gbuffer, frame)?;
         let group = self.group.as_ref().expect("resize binds the reservoirs");
         let groups = [scene.bind_group(), gbuffer.bind_group()?, group, target];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];

@@ -27,7 +27,7 @@
 //! Cost: up to `2 × max_bounces` rays per traced pixel (one segment and one shadow ray per
 //! bounce); none for rough pixels.
 
-use crate::di::{pass_pipeline, record};
+use crate::di::{check_encode, pass_pipeline, record};
 use crate::gi::RestirGi;
 use bytemuck::{Pod, Zeroable};
 use solari_lights::{LightTileSettings, LightTiles};
@@ -338,15 +338,14 @@ impl SpecularGi {
         gbuffer: &dyn GBufferSource,
         lights: &wgpu::BindGroup,
     ) -> Result<Ran, GpuError> {
-        self.variant.check(scene)?;
-        for (what, size) in [("G-buffer", gbuffer.size()), ("frame", frame.size)] {
-            if size != self.size {
-                return Err(GpuError::Validation(format!(
-                    "specular GI: built for {:?} pixels, the {what} is {size:?}",
-                    self.size
-                )));
-            }
-        }
+        check_encode(
+            "specular GI",
+            self.variant,
+            self.size,
+            scene,
+            gbuffer,
+            frame,
+        )?;
         let Some(group) = self.group.as_ref() else {
             return Err(GpuError::Validation(
                 "specular GI: encode before bind (no cache or target bound)".into(),
