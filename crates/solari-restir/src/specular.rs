@@ -21,8 +21,9 @@
 //!   by `t² · ½α²/(1 − α²)` per segment (α of the surface it left; the primary's α over the
 //!   camera distance to start, Bevy's form); once a segment is longer than √3 cells and the
 //!   spread exceeds a cell², the hit's base colour times the cache's irradiance ends the
-//!   path. A path also ends in the cache at its last bounce
-//!   ([`SpecularGiSettings::max_bounces`]).
+//!   path. With termination on, a path also ends in the cache at its last bounce
+//!   ([`SpecularGiSettings::max_bounces`]); with it off, no path reads the cache: it stops
+//!   after its last bounce's light sample, and the light beyond is lost.
 //!
 //! Cost: up to `2 × max_bounces` rays per traced pixel (one segment and one shadow ray per
 //! bounce); none for rough pixels.
@@ -71,8 +72,10 @@ pub struct SpecularGiSettings {
     /// One light-tile sample with a shadow ray at every path vertex (default on). Off, lights
     /// reach the path only where it hits them, which is noisy for small lights.
     pub next_event: bool,
-    /// End paths in the world cache once their spread covers a cell (default on). Off, paths
-    /// run their full `max_bounces` and still end in the cache at their last hit.
+    /// End paths in the world cache once their spread covers a cell, and at their last
+    /// bounce (default on). Off, paths run their full `max_bounces`, take a light sample at
+    /// their last hit and stop there: no cache approximation, but the light of later
+    /// bounces is lost (darker), and every traced pixel pays for all its bounces.
     pub cache_termination: bool,
     /// Longest ray (default unbounded); a miss is lit by the scene's environment.
     pub max_ray_distance: f32,

@@ -268,16 +268,7 @@ pub fn sample_specular(m: &BrdfMaterial, wo: Vec3, u: [f32; 2]) -> Option<BrdfSa
         return None;
     }
     let p = vndf_pdf(wo, wi, m.alpha());
-    if !(p > 0.0 && p.is_finite()) {
-        return None;
-    }
-    let weight = eval_specular(m, wo, wi) / p;
-    weight.is_finite().then_some(BrdfSample {
-        wi,
-        weight,
-        pdf: p,
-        lobe: Lobe::Specular,
-    })
+    weigh(wi, p, eval_specular(m, wo, wi), Lobe::Specular)
 }
 
 fn finish(m: &BrdfMaterial, wo: Vec3, wi: Vec3, lobe: Lobe) -> Option<BrdfSample> {
@@ -285,11 +276,16 @@ fn finish(m: &BrdfMaterial, wo: Vec3, wi: Vec3, lobe: Lobe) -> Option<BrdfSample
     if !(wi.z > 0.0) {
         return None;
     }
-    let p = pdf(m, wo, wi);
+    weigh(wi, pdf(m, wo, wi), eval(m, wo, wi), lobe)
+}
+
+/// The sample in direction `wi` of pdf `p` and BRDF × cos `f`: `None` where the pdf or the
+/// weight `f / p` is not positive and finite.
+fn weigh(wi: Vec3, p: f32, f: Vec3, lobe: Lobe) -> Option<BrdfSample> {
     if !(p > 0.0 && p.is_finite()) {
         return None;
     }
-    let weight = eval(m, wo, wi) / p;
+    let weight = f / p;
     weight.is_finite().then_some(BrdfSample {
         wi,
         weight,
