@@ -15,7 +15,9 @@
 #   SEQUENTIAL=1 RUNS="interior:1000 sun_boxes:" bash benches/results/soak_parallel_h200.sh start
 #   bash benches/results/soak_parallel_h200.sh poll 570
 # RUNS lists scene:toggle pairs (empty toggle: static lights); FRAMES defaults to 100000;
-# SEQUENTIAL=1 runs them one after another. Never pipe `start` (e.g. into `tail`): the runs
+# SEQUENTIAL=1 runs them one after another. ADAPTER=N runs them on the Nth GPU
+# (SOLARI_ADAPTER); on a machine with several GPUs, call `start` once per GPU in one command,
+# each with its own ADAPTER and RUNS. Never pipe `start` (e.g. into `tail`): the runs
 # inherit its stdout, so the pipe stays open, the device command runs into its time limit and
 # looks failed, and a second `start` would run a second chain beside the first. The machine goes back 30 s after a command ends
 # with no next one, killing the runs: issue the polls back to back.
@@ -31,21 +33,23 @@ start)
   export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
   mkdir -p "$DIR"
   # The working tree may be replaced by the next call: run from a private copy.
-  cp -r .dev/solari .dev/scenes "$DIR/"
+  # A second `start` (another GPU) must not overwrite the binary or script the first runs.
+  [ -e "$DIR/solari" ] || cp -r .dev/solari .dev/scenes "$DIR/"
   FRAMES=${FRAMES:-100000}
   # One chain of runs, one after another (SEQUENTIAL=1), or all at once (the default). Two
   # runs sharing the H200 reached only about 78% of its throughput (context switching).
-  cat > "$DIR/run_one.sh" <<'ONE'
+  [ -e "$DIR/run_one.sh" ] || cat > "$DIR/run_one.sh" <<'ONE'
 s=${1%%:*}; t=${1#*:}; name="$s-${t:-static}"
+[ -n "${ADAPTER:-}" ] && export SOLARI_ADAPTER=$ADAPTER
 file=$(ls "$DIR/scenes/$s"/*.gltf | head -n 1)
 toggle=(); [ -n "$t" ] && toggle=(--toggle-lights "$t")
-echo "== $s frames=$FRAMES toggle=${t:-none} start $(date -u +%T)" > "$DIR/$name.log"
+echo "== $s frames=$FRAMES toggle=${t:-none} adapter=${ADAPTER:-best} start $(date -u +%T)" > "$DIR/$name.log"
 "$DIR/solari" soak "$file" --frames "$FRAMES" --size 1920x1080 --camera-path orbit \
   --gi cache --denoiser fallback "${toggle[@]}" --progress-every 10000 \
   --summary "$DIR/$name.json" < /dev/null 2>> "$DIR/$name.log" > /dev/null
 echo "exit $? $(date -u +%T)" >> "$DIR/$name.log"
 ONE
-  export DIR FRAMES=${FRAMES:-100000}
+  export DIR FRAMES=${FRAMES:-100000} ADAPTER=${ADAPTER:-}
   if [ "${SEQUENTIAL:-0}" = 1 ]; then
     # Logs of runs still queued exist from the start, so `poll` waits for them too.
     for run in ${RUNS:?RUNS=scene:toggle ...}; do
@@ -58,7 +62,7 @@ ONE
     done
   fi
   sleep 20
-  nvidia-smi --query-gpu=name,driver_version,utilization.gpu,memory.used --format=csv
+  nvidia-smi --query-gpu=index,name,driver_version,utilization.gpu,memory.used --format=csv
   tail -n 3 "$DIR"/*.log
   ;;
 poll)
@@ -69,7 +73,7 @@ poll)
   mkdir -p "$OUT"
   cp "$DIR"/*.log "$OUT"/ 2>/dev/null
   cp "$DIR"/*.json "$OUT"/ 2>/dev/null
-  nvidia-smi --query-gpu=utilization.gpu,memory.used --format=csv
+  nvidia-smi --query-gpu=index,utilization.gpu,memory.used --format=csv
   tail -n 2 "$DIR"/*.log
   ;;
 *)

@@ -164,6 +164,9 @@ pub enum GpuError {
         "no GPU adapter found ({0}); install a Vulkan driver (on a machine without a GPU: `.ci/install-lavapipe`)"
     )]
     NoAdapter(String),
+    /// `SOLARI_ADAPTER` asked for an adapter that does not exist.
+    #[error("{0}")]
+    AdapterRequest(String),
     /// The adapter lacks a feature the caller needs.
     #[error("adapter '{adapter}' lacks required features {missing:?}")]
     MissingFeatures {

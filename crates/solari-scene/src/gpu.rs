@@ -125,6 +125,80 @@ pub struct Gpu {
     uncaptured: Arc<Mutex<Vec<String>>>,
 }
 
+/// Environment variable that chooses the adapter on a machine with several: an index into
+/// the enumeration order (`0`, `1`, ...; `RUST_LOG=info` lists them) or a case-insensitive
+/// part of the adapter's name. Unset, the best adapter is taken.
+pub const ADAPTER_ENV: &str = "SOLARI_ADAPTER";
+
+/// Which of `adapters` to use: with `request` (the value of [`ADAPTER_ENV`]) an index or a
+/// case-insensitive part of a name, matched exactly as asked (a request no adapter matches is
+/// an error that lists them, never a silent fallback, so a benchmark meant for the second
+/// GPU cannot run on the first); without it the best by device type (discrete over
+/// integrated over virtual over CPU, the first of equals).
+pub fn choose_adapter(
+    adapters: &[wgpu::AdapterInfo],
+    request: Option<&str>,
+) -> Result<usize, GpuError> {
+    for (i, a) in adapters.iter().enumerate() {
+        log::info!(
+            "adapter {i}: {} ({:?}, {:?})",
+            a.name,
+            a.device_type,
+            a.backend
+        );
+    }
+    if adapters.is_empty() {
+        return Err(GpuError::NoAdapter("none enumerated".into()));
+    }
+    let list = || {
+        adapters
+            .iter()
+            .enumerate()
+            .map(|(i, a)| format!("{i}: {}", a.name))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let Some(request) = request.map(str::trim) else {
+        let rank = |a: &wgpu::AdapterInfo| match a.device_type {
+            wgpu::DeviceType::DiscreteGpu => 0,
+            wgpu::DeviceType::IntegratedGpu => 1,
+            wgpu::DeviceType::VirtualGpu => 2,
+            wgpu::DeviceType::Cpu => 3,
+            wgpu::DeviceType::Other => 4,
+        };
+        return Ok((0..adapters.len())
+            .min_by_key(|&i| rank(&adapters[i]))
+            .unwrap_or(0));
+    };
+    if let Ok(i) = request.parse::<usize>() {
+        return if i < adapters.len() {
+            Ok(i)
+        } else {
+            Err(GpuError::AdapterRequest(format!(
+                "{ADAPTER_ENV}={request}: only {} adapter(s): {}",
+                adapters.len(),
+                list()
+            )))
+        };
+    }
+    let needle = request.to_lowercase();
+    if needle.is_empty() {
+        return Err(GpuError::AdapterRequest(format!(
+            "{ADAPTER_ENV} is empty: give an index or part of a name ({})",
+            list()
+        )));
+    }
+    adapters
+        .iter()
+        .position(|a| a.name.to_lowercase().contains(&needle))
+        .ok_or_else(|| {
+            GpuError::AdapterRequest(format!(
+                "{ADAPTER_ENV}={request} matches no adapter name: {}",
+                list()
+            ))
+        })
+}
+
 impl Gpu {
     /// Creates a device on the best adapter (discrete over integrated over CPU), with every
     /// optional feature the adapter offers and the adapter's own limits. Vulkan, Metal and
@@ -153,21 +227,26 @@ impl Gpu {
         }
     }
 
-    /// The best adapter of `instance`: discrete over integrated over virtual over CPU.
+    /// The adapter [`Gpu::new`] uses: the one `SOLARI_ADAPTER` names (see
+    /// [`choose_adapter`]), else the best: discrete over integrated over virtual over CPU.
     pub fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, GpuError> {
         let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
-        let adapters = pollster::block_on(instance.enumerate_adapters(backends));
-        let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
-            wgpu::DeviceType::DiscreteGpu => 0,
-            wgpu::DeviceType::IntegratedGpu => 1,
-            wgpu::DeviceType::VirtualGpu => 2,
-            wgpu::DeviceType::Cpu => 3,
-            wgpu::DeviceType::Other => 4,
-        };
-        adapters
-            .into_iter()
-            .min_by_key(rank)
-            .ok_or_else(|| GpuError::NoAdapter(format!("backends {backends:?}")))
+        let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
+        let infos: Vec<wgpu::AdapterInfo> = adapters.iter().map(|a| a.get_info()).collect();
+        let request = std::env::var(ADAPTER_ENV).ok();
+        let index = choose_adapter(&infos, request.as_deref()).map_err(|e| match e {
+            GpuError::NoAdapter(why) => {
+                GpuError::NoAdapter(format!("{why}; backends {backends:?}"))
+            }
+            other => other,
+        })?;
+        if request.is_some() {
+            log::info!(
+                "{ADAPTER_ENV}: using adapter {index}, {}",
+                infos[index].name
+            );
+        }
+        Ok(adapters.swap_remove(index))
     }
 
     /// What [`Gpu::new`] asks of `adapter`: every feature of [`OPTIONAL_FEATURES`] it has
