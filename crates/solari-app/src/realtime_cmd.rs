@@ -73,11 +73,12 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     let mean_from = args.frames - args.mean_of.min(args.frames);
     let mut loop_end = None;
     let mut sum: Vec<[f64; 3]> = Vec::new();
+    let rig = path.rig(&camera, &scene);
     for frame in 0..args.frames {
         if frame == 1 {
             loop_start = Some(Instant::now());
         }
-        let cam = path.camera(&camera, &scene, frame);
+        let cam = rig.at(frame);
         if let Some(r) = renderer
             .submit(&gpu, &scene, &gpu_scene, &cam)
             .map_err(|e| e.to_string())?

@@ -13,8 +13,8 @@ pub mod realtime;
 pub use gbuffer_choice::{GBufferChoice, GBufferTiming};
 pub use present::Presenter;
 pub use realtime::{
-    CameraPath, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES, PassRun,
-    RealtimeRenderer, RealtimeSettings,
+    CameraPath, CameraRig, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES,
+    PassRun, RealtimeRenderer, RealtimeSettings,
 };
 pub use solari_scene::gbuffer::GBufferProducer;
 

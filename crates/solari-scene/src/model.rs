@@ -262,14 +262,25 @@ impl Camera {
     /// Frame `frame` of the orbit path (`--camera-path orbit`): this camera swung ±20° about
     /// the vertical through the centre of `scene`'s bounds (the origin for unbounded scenes),
     /// one period every 240 frames: sideways motion, as when a player strafes, that never
-    /// leaves a closed room like the Cornell box.
+    /// leaves a closed room like the Cornell box. Walks every vertex for the bounds: a frame
+    /// loop computes [`Camera::orbit_pivot`] once and calls [`Camera::orbit_about`].
     pub fn orbit(&self, scene: &Scene, frame: u32) -> Camera {
+        self.orbit_about(Self::orbit_pivot(scene), frame)
+    }
+
+    /// The point the orbit path swings about: the centre of `scene`'s bounds, or the origin
+    /// for a scene with no finite bounds. Costs one pass over every vertex.
+    pub fn orbit_pivot(scene: &Scene) -> Vec3 {
         let (lo, hi) = scene.bounds();
-        let pivot = if lo.is_finite() && hi.is_finite() {
+        if lo.is_finite() && hi.is_finite() {
             (lo + hi) * 0.5
         } else {
             Vec3::ZERO
-        };
+        }
+    }
+
+    /// Frame `frame` of the orbit path about `pivot` (see [`Camera::orbit`]).
+    pub fn orbit_about(&self, pivot: Vec3, frame: u32) -> Camera {
         let phase = frame as f32 / 240.0 * std::f32::consts::TAU;
         let angle = 20f32.to_radians() * phase.sin();
         let about = Mat4::from_translation(pivot)
