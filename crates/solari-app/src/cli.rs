@@ -280,6 +280,10 @@ pub struct RealtimeArgs {
     /// Initial ReSTIR DI candidates per pixel.
     #[arg(long, default_value_t = 8)]
     pub candidates: u32,
+    /// ReSTIR DI reuse: all (temporal and spatial), temporal, spatial or none (plain RIS
+    /// from the light tiles: each frame's samples stand alone).
+    #[arg(long, value_enum, default_value_t = DiReuse::All)]
+    pub di_reuse: DiReuse,
     /// Light tiles as TILESxSAMPLES.
     #[arg(long, default_value = "128x1024", value_parser = values::tiles)]
     pub tiles: LightTileSettings,
@@ -365,6 +369,8 @@ impl RealtimeArgs {
             tiles: self.tiles,
             di: RestirDiSettings {
                 initial_candidates: self.candidates,
+                temporal: matches!(self.di_reuse, DiReuse::All | DiReuse::Temporal),
+                spatial: matches!(self.di_reuse, DiReuse::All | DiReuse::Spatial),
                 ..Default::default()
             },
             selection: self.selection,
@@ -409,6 +415,19 @@ impl RealtimeArgs {
         settings.validate()?;
         Ok(settings)
     }
+}
+
+/// Which of ReSTIR DI's reuse steps run (`--di-reuse`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DiReuse {
+    /// Temporal and spatial reuse.
+    All,
+    /// Last frame's reservoir only.
+    Temporal,
+    /// One neighbour's reservoir only.
+    Spatial,
+    /// No reuse: resampled importance sampling from the tiles alone.
+    None,
 }
 
 /// What `render` produces.
