@@ -19,5 +19,6 @@ pub fn shared_scenes() -> Vec<PathBuf> {
 
 pub mod denoise;
 pub mod font;
+pub mod gi_table;
 pub mod sweep;
 pub mod table;

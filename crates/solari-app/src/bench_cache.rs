@@ -60,7 +60,7 @@ pub fn run(args: &BenchCacheArgs) -> Result<(), String> {
             gi,
             cache,
             timestamps: true,
-            ..Default::default()
+            ..RealtimeSettings::direct_only()
         };
         let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
             .map_err(|e| e.to_string())?;

@@ -68,7 +68,7 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
             timestamps: true,
             denoiser: Some(DenoiserKind::Fallback),
             denoise,
-            ..Default::default()
+            ..RealtimeSettings::direct_only()
         };
         let new_renderer = || {
             RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)

@@ -48,7 +48,7 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
                 ..Default::default()
             },
             timestamps: true,
-            ..Default::default()
+            ..RealtimeSettings::direct_only()
         };
         let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
             .map_err(|e| e.to_string())?;

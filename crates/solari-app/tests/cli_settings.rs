@@ -2,16 +2,44 @@
 
 use clap::Parser;
 use solari_app::cli::{Cli, Command};
-use solari_renderer::FrameView;
+use solari_renderer::{FrameView, GiMode, RealtimeSettings};
 
-fn di(args: &[&str]) -> (bool, bool) {
+fn settings(args: &[&str]) -> RealtimeSettings {
     let argv = [&["solari", "render", "--mode", "realtime"], args].concat();
     let cli = Cli::try_parse_from(argv).expect("parses");
     let Command::Render(r) = cli.command else {
         panic!("render");
     };
-    let s = r.realtime.settings(FrameView::Lit).expect("valid settings");
+    r.realtime.settings(FrameView::Lit).expect("valid settings")
+}
+
+fn di(args: &[&str]) -> (bool, bool) {
+    let s = settings(args);
     (s.di.temporal, s.di.spatial)
+}
+
+#[test]
+fn gi_defaults_are_the_measured_choice_and_match_the_library() {
+    let s = settings(&[]);
+    assert_eq!((s.gi, s.specular_gi), (GiMode::Path, true));
+    let lib = RealtimeSettings::default();
+    assert_eq!((lib.gi, lib.specular_gi), (s.gi, s.specular_gi));
+    for (arg, on) in [
+        ("on", true),
+        ("off", false),
+        ("true", true),
+        ("false", false),
+    ] {
+        assert_eq!(settings(&["--specular-gi", arg]).specular_gi, on, "{arg}");
+    }
+    assert!(
+        settings(&["--specular-gi"]).specular_gi,
+        "the bare flag still means on"
+    );
+    assert!(settings(&["--specular-gi", "--gi", "cache"]).specular_gi);
+    assert_eq!(settings(&["--gi", "off"]).gi, GiMode::Off);
+    let direct = RealtimeSettings::direct_only();
+    assert_eq!((direct.gi, direct.specular_gi), (GiMode::Off, false));
 }
 
 #[test]

@@ -31,7 +31,8 @@ pub fn settings() -> RealtimeSettings {
         },
         // Every test frame is checked for NaN, infinite and negative values in every pass.
         finite_check: FiniteCheck::Fail,
-        ..Default::default()
+        // Tests name the GI they exercise; the rest compare with direct-only references.
+        ..RealtimeSettings::direct_only()
     }
 }
 
