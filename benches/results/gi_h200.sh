@@ -11,7 +11,7 @@
 # mode is a GI mode with optional suffixes: +spec adds `--specular-gi`, +nodi runs ReSTIR DI
 # without reuse (`--di-reuse none`), e.g. MODES="path path+spec path+spec+nodi". PHASES="time
 # error" (default both) runs either half alone, so a long sweep can span two device commands.
-# Everything lands in $OUT/gi_h200.tar.gz.
+# Everything lands in $OUT/gi_h200.tar.gz, the table in $OUT/gi_table.csv.
 set -u
 source benches/results/device_env.sh
 BIN=${SOLARI_BIN:-.dev/solari}
@@ -58,25 +58,6 @@ for s in $SCENES; do
   rm -f "$R/${s}_ref.exr"
 done
 tar czf "$OUT/gi_h200.tar.gz" -C "$R" --exclude='*.exr' --exclude='x.png' .
-python3 - "$R" "$MODES" <<'PY' || true
-import json, os, sys
-r = sys.argv[1]
-def load(p):
-    try:
-        return json.load(open(os.path.join(r, p)))
-    except Exception:
-        return None
-scenes = sorted({f.split("_ref.json")[0] for f in os.listdir(r) if f.endswith("_ref.json")})
-for s in scenes:
-    for g in sys.argv[2].split():
-        t = load(f"{s}_{g}_1080p.json") or {}
-        p = t.get("passes", {})
-        if not t:
-            continue
-        gi = sum((p.get(n) or {}).get("mean_ms") or 0 for n in ("gi_initial_temporal", "gi_spatial_shade", "world_cache_gi"))
-        spec = (p.get("specular_gi") or {}).get("mean_ms") or 0
-        e = [(load(f"{s}_{g}_mean{m}.compare.json") or {}).get("all", {}) for m in (1, 16)]
-        print(f"{s:14} {g:16} GPU {t.get('gpu_frame_ms') or float('nan'):7.3f} ms  GI passes {gi:6.3f} ms  specular {spec:6.3f} ms  "
-              f"relMSE 1 frame {e[0].get('rel_mse', float('nan')):.5f}  16 frames {e[1].get('rel_mse', float('nan')):.5f}  "
-              f"FLIP {e[0].get('flip', float('nan')):.4f}  mean/ref {e[0].get('mean_ratio') or float('nan'):.4f}")
-PY
+# The table: one CSV row per scene and mode (benches/results/gi_table.py), kept in $OUT and
+# printed; plot it with `cargo run -p solari-benches --bin plot-gi -- gi_table.csv out.png`.
+python3 benches/results/gi_table.py "$R" | tee "$OUT/gi_table.csv" | column -s, -t || true

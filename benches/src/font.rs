@@ -17,3 +17,37 @@ pub fn register_from_args(args: &[String], usage: &str) -> Result<(), String> {
     plotters::style::register_font("sans-serif", FontStyle::Normal, Box::leak(bytes.into()))
         .map_err(|_| format!("{font} is not a TrueType font"))
 }
+
+/// What every plot tool starts from, `CSV OUT.png [--font FONT.ttf]` on its command line: the
+/// font registered, the CSV's text and path, and the output path. `usage` is the error when
+/// the arguments are missing.
+pub struct PlotInput {
+    /// The CSV file's path, for messages.
+    pub csv: String,
+    /// The CSV file's text.
+    pub text: String,
+    /// Where the PNG goes.
+    pub out: String,
+}
+
+impl PlotInput {
+    /// Reads the process's arguments (see [`PlotInput`]).
+    pub fn from_args(usage: &str) -> Result<Self, String> {
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        let (csv, out) = match args.as_slice() {
+            [c, o, ..] => (c.clone(), o.clone()),
+            _ => return Err(usage.into()),
+        };
+        register_from_args(&args, usage)?;
+        let text = std::fs::read_to_string(&csv).map_err(|e| format!("{csv}: {e}"))?;
+        Ok(Self { csv, text, out })
+    }
+
+    /// Runs a plot tool's `run`, printing its error and exiting with status 1 on failure.
+    pub fn exit_on_error(run: fn() -> Result<(), String>) {
+        if let Err(e) = run() {
+            eprintln!("error: {e}");
+            std::process::exit(1);
+        }
+    }
+}

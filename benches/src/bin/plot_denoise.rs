@@ -9,13 +9,10 @@ use plotters::coord::Shift;
 use plotters::coord::ranged1d::ValueFormatter;
 use plotters::prelude::*;
 use solari_benches::denoise::{DenoiseRow, parse_denoise};
-use solari_benches::font;
+use solari_benches::font::PlotInput;
 
 fn main() {
-    if let Err(e) = run() {
-        eprintln!("error: {e}");
-        std::process::exit(1);
-    }
+    PlotInput::exit_on_error(run);
 }
 
 /// One line: its legend, colour and points.
@@ -26,14 +23,9 @@ struct Line {
 }
 
 fn run() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: plot-denoise DENOISE.csv OUT.png [--font FONT.ttf]";
-    let (csv, out) = match args.as_slice() {
-        [c, o, ..] => (c, o),
-        _ => return Err(usage.into()),
-    };
-    font::register_from_args(&args, usage)?;
-    let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
+    let PlotInput { csv, text, out } =
+        PlotInput::from_args("usage: plot-denoise DENOISE.csv OUT.png [--font FONT.ttf]")?;
+    let (csv, out) = (&csv, &out);
     let rows = parse_denoise(&text)?;
     let first = rows.first().ok_or(format!("{csv}: no rows"))?;
     let mut settings: Vec<u32> = rows.iter().map(|r| r.iterations).collect();

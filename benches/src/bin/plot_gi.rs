@@ -7,25 +7,17 @@
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use solari_benches::font;
+use solari_benches::font::PlotInput;
 use solari_benches::gi_table::{GiRow, parse_gi};
 
 fn main() {
-    if let Err(e) = run() {
-        eprintln!("error: {e}");
-        std::process::exit(1);
-    }
+    PlotInput::exit_on_error(run);
 }
 
 fn run() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: plot-gi GI_TABLE.csv OUT.png [--font FONT.ttf]";
-    let (csv, out) = match args.as_slice() {
-        [c, o, ..] => (c, o),
-        _ => return Err(usage.into()),
-    };
-    font::register_from_args(&args, usage)?;
-    let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
+    let PlotInput { csv, text, out } =
+        PlotInput::from_args("usage: plot-gi GI_TABLE.csv OUT.png [--font FONT.ttf]")?;
+    let (csv, out) = (&csv, &out);
     let rows: Vec<GiRow> = parse_gi(&text)?
         .into_iter()
         .filter(|r| r.gpu_ms.is_finite() && r.rel_mse_1.is_finite() && r.rel_mse_1 > 0.0)

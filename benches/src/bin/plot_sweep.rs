@@ -6,25 +6,17 @@
 //! Text needs a TrueType font (see `solari_benches::font`).
 
 use plotters::prelude::*;
-use solari_benches::font;
+use solari_benches::font::PlotInput;
 use solari_benches::sweep::{SweepRow, parse_sweep};
 
 fn main() {
-    if let Err(e) = run() {
-        eprintln!("error: {e}");
-        std::process::exit(1);
-    }
+    PlotInput::exit_on_error(run);
 }
 
 fn run() -> Result<(), String> {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    let usage = "usage: plot-sweep SWEEP.csv OUT.png [--font FONT.ttf]";
-    let (csv, out) = match args.as_slice() {
-        [c, o, ..] => (c, o),
-        _ => return Err(usage.into()),
-    };
-    font::register_from_args(&args, usage)?;
-    let text = std::fs::read_to_string(csv).map_err(|e| format!("{csv}: {e}"))?;
+    let PlotInput { csv, text, out } =
+        PlotInput::from_args("usage: plot-sweep SWEEP.csv OUT.png [--font FONT.ttf]")?;
+    let (csv, out) = (&csv, &out);
     let rows: Vec<SweepRow> = parse_sweep(&text)?
         .into_iter()
         .filter(|r| r.rmse.is_finite() && r.lighting_ms.is_finite())
