@@ -86,6 +86,55 @@ pub(crate) fn pass_pipeline(
     )
 }
 
+/// The bind group layouts every pass of this crate is built over: the scene (group 0), the
+/// G-buffer reader (1), the pass's own group (2) and `fourth` (3: the light tiles' reader,
+/// or GI's target). Owned here so the passes build their pipelines from one place.
+pub(crate) struct PassLayouts {
+    scene: wgpu::BindGroupLayout,
+    gbuffer: wgpu::BindGroupLayout,
+}
+
+impl PassLayouts {
+    pub(crate) fn new(gpu: &Gpu, backend: Backend) -> Self {
+        Self {
+            scene: GpuScene::layout_for(gpu, backend),
+            gbuffer: GBuffer::reader_layout(gpu),
+        }
+    }
+
+    /// Groups 0–3 with `own` as group 2 and `fourth` as group 3.
+    pub(crate) fn with<'a>(
+        &'a self,
+        own: &'a wgpu::BindGroupLayout,
+        fourth: &'a wgpu::BindGroupLayout,
+    ) -> [Option<&'a wgpu::BindGroupLayout>; 4] {
+        [
+            Some(&self.scene),
+            Some(&self.gbuffer),
+            Some(own),
+            Some(fourth),
+        ]
+    }
+}
+
+/// The layout of a pass's own group that also holds the world cache (GI and specular GI):
+/// `bindings` first, the cache's entries after them.
+pub(crate) fn layout_with_cache(
+    gpu: &Gpu,
+    bindings: &solari_scene::bindings::BufferGroup,
+    label: &str,
+) -> wgpu::BindGroupLayout {
+    let mut entries = bindings.layout_entries(wgpu::ShaderStages::COMPUTE);
+    entries.extend(solari_worldcache::WorldCache::layout_entries(
+        wgpu::ShaderStages::COMPUTE,
+    ));
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &entries,
+        })
+}
+
 /// Refuses to encode `pass` (built for `built` pixels) over a scene its pipelines were not
 /// specialised for, or a G-buffer or frame of another size (GI's and specular GI's passes).
 pub(crate) fn check_encode(
@@ -151,15 +200,9 @@ impl RestirDi {
         settings.validate()?;
         let variant = variant.for_backend(backend);
         let own_layout = DI_BINDINGS.layout(gpu, "solari_restir/di");
-        let scene_layout = GpuScene::layout_for(gpu, backend);
-        let gbuffer_layout = GBuffer::reader_layout(gpu);
         let lights_layout = LightTiles::reader_layout(gpu);
-        let layouts = [
-            Some(&scene_layout),
-            Some(&gbuffer_layout),
-            Some(&own_layout),
-            Some(&lights_layout),
-        ];
+        let shared = PassLayouts::new(gpu, backend);
+        let layouts = shared.with(&own_layout, &lights_layout);
         let modules = crate::modules();
         let pipeline = |entry: &str, constants: &[(&str, f64)]| {
             pass_pipeline(gpu, backend, &modules, &layouts, entry, constants)

@@ -33,14 +33,13 @@
 //! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
 //! buffer is needed.
 
-use crate::di::{check_encode, pass_pipeline, record};
+use crate::di::{PassLayouts, check_encode, layout_with_cache, pass_pipeline, record};
 use crate::gi_reservoir::GpuGiReservoir;
 use crate::gi_settings::{GpuGiParams, RestirGiSettings, flags};
 use crate::settings::flags::reuse;
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
-use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
@@ -98,23 +97,10 @@ impl RestirGi {
     ) -> Result<Self, GpuError> {
         settings.validate()?;
         let variant = variant.for_backend(backend);
-        let mut entries = GI_BINDINGS.layout_entries(wgpu::ShaderStages::COMPUTE);
-        entries.extend(WorldCache::layout_entries(wgpu::ShaderStages::COMPUTE));
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_restir/gi"),
-                entries: &entries,
-            });
+        let layout = layout_with_cache(gpu, &GI_BINDINGS, "solari_restir/gi");
         let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
-        let scene_layout = GpuScene::layout_for(gpu, backend);
-        let gbuffer_layout = GBuffer::reader_layout(gpu);
-        let layouts = [
-            Some(&scene_layout),
-            Some(&gbuffer_layout),
-            Some(&layout),
-            Some(&target_layout),
-        ];
+        let shared = PassLayouts::new(gpu, backend);
+        let layouts = shared.with(&layout, &target_layout);
         let modules = crate::gi_modules();
         let pipeline = |entry: &str| {
             pass_pipeline(gpu, backend, &modules, &layouts, entry, variant.constants())

@@ -28,13 +28,12 @@
 //! Cost: up to `2 × max_bounces` rays per traced pixel (one segment and one shadow ray per
 //! bounce); none for rough pixels.
 
-use crate::di::{check_encode, pass_pipeline, record};
+use crate::di::{PassLayouts, check_encode, layout_with_cache, pass_pipeline, record};
 use crate::gi::RestirGi;
 use bytemuck::{Pod, Zeroable};
 use solari_lights::{LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
-use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
@@ -191,23 +190,10 @@ impl SpecularGi {
             )));
         }
         let variant = variant.for_backend(backend);
-        let mut entries = SPECULAR_BINDINGS.layout_entries(wgpu::ShaderStages::COMPUTE);
-        entries.extend(WorldCache::layout_entries(wgpu::ShaderStages::COMPUTE));
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_restir/specular_gi"),
-                entries: &entries,
-            });
-        let scene_layout = GpuScene::layout_for(gpu, backend);
-        let gbuffer_layout = GBuffer::reader_layout(gpu);
+        let layout = layout_with_cache(gpu, &SPECULAR_BINDINGS, "solari_restir/specular_gi");
         let lights_layout = LightTiles::reader_layout(gpu);
-        let layouts = [
-            Some(&scene_layout),
-            Some(&gbuffer_layout),
-            Some(&layout),
-            Some(&lights_layout),
-        ];
+        let shared = PassLayouts::new(gpu, backend);
+        let layouts = shared.with(&layout, &lights_layout);
         let pipeline = pass_pipeline(
             gpu,
             backend,
