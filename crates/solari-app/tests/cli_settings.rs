@@ -24,6 +24,11 @@ fn gi_defaults_are_the_measured_choice_and_match_the_library() {
     assert_eq!((s.gi, s.specular_gi), (GiMode::Path, true));
     let lib = RealtimeSettings::default();
     assert_eq!((lib.gi, lib.specular_gi), (s.gi, s.specular_gi));
+    assert_eq!(
+        GiMode::default(),
+        s.gi,
+        "the enum's default is the settings' default"
+    );
     for (arg, on) in [
         ("on", true),
         ("off", false),

@@ -133,17 +133,18 @@ pub enum FiniteCheck {
     Fail,
 }
 
-/// Indirect light.
+/// Indirect light. The default, [`GiMode::Path`], is the measured choice (see
+/// [`RealtimeSettings::gi`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum GiMode {
     /// Direct light only (ReSTIR DI).
-    #[default]
     Off,
     /// ReSTIR DI plus albedo × the world cache's indirect irradiance at each pixel: the
     /// cheapest GI tier (blocky where cells are large; no glossy indirect light).
     WorldCache,
     /// Plain path GI: one traced diffuse bounce per pixel, lit by the world cache at its
     /// hit, no reuse ([`solari_restir::RestirGi`] with [`RestirGiSettings::plain`]).
+    #[default]
     Path,
     /// ReSTIR GI: the same traced bounce, reused across frames and neighbours
     /// ([`RealtimeSettings::restir_gi`]).
@@ -345,7 +346,7 @@ impl Default for RealtimeSettings {
             tiles: LightTileSettings::default(),
             di: RestirDiSettings::default(),
             selection: Selection::Power,
-            gi: GiMode::Path,
+            gi: GiMode::default(),
             cache: WorldCacheSettings::default(),
             restir_gi: RestirGiSettings::default(),
             specular_gi: true,
@@ -657,11 +658,12 @@ impl RealtimeRenderer {
     }
 
     /// GPU memory per component, in bytes, in frame order: `gbuffer`, `light_tiles` (the
-    /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `denoiser` (with
-    /// the temporal upscaler's accumulation, when it runs). The
+    /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `restir_gi`
+    /// (ReSTIR GI's or path GI's reservoirs; 0 without), `specular_gi` (0 without),
+    /// `denoiser` (with the temporal upscaler's accumulation, when it runs). The
     /// scene's own memory is the caller's ([`GpuScene::memory_bytes`]); the profiler's and the
     /// detector's few kilobytes are left out.
-    pub fn memory(&self) -> [(&'static str, u64); 6] {
+    pub fn memory(&self) -> [(&'static str, u64); 7] {
         [
             ("gbuffer", self.gbuffer.memory_bytes()),
             (
@@ -676,6 +678,10 @@ impl RealtimeRenderer {
             (
                 "restir_gi",
                 self.gi.as_ref().map_or(0, |(g, _)| g.memory_bytes()),
+            ),
+            (
+                "specular_gi",
+                self.specular.as_ref().map_or(0, |s| s.memory_bytes()),
             ),
             (
                 "denoiser",

@@ -309,9 +309,10 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
-    // ReSTIR GI: every component holds memory (the world cache with it).
+    // ReSTIR GI and specular GI: every component holds memory (the world cache with them).
     let renderer = c.renderer(RealtimeSettings {
         gi: solari_renderer::GiMode::Restir,
+        specular_gi: true,
         denoiser: Some(solari_denoise::DenoiserKind::Fallback),
         ..settings()
     });
