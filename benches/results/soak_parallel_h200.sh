@@ -22,7 +22,9 @@
 # looks failed, and a second `start` would run a second chain beside the first. The machine goes back 30 s after a command ends
 # with no next one, killing the runs: issue the polls back to back.
 # Settings as in soak_h200_2026-11-23.sh: 1920x1080, orbit camera, cache GI, fallback
-# denoiser, software BVH, the non-finite detector on every pass of every frame.
+# denoiser, software BVH, the non-finite detector on every pass of every frame. GI_ARGS
+# replaces the GI and denoiser options (default "--gi cache --denoiser fallback"), e.g.
+# GI_ARGS="--gi path --specular-gi on --denoiser fallback" for the GI soak of issue 18.
 set -u
 DIR=/root/soak
 case "${1:-}" in
@@ -45,11 +47,12 @@ file=$(ls "$DIR/scenes/$s"/*.gltf | head -n 1)
 toggle=(); [ -n "$t" ] && toggle=(--toggle-lights "$t")
 echo "== $s frames=$FRAMES toggle=${t:-none} adapter=${ADAPTER:-best} start $(date -u +%T)" > "$DIR/$name.log"
 "$DIR/solari" soak "$file" --frames "$FRAMES" --size 1920x1080 --camera-path orbit \
-  --gi cache --denoiser fallback "${toggle[@]}" --progress-every 10000 \
+  $GI_ARGS "${toggle[@]}" --progress-every 10000 \
   --summary "$DIR/$name.json" < /dev/null 2>> "$DIR/$name.log" > /dev/null
 echo "exit $? $(date -u +%T)" >> "$DIR/$name.log"
 ONE
   export DIR FRAMES=${FRAMES:-100000} ADAPTER=${ADAPTER:-}
+  export GI_ARGS=${GI_ARGS:-"--gi cache --denoiser fallback"}
   if [ "${SEQUENTIAL:-0}" = 1 ]; then
     # Logs of runs still queued exist from the start, so `poll` waits for them too.
     for run in ${RUNS:?RUNS=scene:toggle ...}; do
