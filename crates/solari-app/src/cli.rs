@@ -322,6 +322,13 @@ pub struct RealtimeArgs {
     /// Specular GI: pixels rougher than this reuse the GI reservoir instead of tracing.
     #[arg(long, default_value_t = 0.4, value_parser = values::finite)]
     pub specular_rough_threshold: f32,
+    /// Primary surface replacement: mirror-metal pixels give the denoiser the surface they
+    /// reflect (depth through the mirror, normals, albedo, motion) instead of the flat
+    /// mirror. With specular GI and a denoiser or `--internal-scale` below 1; on by default,
+    /// `--psr off` turns it off.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub psr: bool,
     /// World-cache cell size at the finest level, in scene units.
     #[arg(long, default_value_t = 0.25, value_parser = values::finite, allow_hyphen_values = true)]
     pub cache_cell_size: f32,
@@ -386,6 +393,7 @@ impl RealtimeArgs {
                 ..Default::default()
             },
             specular_gi: self.specular_gi,
+            psr: self.psr,
             specular: SpecularGiSettings {
                 max_bounces: self.specular_bounces,
                 rough_threshold: self.specular_rough_threshold,

@@ -19,7 +19,7 @@ use solari_denoise::{
 };
 use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
 use solari_restir::{
-    GI_PASS_LABELS, PASS_LABELS as DI_LABELS, RestirDi, RestirDiSettings, RestirGi,
+    GI_PASS_LABELS, PASS_LABELS as DI_LABELS, PsrBindings, RestirDi, RestirDiSettings, RestirGi,
     RestirGiSettings, SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings,
 };
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
@@ -39,10 +39,11 @@ use solari_worldcache::PASS_LABELS as CACHE;
 /// world cache's upkeep ([`solari_worldcache::PASS_LABELS`]), ReSTIR DI
 /// ([`solari_restir::PASS_LABELS`]), ReSTIR GI or plain path GI
 /// ([`solari_restir::GI_PASS_LABELS`]), cache-only GI or the cache view, specular GI
-/// ([`solari_restir::SPECULAR_PASS_LABELS`]), then the fallback
+/// ([`solari_restir::SPECULAR_PASS_LABELS`]) and the G-buffer overrides it wrote (primary
+/// surface replacement, [`solari_scene::gbuffer_override::OVERRIDE_PASS_LABELS`]), then the fallback
 /// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
 /// (DLSS-RR itself records outside the profiler's reach).
-pub const PASS_NAMES: [&str; 19] = [
+pub const PASS_NAMES: [&str; 20] = [
     solari_scene::gbuffer::PASS_LABELS[0],
     solari_lights::PASS_LABELS[0],
     CACHE[0],
@@ -57,6 +58,7 @@ pub const PASS_NAMES: [&str; 19] = [
     CACHE[4],
     CACHE[5],
     SPECULAR_PASS_LABELS[0],
+    solari_scene::gbuffer_override::OVERRIDE_PASS_LABELS[0],
     DENOISE[0],
     DENOISE[1],
     DENOISE[2],
@@ -224,6 +226,14 @@ pub struct RealtimeSettings {
     pub specular_gi: bool,
     /// Specular GI's knobs.
     pub specular: SpecularGiSettings,
+    /// Primary surface replacement (default on; with specular GI and a denoiser or the
+    /// upscaler, which read the guides): mirror-metal pixels give the denoiser the surface
+    /// they reflect (its depth through the mirror, normals, albedo and motion) instead of
+    /// the flat mirror, so reflections are filtered and reprojected as what they show
+    /// ([`solari_restir::specular`]'s docs). Costs 32 bytes per pixel and a pass that
+    /// writes only the mirror pixels; no rays. Where the adapter cannot write the G-buffer
+    /// as storage textures it is skipped with a warning.
+    pub psr: bool,
     /// What the output shows (default the lit image).
     pub view: FrameView,
     /// Measure each pass with timestamp queries (needs the adapter's timestamp features;
@@ -351,6 +361,7 @@ impl Default for RealtimeSettings {
             restir_gi: RestirGiSettings::default(),
             specular_gi: true,
             specular: SpecularGiSettings::default(),
+            psr: true,
             view: FrameView::Lit,
             timestamps: false,
             denoiser: Some(DenoiserKind::None),
@@ -418,6 +429,10 @@ pub struct RealtimeRenderer {
     gi: Option<(RestirGi, wgpu::BindGroup)>,
     // Specular GI, bound to the world cache, ReSTIR DI's output and ReSTIR GI (if any).
     specular: Option<SpecularGi>,
+    // Primary surface replacement in use (the G-buffer has overrides), and the G-buffer's
+    // transforms generation specular GI was bound with (None: bound without them).
+    psr: bool,
+    psr_generation: Option<u64>,
     list: LightList,
     lights: GpuLights,
     lights_group: wgpu::BindGroup,
@@ -439,6 +454,46 @@ pub struct RealtimeRenderer {
     cache_readbacks: Vec<wgpu::Buffer>,
     next_cache_readback: usize,
     upscaler: Option<TemporalUpscaler>,
+}
+
+// Gives the G-buffer its override buffer for primary surface replacement; false (with a
+// warning) where the adapter cannot write the targets as storage textures.
+fn enable_overrides(gpu: &Gpu, gbuffer: &mut GBuffer) -> Result<bool, GpuError> {
+    match gbuffer.enable_overrides(gpu) {
+        Ok(()) => Ok(true),
+        Err(GpuError::Unsupported(why)) => {
+            log::warn!("primary surface replacement off: {why}");
+            Ok(false)
+        }
+        Err(e) => Err(e),
+    }
+}
+
+// Binds specular GI (if built) to its inputs, with the G-buffer's overrides and transforms
+// when replacement is on and the G-buffer has uploaded transforms (its first `prepare`).
+// Returns the transforms generation bound (None: bound without replacement).
+fn bind_specular(
+    gpu: &Gpu,
+    specular: &mut Option<SpecularGi>,
+    cache: &Option<(WorldCache, wgpu::BindGroup)>,
+    gi: &Option<(RestirGi, wgpu::BindGroup)>,
+    di: &RestirDi,
+    gbuffer: &GBuffer,
+    psr: bool,
+) -> Result<Option<u64>, GpuError> {
+    let (Some(specular), Some((cache, _))) = (specular, cache) else {
+        return Ok(None);
+    };
+    let bindings = match (psr, gbuffer.overrides(), gbuffer.previous_transforms()) {
+        (true, Some(overrides), Some(previous_transforms)) => Some(PsrBindings {
+            overrides,
+            previous_transforms,
+        }),
+        _ => None,
+    };
+    let gi = gi.as_ref().map(|(g, _)| g);
+    specular.bind(gpu, cache, di.output(), gi, bindings)?;
+    Ok(bindings.map(|_| gbuffer.transforms_generation()))
 }
 
 impl RealtimeRenderer {
@@ -504,7 +559,7 @@ impl RealtimeRenderer {
             .map_or(lighting_size, |d| d.render_size());
         let (producer, gbuffer_timing) =
             crate::gbuffer_choice::choose(gpu, scene, gpu_scene, settings.gbuffer, (width, height));
-        let gbuffer = GBuffer::with_producer(
+        let mut gbuffer = GBuffer::with_producer(
             gpu,
             backend,
             producer,
@@ -512,6 +567,11 @@ impl RealtimeRenderer {
             width,
             height,
         )?;
+        // Replacement only matters to what reads the guides: a denoiser or the upscaler.
+        let psr = settings.psr
+            && settings.specular_gi
+            && (created.denoiser.is_some() || upscaling)
+            && enable_overrides(gpu, &mut gbuffer)?;
         let tiles = LightTiles::new(gpu, settings.tiles)?;
         let di = RestirDi::new(
             gpu,
@@ -577,7 +637,8 @@ impl RealtimeRenderer {
                     settings.specular,
                     settings.tiles,
                 )?;
-                specular.bind(gpu, cache, di.output(), gi.as_ref().map(|(g, _)| g))?;
+                // Replacement is bound on the first frame, once the G-buffer has transforms.
+                specular.bind(gpu, cache, di.output(), gi.as_ref().map(|(g, _)| g), None)?;
                 Some(specular)
             }
             _ => None,
@@ -616,6 +677,8 @@ impl RealtimeRenderer {
             cache,
             gi,
             specular,
+            psr,
+            psr_generation: None,
             list,
             lights,
             lights_group,
@@ -742,6 +805,9 @@ impl RealtimeRenderer {
         let backend = gpu_scene.backend;
         if !gbuffer_fits {
             self.gbuffer = GBuffer::traced(gpu, backend, variant, w, h)?;
+            if self.psr {
+                self.psr = enable_overrides(gpu, &mut self.gbuffer)?;
+            }
         }
         self.di = RestirDi::new(
             gpu,
@@ -763,10 +829,21 @@ impl RealtimeRenderer {
                 let settings = specular.settings();
                 *specular =
                     SpecularGi::new(gpu, backend, variant, w, h, settings, self.settings.tiles)?;
-                let gi = self.gi.as_ref().map(|(g, _)| g);
-                specular.bind(gpu, cache, self.di.output(), gi)?;
             }
         }
+        self.bind_specular(gpu)
+    }
+
+    fn bind_specular(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        self.psr_generation = bind_specular(
+            gpu,
+            &mut self.specular,
+            &self.cache,
+            &self.gi,
+            &self.di,
+            &self.gbuffer,
+            self.psr,
+        )?;
         Ok(())
     }
 
@@ -930,6 +1007,17 @@ impl RealtimeRenderer {
             [0.0; 2]
         };
         self.gbuffer.prepare_jittered(gpu, scene, camera, jitter)?;
+        if self.psr && self.psr_generation != Some(self.gbuffer.transforms_generation()) {
+            self.psr_generation = bind_specular(
+                gpu,
+                &mut self.specular,
+                &self.cache,
+                &self.gi,
+                &self.di,
+                &self.gbuffer,
+                self.psr,
+            )?;
+        }
         self.tiles.prepare(gpu, &context);
         self.di.prepare(gpu, &context, &self.gbuffer, light_count)?;
         if let Some((cache, _)) = &mut self.cache {
@@ -1030,6 +1118,15 @@ impl RealtimeRenderer {
                     &self.gbuffer,
                     lights,
                 )?);
+                if specular.replaces_surfaces() {
+                    ran.add(&self.gbuffer.apply_overrides(&mut encoder, &context)?);
+                    if let Some(c) = checker.as_mut() {
+                        let t = self.gbuffer.current();
+                        c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;
+                        c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.motion, 0x3, 0)?;
+                        c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.depth, 0x1, 0x1)?;
+                    }
+                }
             }
             if let Some(c) = checker.as_mut() {
                 let rgba = RecordLayout::RGBA_NON_NEGATIVE;

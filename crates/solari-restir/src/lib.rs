@@ -60,7 +60,7 @@ pub use gi_reservoir::{GpuGiReservoir, gi_reservoir_check};
 pub use gi_settings::{GpuGiParams, RestirGiSettings};
 pub use reservoir::{GpuReservoir, reservoir_check};
 pub use settings::{GpuDiParams, RestirDiSettings};
-pub use specular::{SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings};
+pub use specular::{PsrBindings, SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings};
 
 /// The crate's importable WGSL modules, by module name.
 pub const MODULES: &[(&str, &str)] = &[

@@ -25,8 +25,23 @@
 //!   ([`SpecularGiSettings::max_bounces`]); with it off, no path reads the cache: it stops
 //!   after its last bounce's light sample, and the light beyond is lost.
 //!
+//! - **Primary surface replacement** (after Solari 0.19 "Primary Surface Replacement", bound
+//!   with [`PsrBindings`]): where the primary surface is a mirror metal (metallic 1,
+//!   roughness below the BRDF's mirror threshold 0.02), the path follows the mirror
+//!   bounces to the first other surface (or its last bounce) and writes that surface as the
+//!   pixel's G-buffer override ([`solari_scene::gbuffer_override`]): its point and normals
+//!   mapped into the mirror world by the chained reflections (`x ↦ M x + c`, one Householder
+//!   reflection per mirror), so its depth is the unfolded path length along the view ray;
+//!   its albedos times the mirrors' reflectance, so demodulation divides the reflection by
+//!   what it is made of; the emission seen through the mirrors; and the motion of its
+//!   mirror-world point between last frame's view and this one (the hit's instance moved by
+//!   its own transforms, the mirrors taken as static). Exact for flat mirrors; a curved
+//!   mirror gets a plausible guide, not an exact one. Smooth non-metals keep their own
+//!   guides (Solari found replacing them worse).
+//!
 //! Cost: up to `2 × max_bounces` rays per traced pixel (one segment and one shadow ray per
-//! bounce); none for rough pixels.
+//! bounce); none for rough pixels. Replacement adds no ray: it rides on the mirror pixels'
+//! own path.
 
 use crate::di::{PassLayouts, check_encode, layout_with_cache, pass_pipeline, record};
 use crate::gi::RestirGi;
@@ -52,6 +67,8 @@ pub const SPECULAR_BINDINGS: BufferGroup = BufferGroup::new(
         ("spec_params", Buf::Uniform),
         ("spec_gi", Buf::Read),
         ("spec_lit", Buf::ReadWrite),
+        ("spec_overrides", Buf::ReadWrite),
+        ("spec_previous_transforms", Buf::Read),
     ],
 );
 
@@ -127,6 +144,20 @@ mod flags {
     pub const REUSE_GI: u32 = 1;
     pub const NEE: u32 = 2;
     pub const CACHE_END: u32 = 4;
+    pub const PSR: u32 = 8;
+}
+
+/// What primary surface replacement writes and reads, both the G-buffer's:
+/// [`solari_scene::gbuffer::GBuffer::overrides`] (enable them first with
+/// [`solari_scene::gbuffer::GBuffer::enable_overrides`]) and
+/// [`solari_scene::gbuffer::GBuffer::previous_transforms`] (rebind when
+/// [`solari_scene::gbuffer::GBuffer::transforms_generation`] changes).
+#[derive(Clone, Copy, Debug)]
+pub struct PsrBindings<'a> {
+    /// The per-pixel override buffer.
+    pub overrides: &'a wgpu::Buffer,
+    /// Last frame's instance transforms.
+    pub previous_transforms: &'a wgpu::Buffer,
 }
 
 /// WGSL twin: `SpecularParams` in `specular_gi.wesl`.
@@ -166,8 +197,12 @@ pub struct SpecularGi {
     params: wgpu::Buffer,
     // Stands in for ReSTIR GI's reservoirs when it does not run (bindings must not dangle).
     no_reservoirs: wgpu::Buffer,
+    // Stand in for the override buffer and the transforms without replacement (two: one is
+    // written, the other read, and a buffer may not be both in one dispatch).
+    no_psr: [wgpu::Buffer; 2],
     group: Option<wgpu::BindGroup>,
     reuse_gi: bool,
+    psr: bool,
 }
 
 impl SpecularGi {
@@ -212,6 +247,15 @@ impl SpecularGi {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
+        // One override (32 bytes) and one transform (48).
+        let no_psr = [32, 48].map(|size| {
+            gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("solari_restir/specular_no_psr"),
+                size,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            })
+        });
         Ok(Self {
             settings,
             variant,
@@ -221,14 +265,17 @@ impl SpecularGi {
             layout,
             params,
             no_reservoirs,
+            no_psr,
             group: None,
             reuse_gi: false,
+            psr: false,
         })
     }
 
     /// Binds the world cache, the image to add to (`width × height` `vec4<f32>`, for
-    /// example [`crate::RestirDi::output`]) and ReSTIR GI, whose final reservoirs rough
-    /// pixels reuse (`None`: every pixel traces). Call it again after any of them was
+    /// example [`crate::RestirDi::output`]), ReSTIR GI, whose final reservoirs rough
+    /// pixels reuse (`None`: every pixel traces), and the G-buffer's buffers for primary
+    /// surface replacement (`None`: no replacement). Call it again after any of them was
     /// rebuilt or resized.
     pub fn bind(
         &mut self,
@@ -236,7 +283,19 @@ impl SpecularGi {
         cache: &WorldCache,
         target: &wgpu::Buffer,
         gi: Option<&RestirGi>,
+        psr: Option<PsrBindings>,
     ) -> Result<(), GpuError> {
+        let pixels = self.size.0 as u64 * self.size.1 as u64;
+        if let Some(p) = psr
+            && p.overrides.size() < pixels * solari_scene::gbuffer_override::OVERRIDE_BYTES
+        {
+            return Err(GpuError::Validation(format!(
+                "specular GI: the override buffer holds {} bytes, {:?} pixels need {}",
+                p.overrides.size(),
+                self.size,
+                pixels * solari_scene::gbuffer_override::OVERRIDE_BYTES
+            )));
+        }
         if let Some(gi) = gi
             && gi.size() != self.size
         {
@@ -251,6 +310,14 @@ impl SpecularGi {
             ("spec_params", &self.params),
             ("spec_gi", reservoirs),
             ("spec_lit", target),
+            (
+                "spec_overrides",
+                psr.map_or(&self.no_psr[0], |p| p.overrides),
+            ),
+            (
+                "spec_previous_transforms",
+                psr.map_or(&self.no_psr[1], |p| p.previous_transforms),
+            ),
         ]);
         entries.extend(cache.bind_group_entries());
         self.group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -259,6 +326,7 @@ impl SpecularGi {
             entries: &entries,
         }));
         self.reuse_gi = gi.is_some();
+        self.psr = psr.is_some();
         Ok(())
     }
 
@@ -274,10 +342,16 @@ impl SpecularGi {
         Ok(())
     }
 
-    /// GPU memory the pass holds, in bytes (parameters and the stand-in reservoir: no
-    /// per-pixel buffers).
+    /// GPU memory the pass holds, in bytes (parameters and the stand-ins: no per-pixel
+    /// buffers; the override buffer is the G-buffer's).
     pub fn memory_bytes(&self) -> u64 {
-        self.params.size() + self.no_reservoirs.size()
+        let stand_ins: u64 = self.no_psr.iter().map(|b| b.size()).sum();
+        self.params.size() + self.no_reservoirs.size() + stand_ins
+    }
+
+    /// Whether primary surface replacement is bound ([`SpecularGi::bind`]).
+    pub fn replaces_surfaces(&self) -> bool {
+        self.psr
     }
 
     /// Image size in pixels.
@@ -297,6 +371,9 @@ impl SpecularGi {
         }
         if s.cache_termination {
             bits |= flags::CACHE_END;
+        }
+        if self.psr {
+            bits |= flags::PSR;
         }
         let params = GpuSpecularParams {
             width: self.size.0,

@@ -30,6 +30,7 @@
 use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
 use crate::gbuffer_input::{GBufferSource, GBufferViews};
+use crate::gbuffer_override::OverridePass;
 use crate::gbuffer_raster::RasterProducer;
 use crate::gbuffer_traced::TracedProducer;
 use crate::gpu::Gpu;
@@ -189,9 +190,19 @@ pub struct GBufferTargets {
 }
 
 impl GBufferTargets {
-    fn new(gpu: &Gpu, width: u32, height: u32, parity: usize, producer: GBufferProducer) -> Self {
-        // Written as render attachments by the raster producer, as storage by the traced one.
+    fn new(
+        gpu: &Gpu,
+        (width, height): (u32, u32),
+        parity: usize,
+        producer: GBufferProducer,
+        storage: bool,
+    ) -> Self {
+        // Written as render attachments by the raster producer, as storage by the traced one
+        // and by the override pass (`storage`).
         let written = match producer {
+            GBufferProducer::Raster if storage => {
+                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::STORAGE_BINDING
+            }
             GBufferProducer::Raster => wgpu::TextureUsages::RENDER_ATTACHMENT,
             GBufferProducer::Traced => wgpu::TextureUsages::STORAGE_BINDING,
         };
@@ -258,6 +269,10 @@ pub struct GBuffer {
     last_view: Option<GpuView>,
     reader_layout: wgpu::BindGroupLayout,
     reader_groups: [wgpu::BindGroup; 2],
+    // Replacement guides ([`GBuffer::enable_overrides`]).
+    overrides: Option<OverridePass>,
+    // Bumped whenever `transforms` is reallocated, so passes that bind it can rebind.
+    transforms_generation: u64,
 }
 
 // Groups 1 and 2 are shared by the raster pipeline's vertex and fragment stages and the
@@ -321,10 +336,8 @@ impl GBuffer {
         let view_layout = producer_layout(gpu, "solari_scene/gbuffer_view", &GBUFFER_VIEW_BINDINGS);
         let transforms_layout =
             producer_layout(gpu, "solari_scene/gbuffer_transforms", &TRANSFORMS_BINDINGS);
-        let targets = [
-            GBufferTargets::new(gpu, width, height, 0, producer),
-            GBufferTargets::new(gpu, width, height, 1, producer),
-        ];
+        let targets =
+            [0, 1].map(|parity| GBufferTargets::new(gpu, (width, height), parity, producer, false));
         let layouts = [&view_layout, &transforms_layout];
         let made = match producer {
             GBufferProducer::Raster => {
@@ -368,7 +381,84 @@ impl GBuffer {
             last_view: None,
             reader_layout,
             reader_groups,
+            overrides: None,
+            transforms_generation: 0,
         })
+    }
+
+    /// Allocates the override buffer (32 bytes per pixel) and the pass that applies it
+    /// ([`crate::gbuffer_override`]); idempotent. The targets must be storage textures: the
+    /// raster producer's are rebuilt with storage usage (history restarts once), and an
+    /// adapter without [`MOTION_FORMAT`] storage refuses, as for the traced producer
+    /// ([`GBufferProducer::traced_support`]).
+    pub fn enable_overrides(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        if self.overrides.is_some() {
+            return Ok(());
+        }
+        GBufferProducer::traced_support(gpu).map_err(|e| match e {
+            GpuError::Unsupported(m) => GpuError::Unsupported(format!("G-buffer overrides: {m}")),
+            other => other,
+        })?;
+        if self.kind == GBufferProducer::Raster {
+            self.rebuild_targets(gpu, self.size, true);
+        }
+        self.overrides = Some(OverridePass::new(gpu, &self.targets, self.size)?);
+        Ok(())
+    }
+
+    /// The per-pixel override buffer that writers bind (WGSL `array<GBufferOverride>`,
+    /// row-major), when [`GBuffer::enable_overrides`] made one.
+    pub fn overrides(&self) -> Option<&wgpu::Buffer> {
+        self.overrides.as_ref().map(|o| o.buffer())
+    }
+
+    /// Stores every written override into this frame's targets and clears it (profiler
+    /// scope [`crate::gbuffer_override::OVERRIDE_PASS_LABELS`]`[0]`). Record it after the
+    /// passes that must see the primary surfaces and before those that read the guides.
+    /// Errors when overrides are not enabled.
+    pub fn apply_overrides(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &FrameContext,
+    ) -> Result<Ran, GpuError> {
+        let Some(o) = &self.overrides else {
+            return Err(GpuError::Validation(
+                "GBuffer::apply_overrides without GBuffer::enable_overrides".into(),
+            ));
+        };
+        debug_assert_eq!(o.size(), self.size);
+        Ok(o.record(encoder, frame, self.parity))
+    }
+
+    /// Last frame's instance transforms (object-to-world rows, `array<array<vec4<f32>, 3>>`,
+    /// this frame's for new instances) as uploaded by [`GBuffer::prepare`]; `None` before the
+    /// first prepare. The buffer is replaced when the instance count outgrows it:
+    /// [`GBuffer::transforms_generation`] tells binders when.
+    pub fn previous_transforms(&self) -> Option<&wgpu::Buffer> {
+        self.transforms.as_ref().map(|(b, _)| b)
+    }
+
+    /// Counts the reallocations of [`GBuffer::previous_transforms`]'s buffer.
+    pub fn transforms_generation(&self) -> u64 {
+        self.transforms_generation
+    }
+
+    // New target sets (size or usage changed): every group over them is rebuilt and history
+    // restarts.
+    fn rebuild_targets(&mut self, gpu: &Gpu, size: (u32, u32), storage: bool) {
+        self.targets =
+            [0, 1].map(|parity| GBufferTargets::new(gpu, size, parity, self.kind, storage));
+        match &mut self.producer {
+            Producer::Raster(p) => p.resize(gpu, size),
+            Producer::Traced(p) => p.retarget(gpu, &self.targets),
+        }
+        self.size = size;
+        self.last_view_proj = None;
+        self.last_view = None;
+        self.last_instances.clear();
+        self.history_valid = false;
+        self.reader_groups =
+            reader_groups(gpu, &self.reader_layout, &self.frame_views, &self.targets);
     }
 
     /// GPU memory the G-buffer holds, in bytes: both target sets, the raster producer's depth
@@ -387,7 +477,8 @@ impl GBuffer {
         let buffers = self.view_buffer.size()
             + self.frame_views.size()
             + self.transforms.as_ref().map_or(0, |(b, _)| b.size());
-        targets + producer + buffers
+        let overrides = self.overrides.as_ref().map_or(0, |o| o.memory_bytes());
+        targets + producer + buffers + overrides
     }
 
     /// Which producer writes this G-buffer.
@@ -408,21 +499,11 @@ impl GBuffer {
     pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
         check_size(gpu, width, height)?;
         if (width, height) != self.size {
-            self.targets = [
-                GBufferTargets::new(gpu, width, height, 0, self.kind),
-                GBufferTargets::new(gpu, width, height, 1, self.kind),
-            ];
-            match &mut self.producer {
-                Producer::Raster(p) => p.resize(gpu, (width, height)),
-                Producer::Traced(p) => p.retarget(gpu, &self.targets),
+            let storage = self.overrides.is_some();
+            self.rebuild_targets(gpu, (width, height), storage);
+            if storage {
+                self.overrides = Some(OverridePass::new(gpu, &self.targets, self.size)?);
             }
-            self.size = (width, height);
-            self.last_view_proj = None;
-            self.last_view = None;
-            self.last_instances.clear();
-            self.history_valid = false;
-            self.reader_groups =
-                reader_groups(gpu, &self.reader_layout, &self.frame_views, &self.targets);
         }
         Ok(())
     }
@@ -486,6 +567,7 @@ impl GBuffer {
                 &[("previous_transforms", &buffer)],
             );
             self.transforms = Some((buffer, group));
+            self.transforms_generation += 1;
         } else if let Some((buffer, _)) = &self.transforms
             && !bytes.is_empty()
         {

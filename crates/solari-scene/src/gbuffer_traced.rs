@@ -33,17 +33,7 @@ impl TracedProducer {
         layouts: [&wgpu::BindGroupLayout; 2],
         targets: &[GBufferTargets; 2],
     ) -> Result<Self, GpuError> {
-        let entries = OUTPUT_FORMATS
-            .iter()
-            .zip(0..)
-            .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
-            .collect::<Vec<_>>();
-        let out_layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("solari_scene/gbuffer_traced_out"),
-                entries: &entries,
-            });
+        let out_layout = out_layout(gpu, "solari_scene/gbuffer_traced_out");
         let wgsl = compose("gbuffer_traced", backend, &[])?;
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let pipeline = gpu.compute_pipeline(
@@ -99,7 +89,24 @@ impl TracedProducer {
     }
 }
 
-fn out_groups(
+/// The layout of a group of one target set's four storage textures, in the order
+/// `gbuffer_out`, `emission_out`, `motion_out`, `depth_out` (bindings 0-3): the traced
+/// producer's group 3 and the override pass's group 1.
+pub(crate) fn out_layout(gpu: &Gpu, label: &str) -> wgpu::BindGroupLayout {
+    let entries = OUTPUT_FORMATS
+        .iter()
+        .zip(0..)
+        .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
+        .collect::<Vec<_>>();
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &entries,
+        })
+}
+
+/// One [`out_layout`] group per target set (frame parity).
+pub(crate) fn out_groups(
     gpu: &Gpu,
     layout: &wgpu::BindGroupLayout,
     targets: &[GBufferTargets; 2],

@@ -23,6 +23,7 @@ pub mod error;
 pub mod finite_check;
 pub mod gbuffer;
 pub mod gbuffer_input;
+pub mod gbuffer_override;
 mod gbuffer_raster;
 mod gbuffer_traced;
 pub mod generated_scene;

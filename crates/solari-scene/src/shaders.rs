@@ -50,6 +50,10 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/gbuffer_write.wesl"),
     ),
     ("finite_check", include_str!("../shaders/finite_check.wesl")),
+    (
+        "gbuffer_override",
+        include_str!("../shaders/gbuffer_override.wesl"),
+    ),
 ];
 
 /// The entry-point files of `solari-scene`, by module name.
@@ -65,6 +69,10 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     (
         "gbuffer_traced",
         include_str!("../shaders/gbuffer_traced.wesl"),
+    ),
+    (
+        "gbuffer_override_apply",
+        include_str!("../shaders/gbuffer_override_apply.wesl"),
     ),
     (
         "finite_check_buffer",
