@@ -8,8 +8,11 @@
 #      reference (`--mode reference --spp $SPP`, default bounces).
 # Needs .gl, .dev/solari (stripped release build of the commit under test) and .dev/scenes
 # carried. Usage: bash benches/results/gi_h200.sh   (SCENES, MODES, SPP, PHASES override). A
-# mode is a GI mode with optional suffixes: +spec adds `--specular-gi`, +nodi runs ReSTIR DI
-# without reuse (`--di-reuse none`), e.g. MODES="path path+spec path+spec+nodi". PHASES="time
+# mode is a GI mode with optional suffixes: +spec adds specular GI (`--specular-gi on`;
+# without it `--specular-gi off`, since specular GI is on by default from 5f47d02), +nodi
+# runs ReSTIR DI without reuse (`--di-reuse none`), +nopsr turns primary surface
+# replacement off (`--psr off`), +sN takes N GI candidates per pixel (`--gi-samples N`),
+# e.g. MODES="path path+spec path+spec+nodi path+spec+s4". PHASES="time
 # error" (default both) runs either half alone, so a long sweep can span two device commands.
 # Everything lands in $OUT/gi_h200.tar.gz, the table in $OUT/gi_table.csv.
 set -u
@@ -23,12 +26,14 @@ mkdir -p "$R" "$OUT"
 PHASES=${PHASES:-time error}
 # "cache+spec+nodi" -> --gi cache --specular-gi --di-reuse none
 flags() {
-  local parts; IFS=+ read -ra parts <<< "$1"
+  local parts spec=off; IFS=+ read -ra parts <<< "$1"
   echo "--gi ${parts[0]}"
   for p in "${parts[@]:1}"; do
-    case $p in spec) echo "--specular-gi" ;; nodi) echo "--di-reuse none" ;;
+    case $p in spec) spec=on ;; nodi) echo "--di-reuse none" ;; nopsr) echo "--psr off" ;;
+      s[0-9]*) echo "--gi-samples ${p#s}" ;;
       *) echo "unknown mode suffix +$p" >&2; exit 2 ;; esac
   done
+  echo "--specular-gi $spec"
 }
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
 for s in $SCENES; do

@@ -304,6 +304,10 @@ pub struct RealtimeArgs {
     /// ReSTIR GI refuses reuse where a reconnection Jacobian exceeds this.
     #[arg(long, default_value_t = 2.0, value_parser = values::finite)]
     pub gi_jacobian_bound: f32,
+    /// GI candidate rays per pixel (1–16), resampled to one by the target function: more
+    /// samples per pixel for plain path GI, better initial samples for ReSTIR GI.
+    #[arg(long, default_value_t = 1)]
+    pub gi_samples: u32,
     /// Permute ReSTIR GI's temporal source pixel within 4×4 blocks (for DLSS-RR; costs
     /// accuracy, see `RestirGiSettings::permutation_sampling`).
     #[arg(long)]
@@ -390,6 +394,7 @@ impl RealtimeArgs {
                 spatial_radius: self.gi_spatial_radius,
                 jacobian_bound: self.gi_jacobian_bound,
                 permutation_sampling: self.gi_permutation,
+                initial_samples: self.gi_samples,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

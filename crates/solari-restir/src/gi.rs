@@ -240,7 +240,8 @@ impl RestirGi {
             spatial_tries: s.spatial_tries,
             jacobian_bound: s.jacobian_bound,
             max_ray_distance: s.max_ray_distance,
-            _pad: [0; 3],
+            initial_samples: s.initial_samples,
+            _pad: [0; 2],
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

@@ -36,7 +36,16 @@ pub struct RestirGiSettings {
     /// a third ray per pixel. Off, the neighbour counts as if it could have produced every
     /// sample, which darkens indirect light near occluders.
     pub unbiased_spatial: bool,
+    /// Candidate rays per pixel for the initial sample (default 1, Solari's; 1 to
+    /// [`MAX_GI_INITIAL_SAMPLES`]), combined by resampled importance sampling with the
+    /// target function: the pixel keeps one of them, weighted as if sampled in proportion to
+    /// the target. Each costs a ray and a cache query; with plain path GI this is how more
+    /// samples per pixel are bought.
+    pub initial_samples: u32,
 }
+
+/// Most initial GI candidates per pixel (the shader loop's bound).
+pub const MAX_GI_INITIAL_SAMPLES: u32 = 16;
 
 impl Default for RestirGiSettings {
     fn default() -> Self {
@@ -50,6 +59,7 @@ impl Default for RestirGiSettings {
             jacobian_bound: 2.0,
             max_ray_distance: f32::MAX,
             unbiased_spatial: true,
+            initial_samples: 1,
         }
     }
 }
@@ -82,6 +92,12 @@ impl RestirGiSettings {
             return bad(format!(
                 "jacobian_bound is {}, expected a finite value of at least 1",
                 self.jacobian_bound
+            ));
+        }
+        if !(1..=MAX_GI_INITIAL_SAMPLES).contains(&self.initial_samples) {
+            return bad(format!(
+                "initial_samples is {}, expected 1 to {MAX_GI_INITIAL_SAMPLES}",
+                self.initial_samples
             ));
         }
         if self.max_ray_distance.is_nan() || self.max_ray_distance <= 0.0 {
@@ -122,8 +138,10 @@ pub struct GpuGiParams {
     pub jacobian_bound: f32,
     /// [`RestirGiSettings::max_ray_distance`].
     pub max_ray_distance: f32,
+    /// [`RestirGiSettings::initial_samples`].
+    pub initial_samples: u32,
     /// Padding.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 const _: () = assert!(size_of::<GpuGiParams>() == 48);

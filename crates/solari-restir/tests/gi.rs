@@ -189,6 +189,13 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
                 ..Default::default()
             }),
         ),
+        (
+            "plain, 4 candidates",
+            Mode::Gi(RestirGiSettings {
+                initial_samples: 4,
+                ..RestirGiSettings::plain()
+            }),
+        ),
     ];
     for (name, mode) in modes {
         let mut s = setup(&gpu, &scene, size, mode);
@@ -207,8 +214,8 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // the spatial pass's second visibility ray -0.74%; with temporal permutation -0.9 to -1.0%.
     // One-frame RMSE plain 0.044, ReSTIR 0.023. Since emissive hits' reflected light counts
     // (the light's own albedo), one run: plain +0.07%, ReSTIR +0.11%.
-    let (cache, plain, restir) = (results[0], results[1], results[2]);
-    for gi in [plain, restir] {
+    let (cache, plain, restir, plain4) = (results[0], results[1], results[2], results[5]);
+    for gi in [plain, restir, plain4] {
         // Both estimate the cache-terminated bounce without bias.
         assert!(
             gi.3.abs() < 0.005,
@@ -231,6 +238,13 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         restir.1 < 0.7 * plain.1,
         "one frame: ReSTIR GI {} vs plain {}",
         restir.1,
+        plain.1
+    );
+    // Four candidates resampled by the target: less noise than one, still unbiased (above).
+    assert!(
+        plain4.1 < 0.8 * plain.1,
+        "one frame: plain GI with 4 candidates {} vs 1 {}",
+        plain4.1,
         plain.1
     );
 }

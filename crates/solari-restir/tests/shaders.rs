@@ -114,6 +114,7 @@ fn gi_entry_points_compose_and_mirrors_match() {
                 "max_ray_distance",
                 offset_of!(GpuGiParams, max_ray_distance),
             ),
+            ("initial_samples", offset_of!(GpuGiParams, initial_samples)),
         ],
     );
 }
