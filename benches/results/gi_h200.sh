@@ -22,6 +22,8 @@ R=${RESULTS:-/root/gi}
 SPP=${SPP:-1024}
 SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
 MODES=${MODES:-off cache path restir}
+# DENOISER=none measures the raw frames (default fallback).
+DENOISER=${DENOISER:-fallback}
 mkdir -p "$R" "$OUT"
 PHASES=${PHASES:-time error}
 # "cache+spec+nodi" -> --gi cache --specular-gi --di-reuse none
@@ -41,7 +43,7 @@ for s in $SCENES; do
   f=$(ls .dev/scenes/"$s"/*.gltf | head -n 1)
   for g in $MODES; do
     echo "== $s $g timing $(date -u +%T)" >&2
-    "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
+    "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser "$DENOISER" --frames 200 \
       --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_1080p.json" 2> "$R/${s}_${g}_1080p.log"
   done
 done
@@ -54,7 +56,7 @@ for s in $SCENES; do
   for g in $MODES; do
     for m in 1 16; do
       n="${s}_${g}_mean$m"
-      "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
+      "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser "$DENOISER" --frames 136 \
         --mean-of $m --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
       "$BIN" compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
       rm -f "$R/$n.exr"
@@ -65,4 +67,4 @@ done
 tar czf "$OUT/gi_h200.tar.gz" -C "$R" --exclude='*.exr' --exclude='x.png' .
 # The table: one CSV row per scene and mode (benches/results/gi_table.py), kept in $OUT and
 # printed; plot it with `cargo run -p solari-benches --bin plot-gi -- gi_table.csv out.png`.
-python3 benches/results/gi_table.py "$R" | tee "$OUT/gi_table.csv" | column -s, -t || true
+python3 benches/results/gi_table.py "$R" > "$OUT/gi_table.csv"; cat "$OUT/gi_table.csv"

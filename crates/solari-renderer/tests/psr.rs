@@ -349,3 +349,32 @@ fn replacement_helps_the_denoiser_on_mirrors() {
         );
     }
 }
+
+/// A scene without mirror metals skips replacement: no override pass, no override memory.
+#[test]
+fn scenes_without_mirrors_skip_replacement() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let plain = double_sided(default_scene::cornell_box());
+    let camera = plain.camera(None).expect("camera");
+    let frames = [(plain.clone(), camera.clone())];
+    let (_, ran) = render(
+        &gpu,
+        backend,
+        &frames,
+        settings(GBufferChoice::Raster, true),
+    );
+    assert!(!ran, "the box has no mirror, yet the override pass ran");
+    let memory = |scene: &Scene| {
+        let gpu_scene = common::upload(&gpu, backend, scene);
+        let s = settings(GBufferChoice::Raster, true);
+        let r = RealtimeRenderer::new(&gpu, backend, scene, &gpu_scene, SIZE, SIZE, s).unwrap();
+        r.memory()[0].1
+    };
+    let extra = memory(&mirror_floor()) - memory(&plain);
+    let pixels = (SIZE * SIZE) as u64;
+    assert!(
+        (32 * pixels..32 * pixels + 256).contains(&extra),
+        "the override buffer should be 32 bytes per pixel, the mirror scene has {extra} more"
+    );
+}
