@@ -59,3 +59,34 @@ fn di_reuse_chooses_the_reuse_steps() {
         "unknown reuse names are refused"
     );
 }
+
+#[test]
+fn psr_and_gi_candidates_reach_the_settings() {
+    let s = settings(&[]);
+    assert!(s.psr, "primary surface replacement is on by default");
+    assert_eq!(s.restir_gi.initial_samples, 1);
+    assert!(!settings(&["--psr", "off"]).psr);
+    assert!(settings(&["--psr"]).psr, "the bare flag means on");
+    let four = settings(&["--gi-samples", "4"]);
+    assert_eq!(
+        four.gi_settings().initial_samples,
+        4,
+        "plain path GI keeps the candidates"
+    );
+    let argv = [
+        "solari",
+        "render",
+        "--mode",
+        "realtime",
+        "--gi-samples",
+        "0",
+    ];
+    let Command::Render(r) = Cli::try_parse_from(argv).expect("parses").command else {
+        panic!("render");
+    };
+    let err = r
+        .realtime
+        .settings(FrameView::Lit)
+        .expect_err("0 candidates");
+    assert!(err.contains("initial_samples"), "{err}");
+}
