@@ -458,6 +458,19 @@ pub struct RealtimeRenderer {
     upscaler: Option<TemporalUpscaler>,
 }
 
+// The detector over a G-buffer target set: emission and f90 finite and non-negative, motion
+// finite, depth (one channel) finite and non-negative.
+fn check_gbuffer(
+    c: &mut FiniteChecker,
+    gpu: &Gpu,
+    encoder: &mut wgpu::CommandEncoder,
+    t: &solari_scene::gbuffer::GBufferTargets,
+) -> Result<(), GpuError> {
+    c.check_texture(gpu, encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;
+    c.check_texture(gpu, encoder, SLOT_GBUFFER, &t.motion, 0x3, 0)?;
+    c.check_texture(gpu, encoder, SLOT_GBUFFER, &t.depth, 0x1, 0x1)
+}
+
 // Whether `m` can shade as a mirror metal (what primary surface replacement looks through):
 // metallic 1 and roughness below the BRDF's mirror threshold (0.02), after the
 // metallic-roughness texture, which only scales the factors down.
@@ -476,33 +489,6 @@ fn enable_overrides(gpu: &Gpu, gbuffer: &mut GBuffer) -> Result<bool, GpuError> 
         }
         Err(e) => Err(e),
     }
-}
-
-// Binds specular GI (if built) to its inputs, with the G-buffer's overrides and transforms
-// when replacement is on and the G-buffer has uploaded transforms (its first `prepare`).
-// Returns the transforms generation bound (None: bound without replacement).
-fn bind_specular(
-    gpu: &Gpu,
-    specular: &mut Option<SpecularGi>,
-    cache: &Option<(WorldCache, wgpu::BindGroup)>,
-    gi: &Option<(RestirGi, wgpu::BindGroup)>,
-    di: &RestirDi,
-    gbuffer: &GBuffer,
-    psr: bool,
-) -> Result<Option<u64>, GpuError> {
-    let (Some(specular), Some((cache, _))) = (specular, cache) else {
-        return Ok(None);
-    };
-    let bindings = match (psr, gbuffer.overrides(), gbuffer.previous_transforms()) {
-        (true, Some(overrides), Some(previous_transforms)) => Some(PsrBindings {
-            overrides,
-            previous_transforms,
-        }),
-        _ => None,
-    };
-    let gi = gi.as_ref().map(|(g, _)| g);
-    specular.bind(gpu, cache, di.output(), gi, bindings)?;
-    Ok(bindings.map(|_| gbuffer.transforms_generation()))
 }
 
 impl RealtimeRenderer {
@@ -845,16 +831,25 @@ impl RealtimeRenderer {
         self.bind_specular(gpu)
     }
 
+    // Binds specular GI (if built) to its inputs, with the G-buffer's overrides and
+    // transforms when replacement is on and the G-buffer has uploaded transforms (its first
+    // `prepare`); remembers the transforms generation bound (None: bound without them).
     fn bind_specular(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
-        self.psr_generation = bind_specular(
-            gpu,
-            &mut self.specular,
-            &self.cache,
-            &self.gi,
-            &self.di,
-            &self.gbuffer,
-            self.psr,
-        )?;
+        self.psr_generation = None;
+        let (Some(specular), Some((cache, _))) = (&mut self.specular, &self.cache) else {
+            return Ok(());
+        };
+        let gbuffer = &self.gbuffer;
+        let bindings = match (self.psr, gbuffer.overrides(), gbuffer.previous_transforms()) {
+            (true, Some(overrides), Some(previous_transforms)) => Some(PsrBindings {
+                overrides,
+                previous_transforms,
+            }),
+            _ => None,
+        };
+        let gi = self.gi.as_ref().map(|(g, _)| g);
+        specular.bind(gpu, cache, self.di.output(), gi, bindings)?;
+        self.psr_generation = bindings.map(|_| gbuffer.transforms_generation());
         Ok(())
     }
 
@@ -1006,11 +1001,6 @@ impl RealtimeRenderer {
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;
-        let mut context = FrameContext::new(frame, self.di.size(), camera, None)
-            .with_profiler(self.profiler.as_ref());
-        if let Some(previous) = self.last_view.replace(context.view) {
-            context.previous_view = GpuView { frame, ..previous };
-        }
         // Jittered samples only where the temporal upscaler accumulates them.
         let jitter = if self.upscaler.is_some() {
             halton_jitter(frame)
@@ -1018,16 +1008,14 @@ impl RealtimeRenderer {
             [0.0; 2]
         };
         self.gbuffer.prepare_jittered(gpu, scene, camera, jitter)?;
+        // The G-buffer's transforms are bound by replacement: rebind when they were replaced.
         if self.psr && self.psr_generation != Some(self.gbuffer.transforms_generation()) {
-            self.psr_generation = bind_specular(
-                gpu,
-                &mut self.specular,
-                &self.cache,
-                &self.gi,
-                &self.di,
-                &self.gbuffer,
-                self.psr,
-            )?;
+            self.bind_specular(gpu)?;
+        }
+        let mut context = FrameContext::new(frame, self.di.size(), camera, None)
+            .with_profiler(self.profiler.as_ref());
+        if let Some(previous) = self.last_view.replace(context.view) {
+            context.previous_view = GpuView { frame, ..previous };
         }
         self.tiles.prepare(gpu, &context);
         self.di.prepare(gpu, &context, &self.gbuffer, light_count)?;
@@ -1049,11 +1037,7 @@ impl RealtimeRenderer {
         }
         ran.add(&self.gbuffer.encode(&mut encoder, &context, gpu_scene)?);
         if let Some(c) = checker.as_mut() {
-            let t = self.gbuffer.current();
-            c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;
-            c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.motion, 0x3, 0)?;
-            // Depth: finite and non-negative (R32Float: one channel).
-            c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.depth, 0x1, 0x1)?;
+            check_gbuffer(c, gpu, &mut encoder, self.gbuffer.current())?;
         }
         if light_count > 0 {
             ran.add(&self.tiles.encode(&mut encoder, &context, &self.lights));
@@ -1132,10 +1116,7 @@ impl RealtimeRenderer {
                 if specular.replaces_surfaces() {
                     ran.add(&self.gbuffer.apply_overrides(&mut encoder, &context)?);
                     if let Some(c) = checker.as_mut() {
-                        let t = self.gbuffer.current();
-                        c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.emission, 0xf, 0xf)?;
-                        c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.motion, 0x3, 0)?;
-                        c.check_texture(gpu, &mut encoder, SLOT_GBUFFER, &t.depth, 0x1, 0x1)?;
+                        check_gbuffer(c, gpu, &mut encoder, self.gbuffer.current())?;
                     }
                 }
             }

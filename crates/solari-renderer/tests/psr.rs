@@ -16,7 +16,7 @@ use glam::{Mat4, Vec3};
 use half::f16;
 use solari_denoise::DenoiserKind;
 use solari_renderer::{GBufferChoice, GiMode, RealtimeRenderer, RealtimeSettings};
-use solari_scene::gbuffer::GBufferTargets;
+use solari_scene::gbuffer::GBufferTexels as Texels;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::model::Material;
 use solari_scene::packing::unpack_unit_vector;
@@ -27,36 +27,10 @@ mod common;
 
 const SIZE: u32 = 96;
 
-/// One frame's G-buffer, read back.
-struct Texels {
-    gbuffer: Vec<[u32; 4]>,
-    emission: Vec<[f16; 4]>,
-    motion: Vec<[f16; 2]>,
-    depth: Vec<f32>,
-}
-
-fn read(gpu: &Gpu, t: &GBufferTargets) -> Texels {
-    let bytes = |texture| {
-        gpu.read_texture(texture, wgpu::TextureAspect::All)
-            .expect("read back")
-    };
-    let halves = |b: Vec<u8>| -> Vec<f16> {
-        bytemuck::cast_slice::<u8, u16>(&b)
-            .iter()
-            .map(|&h| f16::from_bits(h))
-            .collect()
-    };
-    let emission = halves(bytes(&t.emission));
-    let motion = halves(bytes(&t.motion));
-    Texels {
-        gbuffer: bytemuck::cast_slice(&bytes(&t.gbuffer)).to_vec(),
-        emission: emission
-            .chunks(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect(),
-        motion: motion.chunks(2).map(|c| [c[0], c[1]]).collect(),
-        depth: bytemuck::cast_slice(&bytes(&t.depth)).to_vec(),
-    }
+/// Whether pixel `i` is a mirror metal: metallic is the top byte of word 1, roughness the
+/// top byte of word 0.
+fn is_mirror(t: &Texels, i: usize) -> bool {
+    t.depth[i] > 0.0 && t.gbuffer[i][1] >> 24 == 255 && t.gbuffer[i][0] >> 24 == 0
 }
 
 /// Every material double-sided: B's reflected instances have mirrored winding, so their
@@ -148,7 +122,8 @@ fn render(
             .expect("frame");
         replaced &= report.ran("gbuffer_override");
     }
-    (read(gpu, renderer.gbuffer().current()), replaced)
+    let texels = renderer.gbuffer().current().read(gpu).expect("read back");
+    (texels, replaced)
 }
 
 /// Whether two f16 values are within one f16 step (plus `slack` absolute).
@@ -221,9 +196,7 @@ fn replaced_mirror_pixels_match_the_mirror_world() {
     let mut compared = 0;
     let mut reasons = std::collections::BTreeMap::new();
     for i in 0..pixels {
-        let texel = off.gbuffer[i];
-        // Metallic is the top byte of word 1, roughness the top byte of word 0.
-        let mirror = off.depth[i] > 0.0 && texel[1] >> 24 == 255 && texel[0] >> 24 == 0;
+        let mirror = is_mirror(&off, i);
         let unchanged = on.gbuffer[i] == off.gbuffer[i]
             && on.depth[i].to_bits() == off.depth[i].to_bits()
             && on.emission[i] == off.emission[i]
@@ -305,9 +278,7 @@ fn pan_errors(gpu: &Gpu, backend: Backend, speed: f32) -> [(f64, f64); 2] {
     let truth = common::reference(gpu, backend, &last_view, SIZE, 256, u32::MAX);
     let frame = [(scene.clone(), camera_at(frames - 1))];
     let (g, _) = render(gpu, backend, &frame, settings(GBufferChoice::Raster, false));
-    let mirror: Vec<bool> = (0..g.depth.len())
-        .map(|i| g.depth[i] > 0.0 && g.gbuffer[i][1] >> 24 == 255 && g.gbuffer[i][0] >> 24 == 0)
-        .collect();
+    let mirror: Vec<bool> = (0..g.depth.len()).map(|i| is_mirror(&g, i)).collect();
     let rest: Vec<bool> = mirror.iter().map(|m| !m).collect();
     [false, true].map(|psr| {
         let s = settings(GBufferChoice::Raster, psr);

@@ -186,7 +186,8 @@ const _: () = assert!(size_of::<GpuSpecularParams>() == 32);
 
 /// Specular GI: reads the scene (group 0), the G-buffer (group 1), the world cache and
 /// optionally ReSTIR GI's reservoirs (group 2, [`SpecularGi::bind`]) and the lights and
-/// tiles (group 3, [`LightTiles::reader_group`]); adds to a lit image.
+/// tiles (group 3, [`LightTiles::reader_group`]); adds to a lit image, and with
+/// [`PsrBindings`] writes mirror pixels' G-buffer overrides.
 pub struct SpecularGi {
     settings: SpecularGiSettings,
     variant: TraceVariant,

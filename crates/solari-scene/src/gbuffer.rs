@@ -240,6 +240,45 @@ impl GBufferTargets {
     }
 }
 
+/// One target set read back to the CPU ([`GBufferTargets::read`]), row-major, one entry per
+/// pixel, in the formats of the module docs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GBufferTexels {
+    /// Material and normals words (decode with [`crate::packing::unpack_unit_vector`] and
+    /// the square-root colour encoding).
+    pub gbuffer: Vec<[u32; 4]>,
+    /// Emission rgb and f90.
+    pub emission: Vec<[half::f16; 4]>,
+    /// Motion vectors.
+    pub motion: Vec<[half::f16; 2]>,
+    /// Reversed-Z depth (0: background).
+    pub depth: Vec<f32>,
+}
+
+impl GBufferTargets {
+    /// Copies the four targets to the CPU and waits (tests and tools; never per frame).
+    pub fn read(&self, gpu: &Gpu) -> Result<GBufferTexels, GpuError> {
+        let bytes = |t: &wgpu::Texture| gpu.read_texture(t, wgpu::TextureAspect::All);
+        let halves = |b: Vec<u8>| -> Vec<half::f16> {
+            bytemuck::cast_slice::<u8, u16>(&b)
+                .iter()
+                .map(|&h| half::f16::from_bits(h))
+                .collect()
+        };
+        let emission = halves(bytes(&self.emission)?);
+        let motion = halves(bytes(&self.motion)?);
+        Ok(GBufferTexels {
+            gbuffer: bytemuck::cast_slice(&bytes(&self.gbuffer)?).to_vec(),
+            emission: emission
+                .chunks_exact(4)
+                .map(|c| [c[0], c[1], c[2], c[3]])
+                .collect(),
+            motion: motion.chunks_exact(2).map(|c| [c[0], c[1]]).collect(),
+            depth: bytemuck::cast_slice(&bytes(&self.depth)?).to_vec(),
+        })
+    }
+}
+
 // The pass that writes the targets.
 enum Producer {
     Raster(RasterProducer),

@@ -10,7 +10,7 @@
 
 use glam::{Mat4, Vec3};
 use half::f16;
-use solari_scene::gbuffer::{GBuffer, GBufferProducer, GBufferTargets};
+use solari_scene::gbuffer::{GBuffer, GBufferProducer, GBufferTargets, GBufferTexels as Texels};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
 use solari_scene::packing::unpack_unit_vector;
@@ -21,30 +21,8 @@ use solari_scene::*;
 const SIZE: (u32, u32) = (128, 96);
 
 /// One frame's targets, read back.
-struct Texels {
-    gbuffer: Vec<[u32; 4]>,
-    emission: Vec<[f16; 4]>,
-    motion: Vec<[f16; 2]>,
-    depth: Vec<f32>,
-}
-
 fn read(gpu: &Gpu, t: &GBufferTargets) -> Texels {
-    let bytes = |texture| {
-        gpu.read_texture(texture, wgpu::TextureAspect::All)
-            .expect("read back")
-    };
-    Texels {
-        gbuffer: bytemuck::cast_slice(&bytes(&t.gbuffer)).to_vec(),
-        emission: bytemuck::cast_slice::<u8, [u16; 4]>(&bytes(&t.emission))
-            .iter()
-            .map(|c| c.map(f16::from_bits))
-            .collect(),
-        motion: bytemuck::cast_slice::<u8, [u16; 2]>(&bytes(&t.motion))
-            .iter()
-            .map(|c| c.map(f16::from_bits))
-            .collect(),
-        depth: bytemuck::cast_slice(&bytes(&t.depth)).to_vec(),
-    }
+    t.read(gpu).expect("read back")
 }
 
 /// Whether two f16 values are at most one step of f16 apart.
