@@ -1,8 +1,11 @@
 //! Light-tile filling's GPU time per scene (Solari's default 128 tiles × 1024 samples), from
-//! encoder timestamps around the pass ([`PassTimer::time_span`]); throughput in samples. Two
-//! cases per scene: the pass alone (`<scene>/<n>_lights`), and the pass right after the traced
-//! G-buffer in the same command buffer (`.../after_gbuffer`, 1920×1080), as the real-time
-//! frame runs it: the pass alone reads 8–18% faster than in the frame (benches/RESULTS.md).
+//! encoder timestamps around the pass ([`PassTimer::time_span`]); throughput in samples. Three
+//! cases per scene: the pass alone (`<scene>/<n>_lights`, a wait after each repetition, so the
+//! mostly idle GPU lowers its clock); right after the traced G-buffer in the same command
+//! buffer (`.../after_gbuffer`, 1920×1080); and G-buffer + tiles frames submitted back to back
+//! (`.../in_flight`, [`FrameSpanTimer`]). The last two read within 1% of each other and within
+//! 9% of the pass's cost inside the real frame, which `cargo bench -p solari-renderer --bench
+//! frame` times (benches/RESULTS.md, "Criterion benches against the CLI").
 //!
 //! `cargo bench -p solari-lights --bench light_tiles`: the bundled scenes and every scene in
 //! `../shared/scenes` when it is there. Under `cargo test` (CI, lavapipe) each case runs
@@ -13,7 +16,7 @@ use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selecti
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
-use solari_scene::gpu_timer::{PassTimer, full_bench};
+use solari_scene::gpu_timer::{FrameSpanTimer, PassTimer, full_bench};
 use solari_scene::pass::FrameContext;
 use std::time::Duration;
 
@@ -29,6 +32,7 @@ fn light_tiles(c: &mut Criterion) {
     };
     let gpu = Gpu::new().expect("a GPU adapter");
     let timer = PassTimer::new(&gpu).unwrap_or_else(|e| panic!("{e}"));
+    let frames = FrameSpanTimer::new(&gpu, 16).unwrap_or_else(|e| panic!("{e}"));
     let tiles = LightTiles::new(&gpu, settings).expect("tiles");
     let mut group = c.benchmark_group("light_tiles");
     group.sample_size(20);
@@ -82,6 +86,39 @@ fn light_tiles(c: &mut Criterion) {
                             },
                         )
                         .expect("timed tiles");
+                }
+                Duration::from_secs_f64(ms * 1e-3)
+            })
+        });
+        // As the frame loop runs it: G-buffer then tiles, frames submitted back to back
+        // (no wait between them), each frame's tiles span read after the batch.
+        group.bench_function(format!("{name}/{}_lights/in_flight", list.len()), |b| {
+            b.iter_custom(|iters| {
+                let mut ms = 0.0;
+                let mut done = 0u64;
+                while done < iters {
+                    let batch = (iters - done).min(u64::from(frames.capacity())) as u32;
+                    let spans = frames
+                        .time(
+                            &gpu,
+                            batch,
+                            |i, e| {
+                                let context =
+                                    FrameContext::new(done as u32 + i, size, &camera, None);
+                                tiles.prepare(&gpu, &context);
+                                gbuffer.prepare(&gpu, &scene, &camera)?;
+                                gbuffer.encode(e, &context, &gpu_scene).map(drop)
+                            },
+                            |i, e| {
+                                let context =
+                                    FrameContext::new(done as u32 + i, size, &camera, None);
+                                tiles.encode(e, &context, &lights);
+                                Ok(())
+                            },
+                        )
+                        .expect("timed tiles");
+                    ms += spans.iter().sum::<f64>();
+                    done += u64::from(batch);
                 }
                 Duration::from_secs_f64(ms * 1e-3)
             })
