@@ -18,6 +18,7 @@ import sys
 COMPONENTS = [
     ("light tiles", "light_tiles", None, ["light_tiles"]),
     ("light tiles, after the G-buffer", "light_tiles", "after_gbuffer", ["light_tiles"]),
+    ("light tiles, frames in flight", "light_tiles", "in_flight", ["light_tiles"]),
     ("ReSTIR DI", "restir_di", "software", ["di_initial_temporal", "di_spatial_shade"]),
     (
         "world cache + cache GI",
@@ -29,6 +30,18 @@ COMPONENTS = [
     ("fallback denoiser", "fallback_denoiser", "software",
      ["denoise_temporal", "denoise_variance", "denoise_atrous"]),
     ("whole frame", "frame", "software", None),
+    ("light tiles, in the frame", "frame", "software_light_tiles", ["light_tiles"]),
+    ("ReSTIR DI, in the frame", "frame", "software_restir_di",
+     ["di_initial_temporal", "di_spatial_shade"]),
+    (
+        "world cache + cache GI, in the frame",
+        "frame",
+        "software_world_cache",
+        ["world_cache_decay", "world_cache_compact", "world_cache_update",
+         "world_cache_blend", "world_cache_gi"],
+    ),
+    ("fallback denoiser, in the frame", "frame", "software_fallback_denoiser",
+     ["denoise_temporal", "denoise_variance", "denoise_atrous"]),
 ]
 
 
@@ -74,8 +87,8 @@ def main():
             if bench is not None and key in rays:
                 rows.append((scene, f"traversal, {kind}", bench, rays[key]))
         for name, group, suffix, passes in COMPONENTS:
-            if suffix in (None, "after_gbuffer"):
-                pattern = f"{scene}_*_lights" + ("_after_gbuffer" if suffix else "")
+            if group == "light_tiles":
+                pattern = f"{scene}_*_lights" + (f"_{suffix}" if suffix else "")
                 cases = glob.glob(os.path.join(root, "criterion", group, pattern))
                 if not cases:
                     continue
