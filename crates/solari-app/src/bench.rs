@@ -173,6 +173,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                 &GpuSceneOptions {
                     bvh_quality: quality,
                     max_texture_size: 256,
+                    ..Default::default()
                 },
             )
             .map_err(|e| e.to_string())?;

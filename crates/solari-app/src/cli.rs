@@ -16,6 +16,7 @@ use solari_renderer::{
     CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
 use solari_restir::{RestirDiSettings, RestirGiSettings, SpecularGiSettings};
+use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
@@ -123,6 +124,11 @@ pub struct SceneArgs {
     /// BVH build quality for the software backend: fastest, fast, medium, slow, very-slow.
     #[arg(long, default_value = "medium", value_parser = values::bvh_quality)]
     pub bvh_quality: BvhQuality,
+    /// BRDF for every pass and the reference: layered (energy-conserving: a white furnace
+    /// reads 1 at every roughness) or gltf-spec (the glTF specification's Appendix B, for
+    /// comparisons with other glTF renderers).
+    #[arg(long, default_value = "layered", value_parser = values::brdf)]
+    pub brdf: BrdfModel,
     /// The folder the scene's buffer and image URIs may reach (default: the scene's own
     /// folder; URIs never leave it).
     #[arg(long)]
@@ -238,6 +244,7 @@ impl SceneArgs {
         let (gpu, backend, dlss) = self.device_with_dlss()?;
         let options = GpuSceneOptions {
             bvh_quality: self.bvh_quality,
+            brdf: self.brdf,
             ..Default::default()
         };
         let start = std::time::Instant::now();

@@ -5,6 +5,7 @@
 use solari_denoise::DenoiserKind;
 use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode};
+use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
 use solari_scene::view_pass::DebugView;
@@ -97,6 +98,11 @@ pub fn bvh_quality(s: &str) -> Result<BvhQuality, String> {
         BvhQuality::parse(s),
         "fastest, fast, medium, slow or very-slow",
     )
+}
+
+/// `layered` or `gltf-spec`.
+pub fn brdf(s: &str) -> Result<BrdfModel, String> {
+    named(s, BrdfModel::parse(s), "layered or gltf-spec")
 }
 
 /// `fixed` or `orbit`.

@@ -19,6 +19,8 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         tracer: solari_scene::gpu::TracerChoice::Auto,
         camera: args.camera.clone(),
         bvh_quality: solari_scene::bvh::BvhQuality::Medium,
+        // Emission is seen directly (no bounce): the BRDF does not enter.
+        brdf: Default::default(),
         asset_root: None,
     };
     let Prepared {

@@ -159,6 +159,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "candidates": args.realtime.candidates, "tiles": format!("{}x{}",
                 args.realtime.tiles.tiles, args.realtime.tiles.samples_per_tile),
             "tracer": backend.name(), "adapter": gpu.info.name, "passes": per_pass,
+            "brdf": args.scene.brdf.name(),
             "seconds": elapsed, "gi": format!("{:?}", args.realtime.gi), "specular_gi": args.realtime.specular_gi, "psr": args.realtime.psr, "gi_samples": args.realtime.gi_samples,
             "di_reuse": format!("{:?}", args.realtime.di_reuse).to_lowercase(),
             "cache_active_cells": cache.map(|c| c.active_cells),

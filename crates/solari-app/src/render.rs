@@ -150,6 +150,7 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         let v = serde_json::json!({"scene": name, "mode": "reference", "files": files,
             "width": w, "height": h, "spp": args.spp, "max_bounces": args.max_bounces,
             "selection": format!("{:?}", args.realtime.selection).to_lowercase(),
+            "brdf": args.scene.brdf.name(),
             "tracer": backend.name(), "adapter": gpu.info.name,
             "render_seconds": image.seconds, "seconds": elapsed,
             "capped_paths": image.capped_paths, "rejected_samples": image.rejected_samples});

@@ -236,6 +236,7 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             backend,
             &solari_scene::gpu_scene::GpuSceneOptions {
                 bvh_quality: args.scene.bvh_quality,
+                brdf: args.scene.brdf,
                 ..Default::default()
             },
         )

@@ -24,6 +24,7 @@
 //!         roughness: 1.0,
 //!         dielectric_f0: Vec3::splat(0.04),
 //!         dielectric_f90: 1.0,
+//!         model: Default::default(),
 //!     };
 //!     let c = unshadowed_contribution(&s, &white, Vec3::Y, Vec3::Y);
 //!     assert!(c.is_finite());

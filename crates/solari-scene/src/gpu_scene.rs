@@ -20,6 +20,9 @@ pub struct GpuSceneOptions {
     /// layer size (the largest texture, capped here) so textures work on adapters without
     /// binding arrays; larger values keep detail at the cost of memory. Default 1024.
     pub max_texture_size: u32,
+    /// The BRDF every pass shades this scene with (`brdf::BrdfModel`; default the
+    /// energy-conserving layered model).
+    pub brdf: crate::brdf::BrdfModel,
 }
 
 impl Default for GpuSceneOptions {
@@ -27,6 +30,7 @@ impl Default for GpuSceneOptions {
         Self {
             bvh_quality: BvhQuality::Medium,
             max_texture_size: 1024,
+            brdf: crate::brdf::BrdfModel::default(),
         }
     }
 }
@@ -253,6 +257,7 @@ impl GpuScene {
                     roughness: m.roughness,
                     dielectric_f0: m.dielectric_f0,
                     dielectric_f90: m.dielectric_f90,
+                    model: options.brdf,
                 }
                 .sanitized();
                 GpuMaterial {
@@ -291,7 +296,8 @@ impl GpuScene {
             instance_count: scene.instances.len() as u32,
             tlas_root: 0,
             texture_layer_size: layer_size,
-            _pad: [0; 2],
+            brdf_model: options.brdf.gpu_id(),
+            _pad: 0,
         };
         let info = gpu.uniform_buffer("solari_scene/scene_info", &info_data);
         let accel = match backend {
@@ -745,15 +751,18 @@ fn resample(t: &crate::model::Texture, size: u32) -> Vec<MipLevel> {
     )
 }
 
-/// The BRDF's energy table ([`crate::brdf::EnergyTable`]) as an R32Float texture read with
-/// `textureLoad`: N+1 columns per roughness row, `E(cos θ)` in the first N and `E_avg` last.
+/// The BRDF's energy table ([`crate::brdf::EnergyTable`]) as an Rg32Float texture read with
+/// `textureLoad`: N+1 columns per roughness row, `(A, B)(cos θ)` in the first N and `(A_avg,
+/// B_avg)` last.
 fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
     let table = crate::brdf::energy_table();
-    let n = table.e_avg.len();
-    let mut texels = Vec::with_capacity((n + 1) * n);
+    let n = table.a_avg.len();
+    let mut texels = Vec::with_capacity((n + 1) * n * 2);
     for r in 0..n {
-        texels.extend_from_slice(&table.e[r * n..(r + 1) * n]);
-        texels.push(table.e_avg[r]);
+        for c in 0..n {
+            texels.extend([table.a[r * n + c], table.b[r * n + c]]);
+        }
+        texels.extend([table.a_avg[r], table.b_avg[r]]);
     }
     let size = wgpu::Extent3d {
         width: n as u32 + 1,
@@ -766,7 +775,7 @@ fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
         mip_level_count: 1,
         sample_count: 1,
         dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::R32Float,
+        format: wgpu::TextureFormat::Rg32Float,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     });
@@ -775,7 +784,7 @@ fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
         bytemuck::cast_slice(&texels),
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some((n as u32 + 1) * 4),
+            bytes_per_row: Some((n as u32 + 1) * 8),
             rows_per_image: Some(n as u32),
         },
         size,

@@ -91,8 +91,10 @@ pub struct GpuSceneInfo {
     pub tlas_root: u32,
     /// Width and height of each texture-array layer.
     pub texture_layer_size: u32,
+    /// `brdf::BrdfModel::gpu_id` of the scene's BRDF.
+    pub brdf_model: u32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 const _: () = assert!(size_of::<GpuSceneInfo>() == 32);
 

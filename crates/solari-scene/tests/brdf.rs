@@ -1,6 +1,8 @@
 //! CPU-only statistical tests of the BRDF (`solari_scene::brdf`, the twin of `brdf.wesl`):
 //! sampling matches its pdf (chi-square), pdfs integrate to one, reciprocity, albedo bounded
-//! by one, and the white furnace for rough metals.
+//! by one, the white furnace (metals and white dielectrics of every roughness and
+//! reflectance), coloured bases against the layering formula, and the glTF model against an
+//! independent transcription of the specification's Appendix B.
 
 // `!(x > 0.0)` is deliberate throughout: it rejects NaN along with non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -8,7 +10,7 @@
 use glam::Vec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_scene::brdf::{self, BrdfMaterial, Lobe};
+use solari_scene::brdf::{self, BrdfMaterial, BrdfModel, Lobe};
 use std::f32::consts::PI;
 
 fn material(base: f32, metallic: f32, roughness: f32) -> BrdfMaterial {
@@ -18,6 +20,7 @@ fn material(base: f32, metallic: f32, roughness: f32) -> BrdfMaterial {
         roughness,
         dielectric_f0: Vec3::splat(0.04),
         dielectric_f90: 1.0,
+        model: BrdfModel::Layered,
     }
 }
 
@@ -40,6 +43,7 @@ fn random_material(rng: &mut Pcg32) -> BrdfMaterial {
         } else {
             rng.random_range(0.0..=1.0)
         },
+        model: BrdfModel::ALL[rng.random_range(0..2)],
     }
 }
 
@@ -96,6 +100,8 @@ fn energy_table_matches_an_independent_integration() {
             }
             let brute = sum * 2.0 * (1.0 / nt as f64) * (PI as f64 / np as f64);
             let e = table.e(cos_o, alpha) as f64;
+            let (a, b) = table.e_split(cos_o, alpha);
+            assert!(a >= 0.0 && b >= 0.0 && b <= a + b);
             assert!(
                 (e - brute).abs() < 3e-3,
                 "E({cos_o}, r={roughness}): table {e:.5}, brute force {brute:.5}"
@@ -104,24 +110,199 @@ fn energy_table_matches_an_independent_integration() {
     }
 }
 
-/// A white metal reflects all light at every roughness and angle: single scattering plus the
-/// multiple-scattering lobe. Tolerance: 1.5% (the energy table's interpolation error).
-#[test]
-fn white_furnace_rough_metal_keeps_its_energy() {
-    let mut worst = 0.0f64;
-    for r in 0..=20 {
-        let roughness = r as f32 / 20.0;
-        let m = material(1.0, 1.0, roughness);
-        for &cos_o in &[0.05f32, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0] {
-            let (a, se) = albedo(&m, view(cos_o), 160);
-            worst = worst.max((a - 1.0).abs());
-            assert!(
-                (a - 1.0).abs() < 0.015 + 4.0 * se,
-                "white metal roughness {roughness} cos {cos_o}: albedo {a:.4} ± {se:.4}"
-            );
+/// ∫ f cos dωi per channel over `n`² stratified samples: the diffuse lobe by cosine sampling,
+/// the specular lobe by VNDF and cosine samples combined with the balance heuristic (or the
+/// mirror's reflection): far less variance at grazing angles than the BRDF's own mixture.
+/// (mean, standard error).
+fn albedo_by_lobe(m: &BrdfMaterial, wo: Vec3, n: usize) -> (Vec3, Vec3) {
+    let mut rng = Pcg32::seed_from_u64(17);
+    let (mut sum, mut sum2) = (glam::DVec3::ZERO, glam::DVec3::ZERO);
+    for i in 0..n {
+        for j in 0..n {
+            let u = [
+                (i as f32 + rng.random::<f32>()) / n as f32,
+                (j as f32 + rng.random::<f32>()) / n as f32,
+            ];
+            let wc = brdf::sample_cosine_hemisphere(glam::Vec2::from(u));
+            let p_cos = |wi: Vec3| wi.z.max(0.0) / PI;
+            let mut w = if wc.z > 0.0 {
+                brdf::eval_diffuse(m, wo, wc) / p_cos(wc)
+            } else {
+                Vec3::ZERO
+            };
+            if m.is_mirror() {
+                w += brdf::sample_specular(m, wo, u).map_or(Vec3::ZERO, |s| s.weight);
+            } else {
+                // The specular lobe by VNDF and cosine samples, balance heuristic: its
+                // multiple-scattering part is broad where VNDF is sharp.
+                let alpha = m.alpha();
+                let wv = brdf::sample_vndf(wo, alpha, glam::Vec2::from(u));
+                for wi in [wv, wc] {
+                    let p = brdf::vndf_pdf(wo, wi, alpha) + p_cos(wi);
+                    if wi.z > 0.0 && p > 0.0 {
+                        w += brdf::eval_specular(m, wo, wi) / p;
+                    }
+                }
+            }
+            let w = w.as_dvec3();
+            sum += w;
+            sum2 += w * w;
         }
     }
-    eprintln!("white furnace: worst |albedo - 1| = {worst:.4}");
+    let count = (n * n) as f64;
+    let mean = sum / count;
+    let var = (sum2 / count - mean * mean).max(glam::DVec3::ZERO) / count;
+    (mean.as_vec3(), var.sqrt().as_vec3())
+}
+
+const FURNACE_COSINES: [f32; 7] = [0.02, 0.05, 0.1, 0.2, 0.4, 0.7, 1.0];
+
+/// The layered model's promise (issue 19): a white dielectric reflects everything that
+/// arrives, within 0.5%, at every roughness (mirror included), reflectance (`f0` from none to
+/// 0.6, coloured, `f90` below one) and angle down to 89°; and a white metal too.
+#[test]
+fn white_furnace_layered_keeps_its_energy() {
+    let reflectances = [
+        (Vec3::ZERO, 1.0),
+        (Vec3::splat(0.04), 1.0),
+        (Vec3::splat(0.2), 1.0),
+        (Vec3::splat(0.6), 1.0),
+        (Vec3::new(0.02, 0.1, 0.5), 0.5),
+    ];
+    let mut worst = (0.0f32, String::new());
+    for r in 0..=20 {
+        let roughness = r as f32 / 20.0;
+        for (k, &(f0, f90)) in reflectances.iter().enumerate() {
+            // The metal once per roughness (its Fresnel is the base colour's).
+            let metallic = if k == 0 { 1.0 } else { 0.0 };
+            let m = BrdfMaterial {
+                base_color: Vec3::ONE,
+                metallic,
+                roughness,
+                dielectric_f0: f0,
+                dielectric_f90: f90,
+                model: BrdfModel::Layered,
+            };
+            for cos_o in FURNACE_COSINES {
+                // Grazing views of smooth lobes scatter many samples below the horizon: more
+                // samples there until the error bar is small enough to judge 0.5%.
+                let (mut a, mut se) = albedo_by_lobe(&m, view(cos_o), 96);
+                if se.max_element() >= 1e-3 {
+                    let n = (96.0 * se.max_element() / 8e-4).ceil() as usize;
+                    (a, se) = albedo_by_lobe(&m, view(cos_o), n.min(4096));
+                }
+                let err = (a - Vec3::ONE).abs().max_element();
+                assert!(
+                    se.max_element() < 1.5e-3,
+                    "{m:?} cos {cos_o}: too noisy to judge 0.5%: {a} ± {se}"
+                );
+                assert!(
+                    err < 5e-3,
+                    "{m:?} cos {cos_o}: albedo {a} ± {se} (0.5% allowed)"
+                );
+                if err > worst.0 {
+                    worst = (
+                        err,
+                        format!("r {roughness} f0 {f0} metallic {metallic} cos {cos_o}"),
+                    );
+                }
+            }
+        }
+    }
+    eprintln!(
+        "layered white furnace: worst |albedo - 1| = {:.4} ({})",
+        worst.0, worst.1
+    );
+}
+
+/// Coloured and partly metallic bases reflect what the layering formula says
+/// (`brdf::layered_albedo`: the specular lobe's albedo plus `c (1 − E_d(μo))`), within 0.5%.
+#[test]
+fn coloured_bases_follow_the_layering_formula() {
+    let mut rng = Pcg32::seed_from_u64(23);
+    for case in 0..60 {
+        let base = [0.2f32, 0.5, 0.8][case % 3];
+        let m = BrdfMaterial {
+            base_color: if case % 4 == 3 {
+                Vec3::new(0.8, 0.5, 0.2)
+            } else {
+                Vec3::splat(base)
+            },
+            metallic: [0.0, 0.0, 0.5][case % 3],
+            roughness: rng.random_range(0.0..1.0),
+            dielectric_f0: Vec3::splat(rng.random_range(0.0..0.2)),
+            dielectric_f90: 1.0,
+            model: BrdfModel::Layered,
+        };
+        let cos_o = FURNACE_COSINES[case % FURNACE_COSINES.len()];
+        let (a, se) = albedo_by_lobe(&m, view(cos_o), 96);
+        let predicted = brdf::layered_albedo(&m, cos_o);
+        assert!(
+            (a - predicted).abs().max_element() < 5e-3 + 3.0 * se.max_element(),
+            "{m:?} cos {cos_o}: albedo {a} ± {se}, formula {predicted}"
+        );
+    }
+}
+
+/// The glTF 2.0 specification's Appendix B with `KHR_materials_specular`, transcribed from the
+/// specification independently of `brdf.rs`: `mix(dielectric_brdf, metal_brdf, metallic)`,
+/// the dielectric a `fresnel_mix` of the Lambert base under the specular BRDF at the half
+/// vector, the metal a `conductor_fresnel` of the specular BRDF. BRDF × cos θi.
+fn appendix_b(m: &BrdfMaterial, v: Vec3, l: Vec3) -> Vec3 {
+    let n = Vec3::Z;
+    let h = (l + v).normalize();
+    let (n_l, n_v, n_h, v_h) = (n.dot(l), n.dot(v), n.dot(h), v.dot(h).abs());
+    let alpha = m.roughness * m.roughness;
+    let a2 = alpha * alpha;
+    let heaviside = |x: f32| if x > 0.0 { 1.0 } else { 0.0 };
+    let d = a2 * heaviside(n_h) / (PI * (n_h * n_h * (a2 - 1.0) + 1.0).powi(2));
+    let vis = heaviside(h.dot(l)) * heaviside(h.dot(v))
+        / ((n_l.abs() + (a2 + (1.0 - a2) * n_l * n_l).sqrt())
+            * (n_v.abs() + (a2 + (1.0 - a2) * n_v * n_v).sqrt()));
+    let specular_brdf = vis * d;
+    let diffuse_brdf = m.base_color / PI;
+    let weight = (1.0 - v_h).powi(5);
+    // KHR_materials_specular: f0 (specular colour × factor) and f90 (the factor).
+    let fr = m.dielectric_f0 + (Vec3::splat(m.dielectric_f90) - m.dielectric_f0) * weight;
+    let dielectric = diffuse_brdf * (1.0 - fr.max_element()) + fr * specular_brdf;
+    let metal = specular_brdf * (m.base_color + (Vec3::ONE - m.base_color) * weight);
+    (dielectric * (1.0 - m.metallic) + metal * m.metallic) * n_l
+}
+
+#[test]
+fn gltf_spec_model_is_the_specification_appendix_b() {
+    let mut rng = Pcg32::seed_from_u64(29);
+    let mut compared = 0;
+    for _ in 0..20_000 {
+        let mut m = random_material(&mut rng);
+        m.model = BrdfModel::GltfSpec;
+        // The mirror is a delta lobe in both; Appendix B's GGX is evaluated above it.
+        m.roughness = rng.random_range(0.05..1.0);
+        let (v, l) = (random_upper(&mut rng), random_upper(&mut rng));
+        let ours = brdf::eval(&m, v, l);
+        let spec = appendix_b(&m, v, l);
+        let scale = spec.abs().max_element().max(1e-3);
+        assert!(
+            (ours - spec).abs().max_element() <= 2e-3 * scale,
+            "{m:?} v {v} l {l}: ours {ours}, Appendix B {spec}"
+        );
+        compared += 1;
+    }
+    assert_eq!(compared, 20_000);
+    // What the module docs say of it: single scattering loses light off rough white
+    // dielectrics (0.974 at roughness 1), and the half-vector weighting of the base returns
+    // more than arrives at grazing angles (1.72 for a smooth one at 87°).
+    let white = |roughness| BrdfMaterial {
+        model: BrdfModel::GltfSpec,
+        ..material(1.0, 0.0, roughness)
+    };
+    let (rough, _) = albedo_by_lobe(&white(1.0), view(0.5), 96);
+    assert!(rough.x < 0.98, "glTF model at roughness 1 reflects {rough}");
+    let (grazing, _) = albedo_by_lobe(&white(0.0), view(0.05), 96);
+    assert!(
+        grazing.x > 1.5,
+        "glTF model, smooth, at 87° reflects {grazing}"
+    );
 }
 
 #[test]
@@ -130,6 +311,8 @@ fn albedo_never_exceeds_one() {
     for _ in 0..120 {
         let mut m = random_material(&mut rng);
         m.base_color = Vec3::ONE; // the hardest case for energy
+        // The glTF model does not keep this promise (`gltf_spec_model_is_the_specification...`).
+        m.model = BrdfModel::Layered;
         let wo = random_upper(&mut rng);
         let (a, se) = albedo(&m, wo, 64);
         assert!(
@@ -326,6 +509,7 @@ fn adversarial_inputs_never_give_non_finite_values() {
                 roughness: r,
                 dielectric_f0: Vec3::splat(x),
                 dielectric_f90: x,
+                model: BrdfModel::ALL[(x.to_bits() % 2) as usize],
             }
             .sanitized();
             for &wo in &dirs {
@@ -360,6 +544,7 @@ fn zero_specular_is_exactly_lambertian() {
         roughness: 0.5,
         dielectric_f0: Vec3::ZERO,
         dielectric_f90: 0.0,
+        model: BrdfModel::Layered,
     };
     let mut rng = Pcg32::seed_from_u64(4);
     for _ in 0..1000 {

@@ -1,11 +1,11 @@
 //! GPU twin test: `brdf.wesl` evaluates, samples and weighs like `solari_scene::brdf` on random
-//! and adversarial cases (lavapipe in CI).
+//! and adversarial cases, for each BRDF model (lavapipe in CI).
 
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_scene::brdf::{self, BrdfMaterial, Lobe};
+use solari_scene::brdf::{self, BrdfMaterial, BrdfModel, Lobe};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::default_scene::cornell_box;
 use solari_scene::gpu::test_gpu;
@@ -60,8 +60,8 @@ fn direction(rng: &mut Pcg32, upper: bool) -> Vec3 {
     Vec3::new(s * phi.cos(), s * phi.sin(), z)
 }
 
-fn cases() -> Vec<(BrdfMaterial, BrdfCase)> {
-    let mut rng = Pcg32::seed_from_u64(21);
+fn cases(model: BrdfModel) -> Vec<(BrdfMaterial, BrdfCase)> {
+    let mut rng = Pcg32::seed_from_u64(21 + model.gpu_id() as u64);
     let mut out = Vec::new();
     let special_dirs = [
         Vec3::Z,
@@ -78,8 +78,13 @@ fn cases() -> Vec<(BrdfMaterial, BrdfCase)> {
                 1 => rng.random_range(0.0..0.1),
                 _ => rng.random(),
             },
-            dielectric_f0: Vec3::splat(rng.random_range(0.0..0.16)),
+            dielectric_f0: if i % 4 == 0 {
+                Vec3::new(rng.random(), rng.random(), rng.random())
+            } else {
+                Vec3::splat(rng.random_range(0.0..0.16))
+            },
             dielectric_f90: [1.0, 0.0, rng.random()][i % 3],
+            model,
         }
         .sanitized();
         let (wo, wi) = if i % 50 == 0 {
@@ -132,22 +137,28 @@ fn close3(a: Vec3, b: Vec3, rel: f32) -> bool {
 #[test]
 fn gpu_brdf_matches_the_cpu_twin() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = GpuScene::new(
-        &gpu,
-        &cornell_box(),
-        Backend::Software,
-        &GpuSceneOptions::default(),
-    )
-    .expect("scene");
+    for model in BrdfModel::ALL {
+        compare_model(&gpu, model);
+    }
+}
+
+/// Both sides shade with `model`: the GPU through the scene's `brdf_model`, the CPU through
+/// each case's material.
+fn compare_model(gpu: &solari_scene::gpu::Gpu, model: BrdfModel) {
+    let options = GpuSceneOptions {
+        brdf: model,
+        ..Default::default()
+    };
+    let scene = GpuScene::new(gpu, &cornell_box(), Backend::Software, &options).expect("scene");
     let (empty_layout, empty) = gpu.empty_group();
     let wgsl = compose("brdf_test", Backend::Software, &[]).expect("compose");
     let layouts = [Some(scene.layout()), Some(&empty_layout), None];
-    let kernel = CaseKernel::new(&gpu, "brdf_test", &wgsl, &layouts, 2).expect("kernel");
+    let kernel = CaseKernel::new(gpu, "brdf_test", &wgsl, &layouts, 2).expect("kernel");
 
-    let cases = cases();
+    let cases = cases(model);
     let raw: Vec<BrdfCase> = cases.iter().map(|c| c.1).collect();
     let results: Vec<BrdfResult> = kernel
-        .run(&gpu, &[Some(scene.bind_group()), Some(&empty)], &raw)
+        .run(gpu, &[Some(scene.bind_group()), Some(&empty)], &raw)
         .expect("dispatch");
 
     let rel = 2e-3;
@@ -221,7 +232,7 @@ fn gpu_brdf_matches_the_cpu_twin() {
         }
     }
     eprintln!(
-        "{} cases, {compared_samples} samples and {compared_specular} specular samples compared, {} mismatches",
+        "{model:?}: {} cases, {compared_samples} samples and {compared_specular} specular samples compared, {} mismatches",
         cases.len(),
         failures.len()
     );
@@ -231,7 +242,7 @@ fn gpu_brdf_matches_the_cpu_twin() {
     );
     assert!(
         failures.is_empty(),
-        "{} mismatches, first: {:#?}",
+        "{model:?}: {} mismatches, first: {:#?}",
         failures.len(),
         &failures[..failures.len().min(5)]
     );
