@@ -335,7 +335,9 @@ pub fn coating_albedo_avg(m: &BrdfMaterial) -> Vec3 {
 /// The directional albedo `∫ f cos dωi` that [`BrdfModel::Layered`] is built to have (delta
 /// lobe included): the specular lobe's, plus `c (1 − E_d(μo))` for the diffuse base, with `c =
 /// base_color × (1 − metallic)`. 1 for a white dielectric; the white furnace tests hold the
-/// BRDF to it. Meaningless for [`BrdfModel::GltfSpec`], which has no closed form.
+/// BRDF to it. Also what the surface reflects toward `cos_o` under uniform light (by
+/// reciprocity), which is how the world cache reflects its irradiance (WGSL `brdf_albedo`),
+/// for both models: [`BrdfModel::GltfSpec`] has no closed form, and this approximates it.
 pub fn layered_albedo(m: &BrdfMaterial, cos_o: f32) -> Vec3 {
     let specular = lobe_albedo(m.alpha(), m.is_mirror(), m.f0(), m.f90(), cos_o);
     specular + m.diffuse_color() * (Vec3::ONE - coating_albedo(m, cos_o))

@@ -47,6 +47,8 @@ struct BrdfResult {
     _pad1: f32,
     spec_weight: [f32; 3],
     _pad2: f32,
+    albedo: [f32; 3],
+    _pad3: f32,
 }
 
 fn direction(rng: &mut Pcg32, upper: bool) -> Vec3 {
@@ -87,6 +89,17 @@ fn cases(model: BrdfModel) -> Vec<(BrdfMaterial, BrdfCase)> {
             model,
         }
         .sanitized();
+        // Every 13th an exact Lambertian (no specular layer: the shaders' shortcut).
+        let m = if i % 13 == 0 {
+            BrdfMaterial {
+                metallic: 0.0,
+                dielectric_f0: Vec3::ZERO,
+                dielectric_f90: 0.0,
+                ..m
+            }
+        } else {
+            m
+        };
         let (wo, wi) = if i % 50 == 0 {
             (special_dirs[i / 50 % 4], special_dirs[(i / 200) % 4])
         } else {
@@ -169,6 +182,17 @@ fn compare_model(gpu: &solari_scene::gpu::Gpu, model: BrdfModel) {
         let eval = brdf::eval(m, wo, wi);
         if !close3(eval, r.eval.into(), rel) {
             fail(format!("eval cpu {eval} gpu {:?}", r.eval));
+        }
+        // The world cache's reflectance: the layered formula under either model.
+        let albedo = brdf::layered_albedo(
+            &BrdfMaterial {
+                model: BrdfModel::Layered,
+                ..*m
+            },
+            wo.z,
+        );
+        if !close3(albedo, r.albedo.into(), rel) {
+            fail(format!("albedo cpu {albedo} gpu {:?}", r.albedo));
         }
         let pdf = brdf::pdf(m, wo, wi);
         if !close(pdf, r.pdf, rel) {
