@@ -90,3 +90,27 @@ fn psr_and_gi_candidates_reach_the_settings() {
         .expect_err("0 candidates");
     assert!(err.contains("initial_samples"), "{err}");
 }
+
+/// `--brdf` reaches the scene's upload options, the library's default when absent, and a bad
+/// name is refused with the choices named.
+#[test]
+fn brdf_model_reaches_the_scene_options() {
+    use solari_scene::brdf::BrdfModel;
+    let parse = |args: &[&str]| {
+        let argv = [&["solari", "render"], args].concat();
+        Cli::try_parse_from(argv).map(|cli| match cli.command {
+            Command::Render(r) => r.scene.brdf,
+            _ => panic!("render"),
+        })
+    };
+    assert_eq!(parse(&[]).expect("parses"), BrdfModel::default());
+    assert_eq!(BrdfModel::default(), BrdfModel::Layered);
+    assert_eq!(
+        parse(&["--brdf", "gltf-spec"]).expect("parses"),
+        BrdfModel::GltfSpec
+    );
+    let err = parse(&["--brdf", "phong"])
+        .expect_err("unknown model")
+        .to_string();
+    assert!(err.contains("layered or gltf-spec"), "{err}");
+}
