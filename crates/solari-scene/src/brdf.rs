@@ -303,7 +303,12 @@ fn lobe_albedo(alpha: f32, mirror: bool, f0: Vec3, f90: f32, cos_o: f32) -> Vec3
     if mirror {
         return fresnel(f0, f90, cos_o);
     }
-    let (a, b) = energy_table().e_split(cos_o, alpha);
+    split_albedo(alpha, f0, f90, energy_table().e_split(cos_o, alpha))
+}
+
+/// A GGX lobe's albedo from the table's Fresnel split `(A, B)` (at one angle, or averaged):
+/// `f0 A + f90 B` for single scattering, plus the multiple-scattering tint over `1 − A − B`.
+fn split_albedo(alpha: f32, f0: Vec3, f90: f32, (a, b): (f32, f32)) -> Vec3 {
     f0 * a + Vec3::splat(f90 * b) + multiple_scattering_tint(alpha, f0, f90) * (1.0 - a - b)
 }
 
@@ -327,9 +332,7 @@ pub fn coating_albedo_avg(m: &BrdfMaterial) -> Vec3 {
         return f0 + (Vec3::splat(f90) - f0) / 21.0;
     }
     let alpha = m.alpha();
-    let table = energy_table();
-    let (a, b) = table.e_split_avg(alpha);
-    f0 * a + Vec3::splat(f90 * b) + multiple_scattering_tint(alpha, f0, f90) * (1.0 - a - b)
+    split_albedo(alpha, f0, f90, energy_table().e_split_avg(alpha))
 }
 
 /// The directional albedo `∫ f cos dωi` that [`BrdfModel::Layered`] is built to have (delta
@@ -524,9 +527,9 @@ pub const ENERGY_TABLE_SIZE: usize = 32;
 /// Fresnel-one albedo. Nodes are uniform in √cos θo and in √perceptual roughness (\[0, 1\]
 /// each: dense at grazing angles and smooth lobes, where the albedo changes fastest; 0.31%
 /// worst white-furnace error at 32 × 32, against 3.7% with uniform nodes), interpolated
-/// linearly in cos θo and in √roughness; the averages are exact integrals of that interpolant, so the
-/// lobes built on it integrate to what the layering assumes, and the only energy error left is
-/// the table's own (the white furnace tests bound it).
+/// linearly in cos θo and in √roughness. The averages are exact integrals of that
+/// interpolant, so the lobes built on it integrate to what the layering assumes, and the only
+/// energy error left is the table's own (the white furnace tests bound it).
 #[derive(Clone, Debug)]
 pub struct EnergyTable {
     /// `a[r * N + c]`: roughness node r, cosine node c.
@@ -614,7 +617,8 @@ impl EnergyTable {
         (i, x - i as f32)
     }
 
-    /// `(A, B)` at `cos_o` and GGX `alpha`, bilinearly interpolated.
+    /// `(A, B)` at `cos_o` and GGX `alpha`: linear in cos θo between columns and in
+    /// √roughness between rows.
     pub fn e_split(&self, cos_o: f32, alpha: f32) -> (f32, f32) {
         let n = self.size();
         let (r, fr) = self.roughness_coord(alpha);

@@ -87,15 +87,7 @@ impl PassTimer {
         before: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
         record: impl FnOnce(&mut wgpu::CommandEncoder) -> Result<(), GpuError>,
     ) -> Result<f64, GpuError> {
-        if !gpu
-            .features
-            .contains(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
-        {
-            return Err(GpuError::Validation(format!(
-                "adapter '{}' cannot write timestamps between passes: a span cannot be timed",
-                gpu.info.name
-            )));
-        }
+        require_spans(gpu)?;
         self.time(gpu, |encoder, (queries, first)| {
             before(encoder)?;
             encoder.write_timestamp(queries, first);
@@ -123,14 +115,7 @@ impl FrameSpanTimer {
     /// Queries for up to `frames` spans (at least 1) per call of [`FrameSpanTimer::time`].
     /// Errors (naming the adapter) where timestamps cannot be written between passes.
     pub fn new(gpu: &Gpu, frames: u32) -> Result<Self, GpuError> {
-        let needed =
-            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
-        if !gpu.features.contains(needed) {
-            return Err(GpuError::Validation(format!(
-                "adapter '{}' cannot write timestamps between passes: a span cannot be timed",
-                gpu.info.name
-            )));
-        }
+        require_spans(gpu)?;
         let frames = frames.max(1);
         let bytes = u64::from(frames) * 16;
         let buffer = |label, usage| {
@@ -205,6 +190,19 @@ impl FrameSpanTimer {
             })
             .collect())
     }
+}
+
+/// Errors (naming the adapter) where timestamps cannot be written between passes on an
+/// encoder, which every span needs.
+fn require_spans(gpu: &Gpu) -> Result<(), GpuError> {
+    let needed = wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+    if gpu.features.contains(needed) {
+        return Ok(());
+    }
+    Err(GpuError::Validation(format!(
+        "adapter '{}' cannot write timestamps between passes: a span cannot be timed",
+        gpu.info.name
+    )))
 }
 
 /// Whether a criterion bench runs for real (`cargo bench` passes `--bench`) rather than in
