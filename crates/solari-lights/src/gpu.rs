@@ -23,14 +23,16 @@ pub const LIGHT_BINDINGS: BufferGroup = BufferGroup::new(
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuLight {
     /// Emissive: radiance. Directional: disk radiance, or irradiance for a delta light.
+    /// Point: sphere radiance, or intensity for a delta light.
     pub radiance: [f32; 3],
     /// Emissive: total area. Directional: the disk's solid angle (0 for a delta light).
+    /// Point: the sphere's area (0 for a delta light).
     pub area: f32,
-    /// Directional: unit direction towards the light.
+    /// Directional: unit direction towards the light. Point: position.
     pub to_light: [f32; 3],
-    /// Directional: cosine of the disk's angular radius.
+    /// Directional: cosine of the disk's angular radius. Point: the sphere's radius.
     pub cos_radius: f32,
-    /// Kind (0 emissive, 1 directional) | 0x100 when double-sided.
+    /// Kind (0 emissive, 1 directional, 2 point) | 0x100 when double-sided.
     pub kind: u32,
     /// Emissive: instance index.
     pub instance: u32,
@@ -44,11 +46,15 @@ pub struct GpuLight {
     pub alias_threshold: f32,
     /// Alias-table slot: the light taken otherwise.
     pub alias_index: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// Point: the cone's offset ([`crate::SpotCone::offset`]; 1 without a cone).
+    pub spot_offset: f32,
+    /// Point: the cone's axis.
+    pub spot_axis: [f32; 3],
+    /// Point: the cone's scale (0 without a cone).
+    pub spot_scale: f32,
 }
 
-const _: () = assert!(size_of::<GpuLight>() == 64);
+const _: () = assert!(size_of::<GpuLight>() == 80);
 
 /// WGSL twin: `GpuEmissiveTriangle` in `light_sampling.wesl`.
 #[repr(C)]
@@ -78,8 +84,10 @@ pub struct GpuLightInfo {
     pub light_count: u32,
     /// 0 uniform, 1 power-proportional.
     pub selection: u32,
-    /// Padding.
-    pub _pad: [u32; 2],
+    /// Index of the first point or spot light (they come last).
+    pub first_punctual: u32,
+    /// Number of sphere lights among them that a BRDF ray can hit (0: none to test).
+    pub sphere_count: u32,
 }
 
 const _: () = assert!(size_of::<GpuLightInfo>() == 16);
@@ -126,6 +134,22 @@ pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>)
                         sun_disk(irradiance, cos_radius).unwrap_or((irradiance, 0.0));
                     g.radiance = radiance.into();
                     g.area = solid_angle;
+                }
+                Light::Point {
+                    position,
+                    radius,
+                    intensity,
+                    cone,
+                } => {
+                    g.kind = 2;
+                    g.to_light = position.into();
+                    g.cos_radius = radius;
+                    let (radiance, area) = l.sphere().unwrap_or((intensity, 0.0));
+                    g.radiance = radiance.into();
+                    g.area = area;
+                    g.spot_axis = cone.axis.into();
+                    g.spot_scale = cone.scale;
+                    g.spot_offset = cone.offset;
                 }
             }
             g
@@ -223,7 +247,11 @@ impl GpuLights {
                 Selection::Uniform => 0,
                 Selection::Power => 1,
             },
-            _pad: [0; 2],
+            first_punctual: list.first_punctual,
+            sphere_count: list.lights[list.punctual_range()]
+                .iter()
+                .filter(|l| l.sphere().is_some())
+                .count() as u32,
         };
         let info_buf = gpu.uniform_buffer("solari_lights/info", &info);
         let layout = Self::layout(gpu);

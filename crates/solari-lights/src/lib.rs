@@ -1,7 +1,8 @@
 //! # solari-lights
 //!
 //! The light sampling core of the Solari workspace: the light list built from a scene
-//! (emissive instances with their triangles, directional lights as sun disks), light selection
+//! (emissive instances with their triangles, directional lights as sun disks, point and spot
+//! lights as delta lights or spheres), light selection
 //! (uniform, as Solari does, or proportional to emitted power through an alias table), and the
 //! resolution of a light sample at a shading point with its solid-angle pdf. Lights keep
 //! stable keys across frames and [`LightList::translation_from`] maps last frame's light
@@ -46,7 +47,8 @@ pub mod tiles;
 pub use alias::{AliasEntry, AliasTable};
 pub use gpu::{GpuLights, LIGHT_BINDINGS, MODULES};
 pub use light_list::{
-    EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, sun_disk,
+    EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, SpotCone,
+    sun_disk,
 };
 pub use sample::{LightSample, LightSampleId, ResolvedLightSample, unshadowed_contribution};
 pub use tiles::{

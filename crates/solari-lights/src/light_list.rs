@@ -4,6 +4,7 @@ use crate::alias::AliasTable;
 use glam::Vec3;
 use solari_scene::Scene;
 use solari_scene::brdf::luminance;
+use solari_scene::model::PunctualKind;
 
 /// Marks a light that no longer exists in a translation table.
 pub const LIGHT_GONE: u32 = u32::MAX;
@@ -26,6 +27,62 @@ pub enum LightKey {
         /// Index into `Scene::directional_lights`.
         index: u32,
     },
+    /// A point or spot light, by index into `Scene::punctual_lights`.
+    Punctual {
+        /// Index into `Scene::punctual_lights`.
+        index: u32,
+    },
+}
+
+/// A spot light's cone as glTF's `KHR_lights_punctual` defines its falloff: light leaving at
+/// angle θ from the axis is scaled by `clamp(cos θ · scale + offset, 0, 1)²`, which is 1 inside
+/// the inner cone and 0 outside the outer one. A point light's cone is [`SpotCone::NONE`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpotCone {
+    /// Unit axis: the direction the spot shines in.
+    pub axis: Vec3,
+    /// `1 / max(cos inner − cos outer, 0.001)`; 0 for no cone.
+    pub scale: f32,
+    /// `−cos outer · scale`; 1 for no cone.
+    pub offset: f32,
+}
+
+impl SpotCone {
+    /// No cone: every direction at full strength.
+    pub const NONE: SpotCone = SpotCone {
+        axis: Vec3::Z,
+        scale: 0.0,
+        offset: 1.0,
+    };
+
+    /// The cone of a spot shining along `axis` with glTF's inner and outer angles (radians).
+    /// Angles are clamped to glTF's valid range, 0 ≤ inner ≤ outer ≤ π/2.
+    pub fn new(axis: Vec3, inner: f32, outer: f32) -> Self {
+        let outer = outer.clamp(0.0, std::f32::consts::FRAC_PI_2);
+        let inner = inner.clamp(0.0, outer);
+        let scale = 1.0 / (inner.cos() - outer.cos()).max(0.001);
+        SpotCone {
+            axis: axis.normalize_or(Vec3::NEG_Z),
+            scale,
+            offset: -outer.cos() * scale,
+        }
+    }
+
+    /// The factor on light leaving along unit direction `travel`.
+    pub fn attenuation(&self, travel: Vec3) -> f32 {
+        let a = (self.axis.dot(travel) * self.scale + self.offset).clamp(0.0, 1.0);
+        a * a
+    }
+
+    /// The solid angle the spot lights, counting the falloff as full strength out to the
+    /// outer cone (for selection by power only).
+    pub fn lit_solid_angle(&self) -> f32 {
+        if self.scale == 0.0 {
+            return 4.0 * std::f32::consts::PI;
+        }
+        let cos_outer = -self.offset / self.scale;
+        2.0 * std::f32::consts::PI * (1.0 - cos_outer)
+    }
 }
 
 /// One light.
@@ -56,6 +113,40 @@ pub enum Light {
         /// Cosine of the disk's angular radius; 1 for a delta (zero-size) light.
         cos_radius: f32,
     },
+    /// A point or spot light: a delta light at `position` when `radius` is 0, else a sphere
+    /// whose outward-facing surface has uniform radiance `intensity / (π radius²)`, which gives
+    /// the same intensity as the delta light from afar. Spot lights scale the light leaving
+    /// each point by their cone's falloff along the direction it leaves in. Point lights have
+    /// no surface the camera sees directly (as in glTF viewers); their reflections do.
+    Point {
+        /// World position (the sphere's centre).
+        position: Vec3,
+        /// Sphere radius; 0 for a delta light.
+        radius: f32,
+        /// Radiant intensity per channel (W/sr).
+        intensity: Vec3,
+        /// The spot's cone, or [`SpotCone::NONE`] for a point light.
+        cone: SpotCone,
+    },
+}
+
+impl Light {
+    /// A sphere light's surface radiance (`intensity / (π r²)`), and its area `4π r²`; `None`
+    /// for a delta point light and for other kinds.
+    pub fn sphere(&self) -> Option<(Vec3, f32)> {
+        match *self {
+            Light::Point {
+                radius, intensity, ..
+            } if radius > 0.0 => {
+                let r2 = radius * radius;
+                Some((
+                    intensity / (std::f32::consts::PI * r2),
+                    4.0 * std::f32::consts::PI * r2,
+                ))
+            }
+            _ => None,
+        }
+    }
 }
 
 /// A directional light's disk as sampled: the radiance that makes a facing surface receive
@@ -110,6 +201,51 @@ pub struct LightListReport {
     pub skipped_triangles: usize,
     /// Directional lights that were black or not finite (left out).
     pub dark_directional: Vec<u32>,
+    /// Point and spot lights that were black, not finite, or whose cone lights nothing
+    /// (left out).
+    pub dark_punctual: Vec<u32>,
+    /// Point and spot lights whose radius was negative, not finite, or so small that the
+    /// sphere's radiance would not be finite: rendered as delta lights.
+    pub radius_to_delta: Vec<u32>,
+}
+
+impl LightListReport {
+    /// One human-readable line per kind of problem; empty when every light was kept as given.
+    pub fn lines(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut push = |v: &[u32], what: &str| {
+            if !v.is_empty() {
+                out.push(format!("{} {what}: {v:?}", v.len()));
+            }
+        };
+        push(
+            &self.non_finite_emission,
+            "emissive instance(s) with non-finite emission left out",
+        );
+        push(
+            &self.zero_area,
+            "emissive instance(s) of zero area left out",
+        );
+        push(
+            &self.dark_directional,
+            "black or broken directional light(s) left out",
+        );
+        push(
+            &self.dark_punctual,
+            "black or broken point/spot light(s) left out",
+        );
+        push(
+            &self.radius_to_delta,
+            "point/spot light(s) whose radius cannot make a finite sphere rendered as delta lights",
+        );
+        if self.skipped_triangles > 0 {
+            out.push(format!(
+                "{} emissive triangle(s) of zero or non-finite area skipped",
+                self.skipped_triangles
+            ));
+        }
+        out
+    }
 }
 
 /// Every light of a scene that can contribute, with both selection distributions.
@@ -127,6 +263,8 @@ pub struct LightList {
     pub power_table: AliasTable,
     /// What was left out.
     pub report: LightListReport,
+    /// Index of the first point or spot light (they follow every other light).
+    pub first_punctual: u32,
 }
 
 impl LightList {
@@ -224,8 +362,50 @@ impl LightList {
                 cos_radius: radius_angle.cos(),
             });
         }
+        list.first_punctual = list.lights.len() as u32;
+        for (index, light) in scene.punctual_lights.iter().enumerate() {
+            let index = index as u32;
+            let cone = match light.kind {
+                PunctualKind::Point => SpotCone::NONE,
+                PunctualKind::Spot { inner, outer } => SpotCone::new(light.direction, inner, outer),
+            };
+            let lit = light.intensity.is_finite()
+                && light.intensity.max_element() > 0.0
+                && light.position.is_finite()
+                && cone.axis.is_finite()
+                && cone.lit_solid_angle() > 0.0;
+            if !lit {
+                list.report.dark_punctual.push(index);
+                continue;
+            }
+            let mut radius = light.radius;
+            let sphere_ok = radius > 0.0
+                && (light.intensity / (std::f32::consts::PI * radius * radius)).is_finite();
+            if !sphere_ok {
+                if radius != 0.0 {
+                    list.report.radius_to_delta.push(index);
+                }
+                radius = 0.0;
+            }
+            // Clamped so an absurd intensity still gets picked (an infinite weight would
+            // count as zero).
+            list.power
+                .push((luminance(light.intensity) * cone.lit_solid_angle()).min(f32::MAX));
+            list.keys.push(LightKey::Punctual { index });
+            list.lights.push(Light::Point {
+                position: light.position,
+                radius,
+                intensity: light.intensity,
+                cone,
+            });
+        }
         list.power_table = AliasTable::new(&list.power);
         list
+    }
+
+    /// The point and spot lights: `lights[first..first + count]` (they come last).
+    pub fn punctual_range(&self) -> std::ops::Range<usize> {
+        self.first_punctual as usize..self.lights.len()
     }
 
     /// Number of lights.

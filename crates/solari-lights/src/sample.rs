@@ -21,8 +21,8 @@ pub struct LightSample {
     pub radiance: Vec3,
     /// Solid-angle pdf, selection included; for a delta light, the selection probability.
     pub pdf: f32,
-    /// Whether the sample is a delta (zero-size directional) light, which BRDF sampling can
-    /// never hit: its MIS weight is one.
+    /// Whether the sample is a delta (zero-size directional or point) light, which BRDF
+    /// sampling can never hit: its MIS weight is one.
     pub delta: bool,
 }
 
@@ -35,7 +35,7 @@ pub struct LightSampleId {
     /// Index of the light in the [`LightList`].
     pub light: u32,
     /// Emissive: triangle index within the light (relative to its first triangle, so it
-    /// survives other lights being added or removed). Directional: 0.
+    /// survives other lights being added or removed). Directional and point: 0.
     pub triangle: u32,
     /// The two numbers that place the point (or direction), as 16-bit cells: low half first.
     pub point: u32,
@@ -46,21 +46,26 @@ const _: () = assert!(size_of::<LightSampleId>() == 12);
 /// A light sample resolved independently of any shading point: the form light tiles store.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ResolvedLightSample {
-    /// Emissive: the world-space point. Directional: the unit direction towards the light.
+    /// Emissive and point: the world-space point. Directional: the unit direction towards
+    /// the light.
     pub position: Vec3,
-    /// Emissive: the unit surface normal (unused for directional lights).
+    /// Emissive and sphere: the unit surface normal (unused for delta and directional lights).
     pub normal: Vec3,
-    /// Emitted radiance; for a delta light, its irradiance at normal incidence.
+    /// Emitted radiance (before a spot's falloff); for a delta directional light its
+    /// irradiance at normal incidence, for a delta point light its intensity.
     pub radiance: Vec3,
-    /// 1 / pdf, selection included: area measure for emissive points, solid angle for sun
-    /// disks, 1 / selection probability for delta lights.
+    /// 1 / pdf, selection included: area measure for emissive and sphere points, solid angle
+    /// for sun disks, 1 / selection probability for delta lights.
     pub inverse_pdf: f32,
     /// Whether this is a directional light.
     pub directional: bool,
     /// Emissive: whether the emitter shines from both faces.
     pub double_sided: bool,
-    /// Directional: whether it is a delta (zero-size) light.
+    /// Whether it is a delta (zero-size) light.
     pub delta: bool,
+    /// Whether it is a point or spot light (whose cone [`ResolvedLightSample::toward`] reads
+    /// from the light list, as the GPU does).
+    pub punctual: bool,
 }
 
 /// The 16-bit cell of a uniform number, and the number at the cell's centre: ids store cells,
@@ -81,7 +86,7 @@ impl LightList {
     pub fn sample(&self, selection: Selection, x: Vec3, u: [f32; 4]) -> Option<LightSample> {
         let (light, triangle) = self.pick(selection, u)?;
         self.resolve_at(selection, light, triangle, [u[2], u[3]])?
-            .toward(light as u32, x)
+            .toward(self, light as u32, x)
     }
 
     /// Draws a light sample's identity from four uniform numbers (as [`LightList::sample`]
@@ -118,7 +123,7 @@ impl LightList {
                     [*first_triangle as usize..(*first_triangle + *triangle_count) as usize];
                 tris.partition_point(|t| t.cdf < u[1]).min(tris.len() - 1) as u32
             }
-            Light::Directional { .. } => 0,
+            Light::Directional { .. } | Light::Point { .. } => 0,
         };
         Some((index, triangle))
     }
@@ -156,8 +161,44 @@ impl LightList {
                     directional: false,
                     double_sided: *double_sided,
                     delta: false,
+                    punctual: false,
                 }
             }
+            Light::Point {
+                position,
+                radius,
+                intensity,
+                ..
+            } => match entry.sphere() {
+                // Uniform point on the sphere: half of them face away from any shading point
+                // and are rejected by `toward`, which keeps the estimate unbiased.
+                Some((radiance, area)) => {
+                    let z = 1.0 - 2.0 * point[0];
+                    let s = (1.0 - z * z).max(0.0).sqrt();
+                    let phi = 2.0 * PI * point[1];
+                    let normal = Vec3::new(s * phi.cos(), s * phi.sin(), z);
+                    ResolvedLightSample {
+                        position: *position + normal * *radius,
+                        normal,
+                        radiance,
+                        inverse_pdf: area / p_select,
+                        directional: false,
+                        double_sided: false,
+                        delta: false,
+                        punctual: true,
+                    }
+                }
+                None => ResolvedLightSample {
+                    position: *position,
+                    normal: Vec3::ZERO,
+                    radiance: *intensity,
+                    inverse_pdf: 1.0 / p_select,
+                    directional: false,
+                    double_sided: false,
+                    delta: true,
+                    punctual: true,
+                },
+            },
             Light::Directional {
                 to_light,
                 irradiance,
@@ -171,6 +212,7 @@ impl LightList {
                     directional: true,
                     double_sided: false,
                     delta,
+                    punctual: false,
                 };
                 let Some((radiance, solid_angle)) = sun_disk(*irradiance, *cos_radius) else {
                     return Some(directional(*to_light, *irradiance, 1.0 / p_select, true));
@@ -190,8 +232,8 @@ impl LightList {
     }
 
     /// Solid-angle pdf with which [`LightList::sample`] would have produced the point `y` with
-    /// normal `n_y` on emissive `light`, seen from `x`: the other half of MIS when a BRDF
-    /// sample hits an emitter.
+    /// normal `n_y` on emissive or sphere `light`, seen from `x`: the other half of MIS when a
+    /// BRDF sample hits an emitter.
     pub fn emissive_pdf(
         &self,
         selection: Selection,
@@ -200,16 +242,20 @@ impl LightList {
         y: Vec3,
         n_y: Vec3,
     ) -> f32 {
-        let Some(Light::Emissive {
-            area, double_sided, ..
-        }) = self.lights.get(light)
-        else {
-            return 0.0;
+        let (area, double_sided) = match self.lights.get(light) {
+            Some(Light::Emissive {
+                area, double_sided, ..
+            }) => (*area, *double_sided),
+            Some(l @ Light::Point { .. }) => match l.sphere() {
+                Some((_, area)) => (area, false),
+                None => return 0.0,
+            },
+            _ => return 0.0,
         };
         let to = y - x;
         let d2 = to.length_squared();
         let cos = -n_y.dot(to / d2.sqrt());
-        let cos = if *double_sided { cos.abs() } else { cos };
+        let cos = if double_sided { cos.abs() } else { cos };
         if !(cos > 0.0 && d2 > 0.0) {
             return 0.0;
         }
@@ -218,9 +264,11 @@ impl LightList {
 }
 
 impl ResolvedLightSample {
-    /// This sample as seen from shading point `x`: direction, distance and solid-angle pdf.
-    /// `None` when `x` sees a one-sided emitter from behind or coincides with the point.
-    pub fn toward(&self, light: u32, x: Vec3) -> Option<LightSample> {
+    /// This sample of light `light` of `list` as seen from shading point `x`: direction,
+    /// distance, radiance (a spot's falloff included) and solid-angle pdf. `None` when `x`
+    /// sees a one-sided emitter from behind, is outside a spot's cone, or coincides with the
+    /// point.
+    pub fn toward(&self, list: &LightList, light: u32, x: Vec3) -> Option<LightSample> {
         if self.directional {
             return Some(LightSample {
                 light,
@@ -238,6 +286,25 @@ impl ResolvedLightSample {
         }
         let distance = d2.sqrt();
         let direction = to / distance;
+        // A spot's falloff along the direction the light leaves in.
+        let attenuation = match (self.punctual, list.lights.get(light as usize)) {
+            (true, Some(Light::Point { cone, .. })) => cone.attenuation(-direction),
+            _ => 1.0,
+        };
+        if !(attenuation > 0.0) {
+            return None;
+        }
+        if self.delta {
+            let radiance = self.radiance * (attenuation / d2);
+            return radiance.is_finite().then_some(LightSample {
+                light,
+                direction,
+                distance,
+                radiance,
+                pdf: 1.0 / self.inverse_pdf,
+                delta: true,
+            });
+        }
         let cos_light = -self.normal.dot(direction);
         let cos_light = if self.double_sided {
             cos_light.abs()
@@ -253,7 +320,7 @@ impl ResolvedLightSample {
             light,
             direction,
             distance,
-            radiance: self.radiance,
+            radiance: self.radiance * attenuation,
             pdf,
             delta: false,
         })

@@ -6,10 +6,10 @@
 //! ## Record format and its error
 //!
 //! A [`PackedLightSample`] is 32 bytes, two aligned 16-byte loads: position (or direction) and
-//! radiance in full f32, 1/pdf in f32, and the emitter normal octahedrally packed to 15 bits
-//! per axis beside two flags. Solari packs into 24 bytes with rgb9e5 radiance and lost energy
+//! radiance in full f32, 1/pdf in f32, and the emitter normal octahedrally packed to 14 bits
+//! per axis beside three flags. Solari packs into 24 bytes with rgb9e5 radiance and lost energy
 //! until it switched to a log encoding; here the radiance is exact, so the only packing error is
-//! the normal's (≤ 1.3e-4 rad), which moves the cosine at the emitter. Measured on the shared
+//! the normal's (≤ 2.7e-4 rad), which moves the cosine at the emitter. Measured on the shared
 //! scenes' tiles: far below the 0.1% of mean contribution allowed (`tests/light_tiles.rs`).
 //! The 8 bytes over Solari's record are the price of that exactness.
 
@@ -76,7 +76,8 @@ impl LightTileSettings {
 }
 
 /// Bits per axis of the packed emitter normal.
-pub const PACKED_NORMAL_BITS: u32 = 15;
+pub const PACKED_NORMAL_BITS: u32 = 14;
+const FLAG_PUNCTUAL: u32 = 1 << 29;
 const FLAG_SIDED_OR_DELTA: u32 = 1 << 30;
 const FLAG_DIRECTIONAL: u32 = 1 << 31;
 
@@ -86,8 +87,8 @@ const FLAG_DIRECTIONAL: u32 = 1 << 31;
 pub struct PackedLightSample {
     /// Emissive: world point. Directional: unit direction towards the light.
     pub position: [f32; 3],
-    /// Octahedral normal in bits 0..29; bit 30 double-sided (emissive) or delta
-    /// (directional); bit 31 directional.
+    /// Octahedral normal in bits 0..28; bit 29 point or spot light; bit 30 double-sided
+    /// (emissive) or delta (directional, point); bit 31 directional.
     pub normal_flags: u32,
     /// Emitted radiance (irradiance for a delta light).
     pub radiance: [f32; 3],
@@ -113,6 +114,13 @@ impl PackedLightSample {
     pub fn pack(r: &ResolvedLightSample) -> Self {
         let flags = if r.directional {
             FLAG_DIRECTIONAL | if r.delta { FLAG_SIDED_OR_DELTA } else { 0 }
+        } else if r.punctual {
+            FLAG_PUNCTUAL
+                | if r.delta {
+                    FLAG_SIDED_OR_DELTA
+                } else {
+                    pack_unit_vector(r.normal, PACKED_NORMAL_BITS)
+                }
         } else {
             pack_unit_vector(r.normal, PACKED_NORMAL_BITS)
                 | if r.double_sided {
@@ -135,10 +143,12 @@ impl PackedLightSample {
             return None;
         }
         let directional = self.normal_flags & FLAG_DIRECTIONAL != 0;
+        let punctual = self.normal_flags & FLAG_PUNCTUAL != 0;
         let sided_or_delta = self.normal_flags & FLAG_SIDED_OR_DELTA != 0;
+        let delta = sided_or_delta && (directional || punctual);
         Some(ResolvedLightSample {
             position: self.position.into(),
-            normal: if directional {
+            normal: if directional || delta {
                 Vec3::ZERO
             } else {
                 unpack_unit_vector(self.normal_flags, PACKED_NORMAL_BITS)
@@ -146,8 +156,9 @@ impl PackedLightSample {
             radiance: self.radiance.into(),
             inverse_pdf: self.inverse_pdf,
             directional,
-            double_sided: sided_or_delta && !directional,
-            delta: sided_or_delta && directional,
+            double_sided: sided_or_delta && !delta,
+            delta,
+            punctual,
         })
     }
 }

@@ -77,12 +77,18 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                             && rel(r.distance, s.distance, 1e-4)
                             && (0..3).all(|i| rel(r.radiance[i], s.radiance[i], 1e-5))
                             && rel(r.pdf, s.pdf, 1e-3);
-                        if let Light::Emissive { first_triangle, .. } =
-                            list.lights[s.light as usize]
-                        {
-                            let t = list.triangles[first_triangle as usize];
-                            let n = t.e1.cross(t.e2).normalize();
-                            let y = x + s.direction * s.distance;
+                        let y = x + s.direction * s.distance;
+                        let normal = match list.lights[s.light as usize] {
+                            Light::Emissive { first_triangle, .. } => {
+                                let t = list.triangles[first_triangle as usize];
+                                Some(t.e1.cross(t.e2).normalize())
+                            }
+                            Light::Point { position, .. } if !s.delta => {
+                                Some((y - position).normalize())
+                            }
+                            _ => None,
+                        };
+                        if let Some(n) = normal {
                             let p = list.emissive_pdf(selection, s.light as usize, x, y, n);
                             ok &= rel(r.emissive_pdf, p, 1e-3);
                         }

@@ -590,6 +590,9 @@ impl RealtimeRenderer {
             None
         };
         let list = LightList::build(scene);
+        for line in list.report.lines() {
+            log::warn!("lights: {line}");
+        }
         let lights = GpuLights::new(gpu, &list, settings.selection)?;
         let lights_group = tiles.reader_group(gpu, &lights);
         let cache = if settings.needs_cache() {

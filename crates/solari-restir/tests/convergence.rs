@@ -7,6 +7,7 @@
 use glam::Vec3;
 use solari_restir::RestirDiSettings;
 use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::model::{PunctualKind, PunctualLight};
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, DirectionalLight, Scene, default_scene};
 
@@ -33,6 +34,49 @@ fn sun_scene() -> Scene {
     let centre = (lo + hi) * 0.5;
     let eye = centre + Vec3::new(0.0, 1.2, 1.0) * (hi - lo).length();
     scene.cameras = vec![Camera::look_at("above", eye, centre, Vec3::Y, 0.7)];
+    scene
+}
+
+/// The same floor and blocks lit by a delta point light, a sphere light (soft shadows) and a
+/// delta spot whose cone edge crosses the floor.
+fn point_scene() -> Scene {
+    let mut scene = sun_scene();
+    scene.directional_lights.clear();
+    let (lo, hi) = scene.bounds();
+    let size = (hi - lo).max_element();
+    let at = |x: f32, y: f32, z: f32| lo + (hi - lo) * Vec3::new(x, 0.0, z) + Vec3::Y * (y * size);
+    let light = |kind, position, radius, intensity: Vec3| PunctualLight {
+        name: "light".into(),
+        kind,
+        position,
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        intensity: intensity * size * size,
+        range: None,
+        radius,
+    };
+    scene.punctual_lights = vec![
+        light(
+            PunctualKind::Point,
+            at(0.2, 0.6, 0.3),
+            0.0,
+            Vec3::new(0.6, 0.5, 0.4),
+        ),
+        light(
+            PunctualKind::Point,
+            at(0.8, 0.5, 0.7),
+            0.06 * size,
+            Vec3::new(0.3, 0.4, 0.6),
+        ),
+        light(
+            PunctualKind::Spot {
+                inner: 0.3,
+                outer: 0.5,
+            },
+            at(0.5, 0.9, 0.5),
+            0.0,
+            Vec3::splat(1.5),
+        ),
+    ];
     scene
 }
 
@@ -171,6 +215,11 @@ fn direct_light_converges_to_the_reference_in_the_cornell_box() {
 #[test]
 fn direct_light_converges_to_the_reference_under_a_soft_sun() {
     check_convergence("sun", &sun_scene());
+}
+
+#[test]
+fn direct_light_converges_to_the_reference_under_point_and_spot_lights() {
+    check_convergence("point_lights", &point_scene());
 }
 
 /// RMSE against a 1024-path reference of: plain one-sample light sampling (the same pass

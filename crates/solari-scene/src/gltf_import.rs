@@ -31,6 +31,9 @@ use std::sync::Arc;
 pub struct ImportOptions {
     /// Angular diameter given to every directional light, in radians (default: the sun's 0.53°).
     pub sun_angular_diameter: f32,
+    /// Radius in metres given to every point and spot light (default 0: delta lights, as
+    /// glTF defines them; a radius gives soft shadows).
+    pub point_light_radius: f32,
     /// Read `render_setup.json` beside the file (camera and environment for assets without
     /// them). Default true.
     pub read_render_setup: bool,
@@ -45,6 +48,7 @@ impl Default for ImportOptions {
     fn default() -> Self {
         Self {
             sun_angular_diameter: SUN_ANGULAR_DIAMETER,
+            point_light_radius: 0.0,
             read_render_setup: true,
             limits: ImportLimits::default(),
             asset_root: None,
@@ -239,7 +243,12 @@ impl Importer {
             return Err(self.empty("no node places a mesh with at least one valid triangle"));
         }
         let w = &mut self.scene.warnings;
-        w.unrendered_lights = self.scene.punctual_lights.len();
+        w.ignored_light_ranges = self
+            .scene
+            .punctual_lights
+            .iter()
+            .filter(|l| l.range.is_some())
+            .count();
         w.non_opaque_materials = self
             .scene
             .materials
@@ -377,6 +386,7 @@ impl Importer {
                 direction: forward,
                 intensity: color,
                 range: light.range(),
+                radius: self.options.point_light_radius,
             }),
         }
         Ok(())

@@ -226,7 +226,10 @@ pub enum PunctualKind {
     },
 }
 
-/// A point or spot light (imported, not yet rendered).
+/// A point or spot light (glTF `KHR_lights_punctual`). With `radius` 0 it is a delta light
+/// (hard shadows, as glTF defines it); with a radius it is a sphere of that radius whose
+/// uniform radiance gives the same intensity from afar, for soft shadows. `solari_lights`
+/// explains the model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PunctualLight {
     /// Name from the file.
@@ -239,8 +242,11 @@ pub struct PunctualLight {
     pub direction: Vec3,
     /// Radiant intensity per channel (W/sr, used 1:1 from glTF).
     pub intensity: Vec3,
-    /// Range, if the file gives one.
+    /// Range, if the file gives one. Not used: light falls off with the inverse square of
+    /// distance, as it does physically (import notes lights that set one).
     pub range: Option<f32>,
+    /// Radius of the emitting sphere in metres; 0 for a delta light.
+    pub radius: f32,
 }
 
 /// A perspective camera.
@@ -332,8 +338,8 @@ pub struct ImportWarnings {
     pub degenerate_triangles: usize,
     /// Materials whose alpha mode is not opaque (rendered as opaque for now).
     pub non_opaque_materials: usize,
-    /// Point and spot lights (imported, not rendered yet).
-    pub unrendered_lights: usize,
+    /// Point and spot lights whose `range` is ignored (light falls off physically instead).
+    pub ignored_light_ranges: usize,
     /// Primitives converted from strips or fans to lists.
     pub converted_topologies: usize,
     /// Primitives skipped because they are points or lines.
@@ -361,8 +367,8 @@ impl ImportWarnings {
             "material(s) with alpha mask/blend rendered as opaque",
         );
         push(
-            self.unrendered_lights,
-            "point/spot light(s) imported but not rendered yet",
+            self.ignored_light_ranges,
+            "point/spot light range(s) ignored (inverse-square falloff)",
         );
         push(
             self.converted_topologies,

@@ -467,3 +467,53 @@ fn malformed_render_setup_is_refused() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Point and spot lights come in with their world position and direction, glTF's cone angles,
+/// the radius the options give, and a warning for each `range` (which is not used).
+#[test]
+fn point_and_spot_lights_are_imported_for_rendering() {
+    let mut v = doc(&TRI, &[0, 1, 2]);
+    v["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    v["extensions"] = json!({"KHR_lights_punctual": {"lights": [
+        {"type": "point", "name": "bulb", "color": [1.0, 0.5, 0.25], "intensity": 8.0, "range": 5.0},
+        {"type": "spot", "intensity": 2.0, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.6}}
+    ]}});
+    v["scenes"][0]["nodes"] = json!([0, 1, 2]);
+    v["nodes"] = json!([
+        {"mesh": 0},
+        {"translation": [1.0, 2.0, 3.0], "extensions": {"KHR_lights_punctual": {"light": 0}}},
+        // Rotated -90° about x: the spot's local -z points down (-y).
+        {"translation": [0.0, 4.0, 0.0], "rotation": [-0.70710677, 0.0, 0.0, 0.70710677],
+         "extensions": {"KHR_lights_punctual": {"light": 1}}}
+    ]);
+    let bytes = serde_json::to_vec(&v).unwrap();
+    let options = ImportOptions {
+        point_light_radius: 0.25,
+        ..Default::default()
+    };
+    let s = import_slice(&bytes, Path::new("."), Path::new("test.gltf"), &options).unwrap();
+    assert_eq!(s.punctual_lights.len(), 2);
+    let (bulb, spot) = (&s.punctual_lights[0], &s.punctual_lights[1]);
+    assert_eq!(bulb.kind, model::PunctualKind::Point);
+    assert_eq!(bulb.position, glam::Vec3::new(1.0, 2.0, 3.0));
+    assert_eq!(bulb.intensity, glam::Vec3::new(8.0, 4.0, 2.0));
+    assert_eq!(bulb.radius, 0.25);
+    assert_eq!(
+        spot.kind,
+        model::PunctualKind::Spot {
+            inner: 0.2,
+            outer: 0.6
+        }
+    );
+    assert!(
+        (spot.direction - glam::Vec3::NEG_Y).length() < 1e-5,
+        "{}",
+        spot.direction
+    );
+    assert_eq!(s.warnings.ignored_light_ranges, 1);
+    assert!(
+        s.warnings.lines().iter().any(|l| l.contains("range")),
+        "{:?}",
+        s.warnings.lines()
+    );
+}

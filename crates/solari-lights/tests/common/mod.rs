@@ -4,11 +4,13 @@
 use glam::Vec3;
 use solari_lights::MODULES;
 use solari_scene::gpu::Gpu;
+use solari_scene::model::{PunctualKind, PunctualLight};
 use solari_scene::shaders::{Backend, compose};
 use solari_scene::{DirectionalLight, Scene};
 
 /// The built-in Cornell box, the bundled many_lights scene (400 lights), and the box with two
-/// sun disks (soft and delta) and its emitter made double-sided.
+/// sun disks (soft and delta), four point and spot lights (delta and sphere), and its emitter
+/// made double-sided.
 pub fn scenes() -> Vec<(String, Scene)> {
     let mut sunny = solari_scene::default_scene::cornell_box();
     for (d, diameter) in [
@@ -20,6 +22,32 @@ pub fn scenes() -> Vec<(String, Scene)> {
             direction: d.normalize(),
             irradiance: Vec3::new(5.0, 4.0, 3.0),
             angular_diameter: diameter,
+        });
+    }
+    let (lo, hi) = sunny.bounds();
+    let at = |f: Vec3| lo + (hi - lo) * f;
+    let spot = PunctualKind::Spot {
+        inner: 0.3,
+        outer: 0.7,
+    };
+    for (kind, position, radius) in [
+        (PunctualKind::Point, at(Vec3::new(0.3, 0.7, 0.4)), 0.0),
+        (
+            PunctualKind::Point,
+            at(Vec3::new(0.7, 0.5, 0.6)),
+            0.05 * (hi - lo).x,
+        ),
+        (spot, at(Vec3::new(0.5, 0.9, 0.5)), 0.0),
+        (spot, at(Vec3::new(0.2, 0.8, 0.7)), 0.03 * (hi - lo).x),
+    ] {
+        sunny.punctual_lights.push(PunctualLight {
+            name: "punctual".into(),
+            kind,
+            position,
+            direction: Vec3::new(0.2, -1.0, 0.1).normalize(),
+            intensity: Vec3::new(2.0, 3.0, 4.0),
+            range: None,
+            radius,
         });
     }
     for m in &mut sunny.materials {

@@ -1,0 +1,197 @@
+//! The reference tracer under point and spot lights, against closed forms: a Lambertian floor
+//! seen from above reads ρ/π · E, where a delta point light or a sphere wholly above the floor
+//! gives E = I cos θ / d², and a spot scales that by glTF's cone falloff. The sphere case
+//! checks light sampling and BRDF hits combined by MIS (both halves must be there, weighted
+//! right, for the sum to come out).
+
+use glam::{Vec3, Vec4};
+use solari_lights::{Selection, SpotCone};
+use solari_reference::path_tracer::{ReferenceImage, ReferenceSettings};
+use solari_scene::Scene;
+use solari_scene::gpu::test_gpu;
+use solari_scene::gpu_types::GpuView;
+use solari_scene::model::{Camera, Instance, Material, Mesh, PunctualKind, PunctualLight};
+use solari_scene::shaders::Backend;
+
+const SIZE: u32 = 64;
+const ALBEDO: f32 = 0.5;
+
+/// A 40 m Lambertian floor at y = 0 (no specular layer), seen straight down from 3 m.
+fn floor_scene(light: PunctualLight) -> Scene {
+    let s = 20.0;
+    let floor = Mesh {
+        name: "floor".into(),
+        positions: vec![
+            Vec3::new(-s, 0.0, -s),
+            Vec3::new(-s, 0.0, s),
+            Vec3::new(s, 0.0, s),
+            Vec3::new(s, 0.0, -s),
+        ],
+        normals: vec![Vec3::Y; 4],
+        uvs: vec![glam::Vec2::ZERO; 4],
+        tangents: vec![Vec4::X; 4],
+        indices: vec![0, 1, 2, 0, 2, 3],
+    };
+    let material = Material {
+        name: "lambert".into(),
+        base_color: Vec4::new(ALBEDO, ALBEDO, ALBEDO, 1.0),
+        metallic: 0.0,
+        roughness: 1.0,
+        dielectric_f0: Vec3::ZERO,
+        dielectric_f90: 0.0,
+        ..Default::default()
+    };
+    Scene {
+        meshes: vec![floor],
+        instances: vec![Instance {
+            name: "floor".into(),
+            mesh: 0,
+            material: 0,
+            transform: glam::Mat4::IDENTITY,
+        }],
+        materials: vec![material],
+        cameras: vec![Camera::look_at(
+            "down",
+            Vec3::new(0.0, 3.0, 0.0),
+            Vec3::ZERO,
+            Vec3::Z,
+            1.2,
+        )],
+        punctual_lights: vec![light],
+        ..Default::default()
+    }
+}
+
+/// The floor point each pixel centre sees (the camera's own ray model).
+fn floor_points(scene: &Scene) -> Vec<Vec3> {
+    let v = GpuView::new(&scene.camera(None).unwrap(), SIZE, SIZE);
+    let (o, f, r, u) = (
+        Vec3::from(v.origin),
+        Vec3::from(v.forward),
+        Vec3::from(v.right),
+        Vec3::from(v.up),
+    );
+    (0..SIZE * SIZE)
+        .map(|i| {
+            let (px, py) = ((i % SIZE) as f32 + 0.5, (i / SIZE) as f32 + 0.5);
+            let ndc = (px / SIZE as f32 * 2.0 - 1.0, 1.0 - py / SIZE as f32 * 2.0);
+            let d = f + r * (ndc.0 * v.tan_half_fov * v.aspect) + u * (ndc.1 * v.tan_half_fov);
+            o + d * (-o.y / d.y)
+        })
+        .collect()
+}
+
+fn render(scene: &Scene, spp: u32) -> Option<ReferenceImage> {
+    let gpu = test_gpu()?;
+    let settings = ReferenceSettings {
+        spp,
+        max_bounces: 1,
+        selection: Selection::Power,
+        pixel_centre: true,
+    };
+    let img =
+        solari_reference::reference_image(&gpu, Backend::Software, scene, SIZE, SIZE, &settings)
+            .expect("render");
+    assert_eq!(img.rejected_samples, 0);
+    assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
+    Some(img)
+}
+
+/// Radiance the floor reflects at `x` under `light` (red channel).
+fn expected(light: &PunctualLight, x: Vec3) -> f64 {
+    let to = light.position - x;
+    let d2 = to.length_squared();
+    let l = to / d2.sqrt();
+    let att = match light.kind {
+        PunctualKind::Point => 1.0,
+        PunctualKind::Spot { inner, outer } => {
+            SpotCone::new(light.direction, inner, outer).attenuation(-l)
+        }
+    };
+    (ALBEDO / std::f32::consts::PI * light.intensity.x * att * l.y.max(0.0) / d2) as f64
+}
+
+/// Sum of the image and of the closed form over the pixels `keep` selects.
+fn sums(img: &ReferenceImage, want: &[f64], keep: impl Fn(usize) -> bool) -> (f64, f64) {
+    let mut s = (0.0, 0.0);
+    for (i, (p, w)) in img.pixels.iter().zip(want).enumerate() {
+        if keep(i) {
+            s.0 += p[0] as f64;
+            s.1 += w;
+        }
+    }
+    s
+}
+
+fn point(position: Vec3, radius: f32, kind: PunctualKind) -> PunctualLight {
+    PunctualLight {
+        name: "light".into(),
+        kind,
+        position,
+        direction: Vec3::NEG_Y,
+        intensity: Vec3::splat(4.0),
+        range: None,
+        radius,
+    }
+}
+
+#[test]
+fn point_light_irradiance_on_a_plane() {
+    for (radius, spp) in [(0.0, 4), (0.5, 256)] {
+        let light = point(Vec3::new(0.4, 1.2, -0.3), radius, PunctualKind::Point);
+        let scene = floor_scene(light.clone());
+        let Some(img) = render(&scene, spp) else {
+            return;
+        };
+        let want: Vec<f64> = floor_points(&scene)
+            .iter()
+            .map(|x| expected(&light, *x))
+            .collect();
+        let (got, exp) = sums(&img, &want, |_| true);
+        eprintln!("radius {radius}: image {got:.4}, closed form {exp:.4}");
+        assert!(
+            (got / exp - 1.0).abs() < 0.01,
+            "radius {radius}: {got} vs {exp}"
+        );
+        // Per pixel too, where the delta light leaves no noise.
+        if radius == 0.0 {
+            for (p, w) in img.pixels.iter().zip(&want) {
+                assert!((p[0] as f64 - w).abs() <= 2e-3 * w + 1e-6, "{p:?} vs {w}");
+            }
+        }
+    }
+}
+
+#[test]
+fn spot_light_cone_edge_on_a_plane() {
+    let (inner, outer) = (0.3f32, 0.55f32);
+    let spot = PunctualKind::Spot { inner, outer };
+    for (radius, spp) in [(0.0, 4), (0.05, 256)] {
+        let light = point(Vec3::new(0.2, 1.5, 0.1), radius, spot);
+        let scene = floor_scene(light.clone());
+        let Some(img) = render(&scene, spp) else {
+            return;
+        };
+        let points = floor_points(&scene);
+        let want: Vec<f64> = points.iter().map(|x| expected(&light, *x)).collect();
+        // Angle off the spot's axis of each pixel's floor point.
+        let angle = |i: usize| {
+            let l = (points[i] - light.position).normalize();
+            l.dot(light.direction).clamp(-1.0, 1.0).acos()
+        };
+        let band = |lo: f32, hi: f32| {
+            let (got, exp) = sums(&img, &want, |i| (lo..hi).contains(&angle(i)));
+            eprintln!("radius {radius}, angles {lo}..{hi}: image {got:.4}, closed form {exp:.4}");
+            (got, exp)
+        };
+        let (got, exp) = band(0.0, inner);
+        assert!((got / exp - 1.0).abs() < 0.01, "inside: {got} vs {exp}");
+        // The falloff band: where the edge is.
+        let (got, exp) = band(inner, outer);
+        assert!((got / exp - 1.0).abs() < 0.01, "edge: {got} vs {exp}");
+        // Outside the cone nothing, up to the sphere's own size.
+        let (got, _) = band(outer + 0.05, 3.2);
+        let (inside, _) = band(0.0, outer);
+        assert!(got <= 1e-4 * inside, "outside: {got}");
+    }
+}
