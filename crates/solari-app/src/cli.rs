@@ -129,6 +129,10 @@ pub struct SceneArgs {
     /// comparisons with other glTF renderers).
     #[arg(long, default_value = "layered", value_parser = values::brdf)]
     pub brdf: BrdfModel,
+    /// Radius in metres of every point and spot light: 0 renders them as delta lights with
+    /// hard shadows (glTF's definition), a radius as glowing spheres with soft shadows.
+    #[arg(long, default_value = "0", value_name = "METRES", value_parser = values::metres)]
+    pub light_radius: f32,
     /// The folder the scene's buffer and image URIs may reach (default: the scene's own
     /// folder; URIs never leave it).
     #[arg(long)]
@@ -180,6 +184,7 @@ impl SceneArgs {
             Some(p) => {
                 let options = ImportOptions {
                     asset_root: self.asset_root.clone(),
+                    point_light_radius: self.light_radius,
                     ..Default::default()
                 };
                 Ok((

@@ -72,6 +72,16 @@ pub fn finite(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A length in metres: finite and not negative.
+pub fn metres(s: &str) -> Result<f32, String> {
+    let v = finite(s)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{s}: must not be negative"))
+    }
+}
+
 /// Exposure in stops: finite, within ±64.
 pub fn exposure(s: &str) -> Result<f32, String> {
     let v = finite(s)?;

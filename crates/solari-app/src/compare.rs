@@ -21,6 +21,8 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         bvh_quality: solari_scene::bvh::BvhQuality::Medium,
         // Emission is seen directly (no bounce): the BRDF does not enter.
         brdf: Default::default(),
+        // Point lights have no surface a camera sees.
+        light_radius: 0.0,
         asset_root: None,
     };
     let Prepared {

@@ -6,8 +6,10 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     let (name, scene) = args.scene.load()?;
     let (gpu, backend) = args.scene.device()?;
     let s = scene.stats();
-    let warnings = scene.warnings.lines();
+    let mut warnings = scene.warnings.lines();
+    warnings.extend(solari_lights::LightList::build(&scene).report.lines());
     let camera = args.scene.pick_camera(&name, &scene)?;
+    let (lo, hi) = scene.bounds();
     if args.json {
         let v = serde_json::json!({
             "scene": name,
@@ -18,7 +20,9 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
             "stats": {"meshes": s.meshes, "instances": s.instances, "triangles": s.triangles,
                       "unique_triangles": s.unique_triangles, "emissive_triangles": s.emissive_triangles,
                       "lights": s.lights, "directional_lights": scene.directional_lights.len(),
+                      "point_spot_lights": scene.punctual_lights.len(),
                       "textures": s.textures, "materials": scene.materials.len(), "cameras": scene.cameras.len()},
+            "bounds": {"min": lo.to_array(), "max": hi.to_array()},
             "camera": camera.name,
             "warnings": warnings,
         });
@@ -46,10 +50,12 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         println!("triangles  {} ({} unique)", s.triangles, s.unique_triangles);
         println!("emissive   {} triangles", s.emissive_triangles);
         println!(
-            "lights     {} ({} directional)",
+            "lights     {} ({} directional, {} point/spot)",
             s.lights,
-            scene.directional_lights.len()
+            scene.directional_lights.len(),
+            scene.punctual_lights.len()
         );
+        println!("bounds     {lo} .. {hi}");
         println!("textures   {}", s.textures);
         println!("camera     {}", camera.name);
         if warnings.is_empty() {

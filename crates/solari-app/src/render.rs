@@ -98,8 +98,8 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         ..
     } = args.scene.prepare()?;
     let lights = LightList::build(&scene);
-    if lights.report != Default::default() {
-        log::warn!("{name}: lights left out: {:?}", lights.report);
+    for line in lights.report.lines() {
+        log::warn!("{name}: {line}");
     }
     let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .map_err(|e| e.to_string())?;

@@ -114,3 +114,22 @@ fn brdf_model_reaches_the_scene_options() {
         .to_string();
     assert!(err.contains("layered or gltf-spec"), "{err}");
 }
+
+/// `--light-radius` gives point and spot lights a radius (0, delta lights, by default), and
+/// refuses negative or non-finite lengths.
+#[test]
+fn light_radius_is_checked() {
+    let parse = |args: &[&str]| {
+        let argv = [&["solari", "render"], args].concat();
+        Cli::try_parse_from(argv).map(|cli| match cli.command {
+            Command::Render(r) => r.scene.light_radius,
+            _ => panic!("render"),
+        })
+    };
+    assert_eq!(parse(&[]).expect("parses"), 0.0);
+    assert_eq!(parse(&["--light-radius", "0.05"]).expect("parses"), 0.05);
+    for bad in ["-1", "nan", "inf", "ten"] {
+        let err = parse(&["--light-radius", bad]).expect_err(bad).to_string();
+        assert!(err.contains(bad), "{err}");
+    }
+}
