@@ -59,6 +59,7 @@ pub fn tiles(s: &str) -> Result<LightTileSettings, String> {
     Ok(LightTileSettings {
         tiles,
         samples_per_tile,
+        ..Default::default()
     })
 }
 

@@ -28,6 +28,7 @@ fn light_tiles(c: &mut Criterion) {
         LightTileSettings {
             tiles: 4,
             samples_per_tile: 256,
+            ..Default::default()
         }
     };
     let gpu = Gpu::new().expect("a GPU adapter");

@@ -32,6 +32,7 @@ pub fn run(_args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
     let settings = LightTileSettings {
         tiles: 64,
         samples_per_tile: 1024,
+        ..Default::default()
     };
     let tiles = LightTiles::new(&gpu, settings)?;
     // The frame's shared context: index 0, seen from the scene's camera (tiles use the index).

@@ -403,6 +403,12 @@ impl LightList {
         list
     }
 
+    /// Whether the list holds point or spot lights (passes built with
+    /// [`crate::LightTileSettings::point_lights`] off ignore them).
+    pub fn has_point_lights(&self) -> bool {
+        !self.punctual_range().is_empty()
+    }
+
     /// The point and spot lights: `lights[first..first + count]` (they come last).
     pub fn punctual_range(&self) -> std::ops::Range<usize> {
         self.first_punctual as usize..self.lights.len()

@@ -91,6 +91,7 @@ fn presampled_tiles_match_the_cpu_twin_and_packing_keeps_energy() {
     let settings = LightTileSettings {
         tiles: 16,
         samples_per_tile: 256,
+        ..Default::default()
     };
     let tiles = LightTiles::new(&gpu, settings).expect("tiles");
     let mut rng = Pcg32::seed_from_u64(3);
@@ -289,10 +290,12 @@ fn no_lights_skip_the_pass_and_bad_settings_are_refused() {
         LightTileSettings {
             tiles: 0,
             samples_per_tile: 1024,
+            ..Default::default()
         },
         LightTileSettings {
             tiles: 128,
             samples_per_tile: 0,
+            ..Default::default()
         },
     ] {
         assert!(matches!(
@@ -303,6 +306,7 @@ fn no_lights_skip_the_pass_and_bad_settings_are_refused() {
     let huge = LightTileSettings {
         tiles: u32::MAX,
         samples_per_tile: u32::MAX,
+        ..Default::default()
     };
     match LightTiles::new(&gpu, huge) {
         Err(GpuError::OverLimit { .. }) => {}

@@ -420,6 +420,10 @@ impl FrameReport {
 /// The frame loop's passes and the light list they were built for.
 pub struct RealtimeRenderer {
     settings: RealtimeSettings,
+    // The tile settings the light-reading passes were built with: the user's, with point
+    // lights compiled out while the scene has none.
+    tiles_built: LightTileSettings,
+    backend: Backend,
     gbuffer: GBuffer,
     tiles: LightTiles,
     di: RestirDi,
@@ -569,7 +573,15 @@ impl RealtimeRenderer {
             && (created.denoiser.is_some() || upscaling)
             && scene.materials.iter().any(may_be_mirror_metal)
             && enable_overrides(gpu, &mut gbuffer)?;
-        let tiles = LightTiles::new(gpu, settings.tiles)?;
+        let list = LightList::build(scene);
+        for line in list.report.lines() {
+            log::warn!("lights: {line}");
+        }
+        let tiles_built = LightTileSettings {
+            point_lights: settings.tiles.point_lights && list.has_point_lights(),
+            ..settings.tiles
+        };
+        let tiles = LightTiles::new(gpu, tiles_built)?;
         let di = RestirDi::new(
             gpu,
             backend,
@@ -577,7 +589,7 @@ impl RealtimeRenderer {
             width,
             height,
             settings.di,
-            settings.tiles,
+            tiles_built,
         )?;
         let upscaler = if upscaling {
             Some(TemporalUpscaler::new(
@@ -589,10 +601,6 @@ impl RealtimeRenderer {
         } else {
             None
         };
-        let list = LightList::build(scene);
-        for line in list.report.lines() {
-            log::warn!("lights: {line}");
-        }
         let lights = GpuLights::new(gpu, &list, settings.selection)?;
         let lights_group = tiles.reader_group(gpu, &lights);
         let cache = if settings.needs_cache() {
@@ -601,7 +609,7 @@ impl RealtimeRenderer {
                 backend,
                 TraceVariant::for_scene(gpu_scene),
                 settings.cache,
-                settings.tiles,
+                tiles_built,
             )?;
             let target = cache.target_group(gpu, di.output());
             Some((cache, target))
@@ -635,7 +643,7 @@ impl RealtimeRenderer {
                     width,
                     height,
                     settings.specular,
-                    settings.tiles,
+                    tiles_built,
                 )?;
                 // Replacement is bound on the first frame, once the G-buffer has transforms.
                 specular.bind(gpu, cache, di.output(), gi.as_ref().map(|(g, _)| g), None)?;
@@ -671,6 +679,8 @@ impl RealtimeRenderer {
         };
         Ok(Self {
             settings,
+            tiles_built,
+            backend,
             gbuffer,
             tiles,
             di,
@@ -803,23 +813,24 @@ impl RealtimeRenderer {
         );
         let (w, h) = self.di.size();
         let backend = gpu_scene.backend;
+        self.backend = backend;
         if !gbuffer_fits {
             self.gbuffer = GBuffer::traced(gpu, backend, variant, w, h)?;
             if self.psr {
                 self.psr = enable_overrides(gpu, &mut self.gbuffer)?;
             }
         }
-        self.di = RestirDi::new(
-            gpu,
-            backend,
-            variant,
-            w,
-            h,
-            self.settings.di,
-            self.settings.tiles,
-        )?;
+        self.rebuild_light_readers(gpu, variant)
+    }
+
+    // Rebuilds ReSTIR DI, the world cache, GI and specular GI for `variant` and the tile
+    // settings in `tiles_built`; their history goes with them.
+    fn rebuild_light_readers(&mut self, gpu: &Gpu, variant: TraceVariant) -> Result<(), GpuError> {
+        let (w, h) = self.di.size();
+        let (backend, tiles) = (self.backend, self.tiles_built);
+        self.di = RestirDi::new(gpu, backend, variant, w, h, self.settings.di, tiles)?;
         if let Some((cache, target)) = &mut self.cache {
-            *cache = WorldCache::new(gpu, backend, variant, cache.settings(), self.settings.tiles)?;
+            *cache = WorldCache::new(gpu, backend, variant, cache.settings(), tiles)?;
             *target = cache.target_group(gpu, self.di.output());
             if let Some((gi, gi_target)) = &mut self.gi {
                 *gi = RestirGi::new(gpu, backend, variant, w, h, gi.settings(), cache)?;
@@ -827,8 +838,7 @@ impl RealtimeRenderer {
             }
             if let Some(specular) = &mut self.specular {
                 let settings = specular.settings();
-                *specular =
-                    SpecularGi::new(gpu, backend, variant, w, h, settings, self.settings.tiles)?;
+                *specular = SpecularGi::new(gpu, backend, variant, w, h, settings, tiles)?;
             }
         }
         self.bind_specular(gpu)
@@ -863,9 +873,23 @@ impl RealtimeRenderer {
 
     /// Rebuilds the light list from `scene` (after lights were added, removed or changed);
     /// temporal reuse follows surviving lights to their new indices and drops removed ones.
+    /// Passes built while the scene had no point or spot lights have them compiled out; the
+    /// first ones added rebuild those passes (their history goes with them).
     pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
         let list = LightList::build(scene);
+        for line in list.report.lines() {
+            log::warn!("lights: {line}");
+        }
         let translation = list.translation_from(&self.list);
+        if list.has_point_lights()
+            && self.settings.tiles.point_lights
+            && !self.tiles_built.point_lights
+        {
+            log::info!("point or spot lights added: rebuilding the passes that read lights");
+            self.tiles_built.point_lights = true;
+            self.tiles = LightTiles::new(gpu, self.tiles_built)?;
+            self.rebuild_light_readers(gpu, self.di.variant())?;
+        }
         self.lights = GpuLights::new(gpu, &list, self.settings.selection)?;
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
         self.di.set_light_translation(translation);

@@ -111,6 +111,7 @@ fn a_thousand_frames_of_moving_camera_and_changing_lights_stay_finite() {
     small.tiles = LightTileSettings {
         tiles: 4,
         samples_per_tile: 64,
+        ..Default::default()
     };
     let mut renderer =
         RealtimeRenderer::new(&gpu, backend, &variants[0], &uploads[0], 32, 32, small)
@@ -360,4 +361,73 @@ fn gi_settings_change_in_place_and_bad_ones_are_refused() {
     assert_eq!(path.settings().restir_gi, wider);
     let off = c.renderer(settings());
     assert_eq!(off.gi_settings(), None);
+}
+
+/// Point-light code is compiled out while the scene has none (a measured 3.8% of `interior`'s
+/// frame on the H200); the first point light added through `set_lights` rebuilds the passes
+/// that read lights, and its light then reaches the image. A renderer told to leave point
+/// lights out (`LightTileSettings::point_lights` false) ignores them, as documented.
+#[test]
+fn point_lights_added_later_are_rendered() {
+    use solari_scene::model::{PunctualKind, PunctualLight};
+    // A delta bulb: a sphere's area samples, shared by whole workgroups through the tiles,
+    // swing each frame's mean by ±20% (measured), which would hide what this test checks.
+    const FRAMES: u32 = 32;
+    let Some(c) = Cornell::new() else { return };
+    let mut lit = c.scene.clone();
+    let (lo, hi) = lit.bounds();
+    lit.punctual_lights.push(PunctualLight {
+        name: "bulb".into(),
+        kind: PunctualKind::Point,
+        position: lo.lerp(hi, 0.5),
+        direction: Vec3::NEG_Y,
+        intensity: Vec3::splat(0.5 * (hi - lo).length_squared()),
+        range: None,
+        radius: 0.0,
+    });
+    let mean_of = |renderer: &mut RealtimeRenderer, scene: &Scene| {
+        let mut sum = 0.0f64;
+        for _ in 0..FRAMES {
+            renderer
+                .render(&c.gpu, scene, &c.gpu_scene, &c.camera)
+                .expect("frame");
+            let pixels = renderer.read_output(&c.gpu).expect("read back");
+            sum += pixels.iter().map(|p| p[1] as f64).sum::<f64>() / pixels.len() as f64;
+        }
+        sum / FRAMES as f64
+    };
+    let mut renderer = c.renderer(settings());
+    let dark = mean_of(&mut renderer, &c.scene);
+    renderer.set_lights(&c.gpu, &lit).expect("lights");
+    let bright = mean_of(&mut renderer, &lit);
+    assert!(
+        bright > 1.5 * dark,
+        "with the bulb {bright}, without {dark}"
+    );
+    // Built with the bulb from the start: the same light.
+    let mut fresh = RealtimeRenderer::new(
+        &c.gpu,
+        c.backend,
+        &lit,
+        &c.gpu_scene,
+        SIZE,
+        SIZE,
+        settings(),
+    )
+    .expect("renderer");
+    let from_start = mean_of(&mut fresh, &lit);
+    eprintln!(
+        "without the bulb {dark:.4}, added later {bright:.4}, from the start {from_start:.4}"
+    );
+    assert!(
+        (from_start / bright - 1.0).abs() < 0.05,
+        "{from_start} vs {bright}"
+    );
+    // Told to leave point lights out: as dark as without the bulb.
+    let mut without = settings();
+    without.tiles.point_lights = false;
+    let mut off = RealtimeRenderer::new(&c.gpu, c.backend, &lit, &c.gpu_scene, SIZE, SIZE, without)
+        .expect("renderer");
+    let ignored = mean_of(&mut off, &lit);
+    assert!((ignored / dark - 1.0).abs() < 0.05, "{ignored} vs {dark}");
 }

@@ -207,8 +207,9 @@ impl RestirDi {
         let pipeline = |entry: &str, constants: &[(&str, f64)]| {
             pass_pipeline(gpu, backend, &modules, &layouts, entry, constants)
         };
-        let initial = pipeline("restir_di_initial", variant.constants())?;
-        let spatial = pipeline("restir_di_spatial", variant.constants())?;
+        let constants = tiles.constants(variant.constants());
+        let initial = pipeline("restir_di_initial", &constants)?;
+        let spatial = pipeline("restir_di_spatial", &constants)?;
         let emission = pipeline("restir_di_emission", &[])?;
         let params = gpu.uniform_buffer("solari_restir/di_params", &GpuDiParams::zeroed());
         let translation = gpu.storage_buffer(

@@ -244,7 +244,7 @@ impl WorldCache {
                     Some(&layout),
                     Some(&lights_layout),
                 ],
-                variant.constants(),
+                &tiles.constants(variant.constants()),
             )?,
             blend: pipeline("world_cache_blend", own, &[])?,
             gi: pipeline(

@@ -24,6 +24,7 @@ pub fn settings() -> RealtimeSettings {
         tiles: LightTileSettings {
             tiles: 16,
             samples_per_tile: 256,
+            ..Default::default()
         },
         di: RestirDiSettings {
             spatial_radius: 3.0,

@@ -23,6 +23,7 @@ pub fn tile_settings() -> LightTileSettings {
     LightTileSettings {
         tiles: 16,
         samples_per_tile: 256,
+        ..Default::default()
     }
 }
 
