@@ -32,7 +32,8 @@ pub struct GpuLight {
     pub to_light: [f32; 3],
     /// Directional: cosine of the disk's angular radius. Point: the sphere's radius.
     pub cos_radius: f32,
-    /// Kind (0 emissive, 1 directional, 2 point) | 0x100 when double-sided.
+    /// Kind (0 emissive, 1 directional, 2 point) | 0x100 when double-sided | 0x200 with an
+    /// emissive texture.
     pub kind: u32,
     /// Emissive: instance index.
     pub instance: u32,
@@ -114,10 +115,12 @@ pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>)
                     area,
                     radiance,
                     double_sided,
+                    emissive_texture,
                 } => {
                     g.radiance = radiance.into();
                     g.area = area;
-                    g.kind = if double_sided { 0x100 } else { 0 };
+                    g.kind = if double_sided { 0x100 } else { 0 }
+                        | if emissive_texture.is_some() { 0x200 } else { 0 };
                     g.instance = instance;
                     g.first_triangle = first_triangle;
                     g.triangle_count = triangle_count;
@@ -286,4 +289,8 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/light_packing.wesl"),
     ),
     ("light_tiles", include_str!("../shaders/light_tiles.wesl")),
+    (
+        "light_emission",
+        include_str!("../shaders/light_emission.wesl"),
+    ),
 ];

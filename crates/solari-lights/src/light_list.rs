@@ -103,6 +103,10 @@ pub enum Light {
         radiance: Vec3,
         /// Whether it emits from both faces (double-sided material).
         double_sided: bool,
+        /// The material's emissive texture, if any: the GPU's light readers multiply each
+        /// sample's radiance by its texel (`light_emission.wesl`), and the light's power
+        /// counts the texture's mean.
+        emissive_texture: Option<u32>,
     },
     /// A directional light seen as a disk of uniform radiance.
     Directional {
@@ -317,8 +321,14 @@ impl LightList {
                 last.cdf = 1.0;
             }
             let sides = if material.double_sided { 2.0 } else { 1.0 };
-            list.power
-                .push(luminance(material.emissive) * area as f32 * std::f32::consts::PI * sides);
+            let emissive_texture = material
+                .emissive_texture
+                .filter(|t| (*t as usize) < scene.textures.len());
+            let mean =
+                emissive_texture.map_or(Vec3::ONE, |t| scene.textures[t as usize].mean_linear());
+            list.power.push(
+                luminance(material.emissive * mean) * area as f32 * std::f32::consts::PI * sides,
+            );
             list.keys.push(LightKey::Emissive {
                 instance: index as u32,
                 mesh: inst.mesh,
@@ -331,6 +341,7 @@ impl LightList {
                 area: area as f32,
                 radiance: material.emissive,
                 double_sided: material.double_sided,
+                emissive_texture,
             });
         }
         // A directional light's power: its irradiance over the scene's cross-section.

@@ -66,6 +66,10 @@ pub struct ResolvedLightSample {
     /// Whether it is a point or spot light (whose cone [`ResolvedLightSample::toward`] reads
     /// from the light list, as the GPU does).
     pub punctual: bool,
+    /// Emissive: whether the material has an emissive texture. `radiance` is then the
+    /// emissive factor alone: the GPU's light readers multiply in the texel at the sample
+    /// (`light_emission.wesl`); the CPU sampler has no textures.
+    pub textured: bool,
 }
 
 /// The 16-bit cell of a uniform number, and the number at the cell's centre: ids store cells,
@@ -144,6 +148,7 @@ impl LightList {
                 area,
                 radiance,
                 double_sided,
+                emissive_texture,
                 ..
             } => {
                 if triangle >= *triangle_count {
@@ -162,6 +167,7 @@ impl LightList {
                     double_sided: *double_sided,
                     delta: false,
                     punctual: false,
+                    textured: emissive_texture.is_some(),
                 }
             }
             Light::Point {
@@ -186,6 +192,7 @@ impl LightList {
                         double_sided: false,
                         delta: false,
                         punctual: true,
+                        textured: false,
                     }
                 }
                 None => ResolvedLightSample {
@@ -197,6 +204,7 @@ impl LightList {
                     double_sided: false,
                     delta: true,
                     punctual: true,
+                    textured: false,
                 },
             },
             Light::Directional {
@@ -213,6 +221,7 @@ impl LightList {
                     double_sided: false,
                     delta,
                     punctual: false,
+                    textured: false,
                 };
                 let Some((radiance, solid_angle)) = sun_disk(*irradiance, *cos_radius) else {
                     return Some(directional(*to_light, *irradiance, 1.0 / p_select, true));

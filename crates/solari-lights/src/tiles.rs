@@ -7,7 +7,7 @@
 //!
 //! A [`PackedLightSample`] is 32 bytes, two aligned 16-byte loads: position (or direction) and
 //! radiance in full f32, 1/pdf in f32, and the emitter normal octahedrally packed to 14 bits
-//! per axis beside three flags. Solari packs into 24 bytes with rgb9e5 radiance and lost energy
+//! per axis beside four flags. Solari packs into 24 bytes with rgb9e5 radiance and lost energy
 //! until it switched to a log encoding; here the radiance is exact, so the only packing error is
 //! the normal's (≤ 2.7e-4 rad), which moves the cosine at the emitter. Measured on the shared
 //! scenes' tiles: far below the 0.1% of mean contribution allowed (`tests/light_tiles.rs`).
@@ -97,6 +97,7 @@ impl LightTileSettings {
 
 /// Bits per axis of the packed emitter normal.
 pub const PACKED_NORMAL_BITS: u32 = 14;
+const FLAG_TEXTURED: u32 = 1 << 28;
 const FLAG_PUNCTUAL: u32 = 1 << 29;
 const FLAG_SIDED_OR_DELTA: u32 = 1 << 30;
 const FLAG_DIRECTIONAL: u32 = 1 << 31;
@@ -107,8 +108,8 @@ const FLAG_DIRECTIONAL: u32 = 1 << 31;
 pub struct PackedLightSample {
     /// Emissive: world point. Directional: unit direction towards the light.
     pub position: [f32; 3],
-    /// Octahedral normal in bits 0..28; bit 29 point or spot light; bit 30 double-sided
-    /// (emissive) or delta (directional, point); bit 31 directional.
+    /// Octahedral normal in bits 0..28; bit 28 emissive texture; bit 29 point or spot light;
+    /// bit 30 double-sided (emissive) or delta (directional, point); bit 31 directional.
     pub normal_flags: u32,
     /// Emitted radiance (irradiance for a delta light).
     pub radiance: [f32; 3],
@@ -148,6 +149,7 @@ impl PackedLightSample {
                 } else {
                     0
                 }
+                | if r.textured { FLAG_TEXTURED } else { 0 }
         };
         Self {
             position: r.position.into(),
@@ -179,6 +181,7 @@ impl PackedLightSample {
             double_sided: sided_or_delta && !delta,
             delta,
             punctual,
+            textured: self.normal_flags & FLAG_TEXTURED != 0 && !(directional || punctual),
         })
     }
 }

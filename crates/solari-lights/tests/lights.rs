@@ -296,3 +296,61 @@ fn absurd_emission_and_degenerate_points_stay_finite() {
         }
     }
 }
+
+/// A textured emitter's power counts its texture's mean (in linear light), and its samples
+/// are flagged so the GPU's readers multiply in the texel; an out-of-range texture index is
+/// treated as no texture rather than trusted.
+#[test]
+fn emissive_textures_weigh_power_and_flag_samples() {
+    use solari_scene::model::ColorSpace;
+    let mut scene = scene_of(&[
+        (Mat4::from_translation(Vec3::Y), Vec3::splat(2.0)),
+        (
+            Mat4::from_translation(Vec3::new(3.0, 1.0, 0.0)),
+            Vec3::splat(2.0),
+        ),
+    ]);
+    // Half the texels white, half black: a mean of one half.
+    scene
+        .textures
+        .push(solari_scene::textured_scene::procedural_texture(
+            "checker",
+            8,
+            8,
+            ColorSpace::Srgb,
+            |x, y| {
+                if (x + y) % 2 == 0 {
+                    [255; 4]
+                } else {
+                    [0, 0, 0, 255]
+                }
+            },
+        ));
+    scene.materials[0].emissive_texture = Some(0);
+    let list = LightList::build(&scene);
+    assert!(
+        (list.power[0] / list.power[1] - 0.5).abs() < 0.01,
+        "{:?}",
+        list.power
+    );
+    let s = list
+        .resolve(
+            Selection::Uniform,
+            list.generate(Selection::Uniform, [0.1, 0.5, 0.5, 0.5])
+                .unwrap(),
+        )
+        .unwrap();
+    assert!(s.textured);
+    let packed = solari_lights::PackedLightSample::pack(&s).unpack().unwrap();
+    assert!(packed.textured && !packed.punctual);
+    scene.materials[0].emissive_texture = Some(7);
+    let list = LightList::build(&scene);
+    assert_eq!(list.power[0], list.power[1]);
+    assert!(matches!(
+        list.lights[0],
+        Light::Emissive {
+            emissive_texture: None,
+            ..
+        }
+    ));
+}

@@ -217,6 +217,28 @@ fn direct_light_converges_to_the_reference_under_a_soft_sun() {
     check_convergence("sun", &sun_scene());
 }
 
+/// The built-in textured scene without its sky: lit only by the sphere with an emissive
+/// texture, whose texel the DI passes multiply into each light sample. The camera looks away
+/// from that sphere: seen directly, its stripes read the G-buffer's filtered mips against
+/// the reference's point samples, which is texture filtering, not direct light.
+#[test]
+fn direct_light_converges_to_the_reference_under_a_textured_emitter() {
+    let mut scene = solari_scene::textured_scene::textured_spheres();
+    scene.environment_radiance = Vec3::ZERO;
+    scene.cameras = vec![Camera::look_at(
+        "left",
+        Vec3::new(-1.8, 3.2, 2.6),
+        Vec3::new(-1.3, 0.3, 0.0),
+        Vec3::Y,
+        0.75,
+    )];
+    assert!(
+        scene.materials.iter().any(|m| m.emissive_texture.is_some()),
+        "the scene has a textured emitter"
+    );
+    check_convergence("textured_emitter", &scene);
+}
+
 #[test]
 fn direct_light_converges_to_the_reference_under_point_and_spot_lights() {
     check_convergence("point_lights", &point_scene());

@@ -104,6 +104,26 @@ pub fn build_mips(level0: MipLevel, cs: ColorSpace) -> Vec<MipLevel> {
     mips
 }
 
+impl Texture {
+    /// The mean colour of the texture in linear light (RGB), from its smallest mip level,
+    /// which the mip chain averages in linear light: what a light's emitted power needs.
+    pub fn mean_linear(&self) -> glam::Vec3 {
+        let Some(level) = self.mips.last() else {
+            return glam::Vec3::ONE;
+        };
+        let texels = level.rgba8.chunks_exact(4);
+        let n = texels.len().max(1) as f32;
+        let decode = |c: u8| match self.color_space {
+            ColorSpace::Srgb => srgb_to_linear(c),
+            _ => c as f32 / 255.0,
+        };
+        texels
+            .map(|t| glam::Vec3::new(decode(t[0]), decode(t[1]), decode(t[2])))
+            .sum::<glam::Vec3>()
+            / n
+    }
+}
+
 fn srgb_to_linear(c: u8) -> f32 {
     let c = c as f32 / 255.0;
     if c <= 0.04045 {
