@@ -420,6 +420,20 @@ impl LightList {
         !self.punctual_range().is_empty()
     }
 
+    /// Whether an emissive light has an emissive texture (passes built with
+    /// [`crate::LightTileSettings::emissive_textures`] off shade it with its factor alone).
+    pub fn has_emissive_textures(&self) -> bool {
+        self.lights.iter().any(|l| {
+            matches!(
+                l,
+                Light::Emissive {
+                    emissive_texture: Some(_),
+                    ..
+                }
+            )
+        })
+    }
+
     /// The point and spot lights: `lights[first..first + count]` (they come last).
     pub fn punctual_range(&self) -> std::ops::Range<usize> {
         self.first_punctual as usize..self.lights.len()

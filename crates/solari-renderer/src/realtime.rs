@@ -579,6 +579,7 @@ impl RealtimeRenderer {
         }
         let tiles_built = LightTileSettings {
             point_lights: settings.tiles.point_lights && list.has_point_lights(),
+            emissive_textures: settings.tiles.emissive_textures && list.has_emissive_textures(),
             ..settings.tiles
         };
         let tiles = LightTiles::new(gpu, tiles_built)?;
@@ -873,20 +874,27 @@ impl RealtimeRenderer {
 
     /// Rebuilds the light list from `scene` (after lights were added, removed or changed);
     /// temporal reuse follows surviving lights to their new indices and drops removed ones.
-    /// Passes built while the scene had no point or spot lights have them compiled out; the
-    /// first ones added rebuild those passes (their history goes with them).
+    /// Passes built while the scene had no point or spot lights (or no textured emitter)
+    /// have that code compiled out; the first ones added rebuild those passes (their history
+    /// goes with them).
     pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
         let list = LightList::build(scene);
         for line in list.report.lines() {
             log::warn!("lights: {line}");
         }
         let translation = list.translation_from(&self.list);
-        if list.has_point_lights()
-            && self.settings.tiles.point_lights
-            && !self.tiles_built.point_lights
-        {
-            log::info!("point or spot lights added: rebuilding the passes that read lights");
-            self.tiles_built.point_lights = true;
+        let wanted = self.settings.tiles;
+        let points =
+            list.has_point_lights() && wanted.point_lights && !self.tiles_built.point_lights;
+        let textures = list.has_emissive_textures()
+            && wanted.emissive_textures
+            && !self.tiles_built.emissive_textures;
+        if points || textures {
+            log::info!(
+                "point lights or textured emitters added: rebuilding the passes that read lights"
+            );
+            self.tiles_built.point_lights |= points;
+            self.tiles_built.emissive_textures |= textures;
             self.tiles = LightTiles::new(gpu, self.tiles_built)?;
             self.rebuild_light_readers(gpu, self.di.variant())?;
         }

@@ -431,3 +431,54 @@ fn point_lights_added_later_are_rendered() {
     let ignored = mean_of(&mut off, &lit);
     assert!((ignored / dark - 1.0).abs() < 0.05, "{ignored} vs {dark}");
 }
+
+/// The same for emissive textures: a renderer built while the emitter had no texture
+/// compiles the texture read out, and `set_lights` with the textured emitter rebuilds it to
+/// match a renderer built with the texture; told to leave textures out, a renderer shades
+/// with the emissive factor (brighter here: the texture's mean is below 1).
+#[test]
+fn emissive_textures_added_later_are_rendered() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let mut textured = solari_scene::textured_scene::textured_spheres();
+    textured.environment_radiance = Vec3::ZERO;
+    let mut plain = textured.clone();
+    for m in &mut plain.materials {
+        m.emissive_texture = None;
+    }
+    let gpu_scene = upload(&gpu, backend, &textured);
+    let camera = textured.camera(None).expect("camera");
+    let mean_of = |renderer: &mut RealtimeRenderer, scene: &Scene| {
+        let mut sum = 0.0f64;
+        for _ in 0..16 {
+            renderer
+                .render(&gpu, scene, &gpu_scene, &camera)
+                .expect("frame");
+            let pixels = renderer.read_output(&gpu).expect("read back");
+            sum += pixels.iter().map(|p| p[1] as f64).sum::<f64>() / pixels.len() as f64;
+        }
+        sum / 16.0
+    };
+    let new = |scene: &Scene, textures: bool| {
+        let mut s = settings();
+        s.tiles.emissive_textures = textures;
+        RealtimeRenderer::new(&gpu, backend, scene, &gpu_scene, SIZE, SIZE, s).expect("renderer")
+    };
+    let mut later = new(&plain, true);
+    mean_of(&mut later, &plain);
+    later.set_lights(&gpu, &textured).expect("lights");
+    let added = mean_of(&mut later, &textured);
+    let from_start = mean_of(&mut new(&textured, true), &textured);
+    let factor_only = mean_of(&mut new(&textured, false), &textured);
+    eprintln!(
+        "added later {added:.4}, from the start {from_start:.4}, factor only {factor_only:.4}"
+    );
+    assert!(
+        (added / from_start - 1.0).abs() < 0.05,
+        "{added} vs {from_start}"
+    );
+    assert!(
+        factor_only > 1.2 * from_start,
+        "{factor_only} vs {from_start}"
+    );
+}

@@ -207,7 +207,7 @@ impl RestirDi {
         let pipeline = |entry: &str, constants: &[(&str, f64)]| {
             pass_pipeline(gpu, backend, &modules, &layouts, entry, constants)
         };
-        let constants = tiles.constants(variant.constants());
+        let constants = tiles.reader_constants(variant.constants());
         let initial = pipeline("restir_di_initial", &constants)?;
         let spatial = pipeline("restir_di_spatial", &constants)?;
         let emission = pipeline("restir_di_emission", &[])?;

@@ -236,7 +236,7 @@ impl SpecularGi {
             &crate::specular_modules(),
             &layouts,
             "specular_gi",
-            &tiles.constants(variant.constants()),
+            &tiles.reader_constants(variant.constants()),
         )?;
         let params = gpu.uniform_buffer(
             "solari_restir/specular_params",

@@ -244,7 +244,7 @@ impl WorldCache {
                     Some(&layout),
                     Some(&lights_layout),
                 ],
-                &tiles.constants(variant.constants()),
+                &tiles.reader_constants(variant.constants()),
             )?,
             blend: pipeline("world_cache_blend", own, &[])?,
             gi: pipeline(
