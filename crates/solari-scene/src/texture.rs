@@ -105,22 +105,31 @@ pub fn build_mips(level0: MipLevel, cs: ColorSpace) -> Vec<MipLevel> {
 }
 
 impl Texture {
-    /// The mean colour of the texture in linear light (RGB), from its smallest mip level,
-    /// which the mip chain averages in linear light: what a light's emitted power needs.
+    /// The mean colour of the texture in linear light (RGB), over its full-resolution level:
+    /// what a light's emitted power needs. (The smallest mip is that mean too, but stored in
+    /// 8-bit sRGB, 0.6% off for a black-and-white checker.)
     pub fn mean_linear(&self) -> glam::Vec3 {
-        let Some(level) = self.mips.last() else {
+        let Some(level) = self.mips.first() else {
             return glam::Vec3::ONE;
         };
-        let texels = level.rgba8.chunks_exact(4);
-        let n = texels.len().max(1) as f32;
-        let decode = |c: u8| match self.color_space {
-            ColorSpace::Srgb => srgb_to_linear(c),
-            _ => c as f32 / 255.0,
-        };
-        texels
-            .map(|t| glam::Vec3::new(decode(t[0]), decode(t[1]), decode(t[2])))
-            .sum::<glam::Vec3>()
-            / n
+        let lut: [f64; 256] = std::array::from_fn(|c| match self.color_space {
+            ColorSpace::Srgb => srgb_to_linear(c as u8) as f64,
+            _ => c as f64 / 255.0,
+        });
+        let mut sum = [0.0f64; 3];
+        let mut n = 0usize;
+        for t in level.rgba8.chunks_exact(4) {
+            for k in 0..3 {
+                sum[k] += lut[t[k] as usize];
+            }
+            n += 1;
+        }
+        let n = n.max(1) as f64;
+        glam::Vec3::new(
+            (sum[0] / n) as f32,
+            (sum[1] / n) as f32,
+            (sum[2] / n) as f32,
+        )
     }
 }
 
