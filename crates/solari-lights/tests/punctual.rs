@@ -111,6 +111,10 @@ fn spot_cone_edge_follows_the_gltf_falloff() {
     assert_eq!(cone.attenuation(Vec3::NEG_Y), 1.0);
     assert_eq!(cone.attenuation(Vec3::X), 0.0);
     assert_eq!(SpotCone::NONE.attenuation(Vec3::X), 1.0);
+    // Inner above outer (invalid glTF): a hard edge at the outer angle.
+    let hard = SpotCone::new(Vec3::NEG_Y, 0.9, 0.3);
+    let at = |a: f32| hard.attenuation(Vec3::new(a.sin(), -a.cos(), 0.0));
+    assert_eq!((at(0.0), at(0.29), at(0.31)), (1.0, 1.0, 0.0));
 }
 
 /// MIS needs the pdf of a BRDF ray's hit on a sphere light to be the pdf light sampling gives

@@ -517,3 +517,51 @@ fn point_and_spot_lights_are_imported_for_rendering() {
         s.warnings.lines()
     );
 }
+
+/// Bad light input (issue 19): a negative or overflowing intensity is refused with the
+/// light named; a zero range and a spot whose inner angle exceeds its outer one are imported
+/// as given (the range is not used and warned about; `solari_lights::SpotCone` clamps the
+/// angles to glTF's 0 ≤ inner ≤ outer ≤ π/2).
+#[test]
+fn bad_point_light_input_is_refused_or_documented() {
+    let with_light = |light: Value| {
+        let mut v = doc(&TRI, &[0, 1, 2]);
+        v["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+        v["extensions"] = json!({"KHR_lights_punctual": {"lights": [light]}});
+        v["scenes"][0]["nodes"] = json!([0, 1]);
+        v["nodes"] = json!([{"mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}}]);
+        v
+    };
+    for intensity in [json!(-2.0), json!(1e39)] {
+        let v = with_light(json!({"type": "point", "name": "lamp", "intensity": intensity}));
+        let msg = match import_json(&v) {
+            Err(e) => e.to_string(),
+            Ok(s) => panic!("intensity {intensity} imported: {:?}", s.punctual_lights),
+        };
+        assert!(
+            msg.contains("lamp") && msg.contains("finite and non-negative"),
+            "{msg}"
+        );
+    }
+    let v = with_light(json!({"type": "point", "intensity": 1.0, "range": 0.0}));
+    match import_json(&v) {
+        Ok(s) => {
+            assert_eq!(s.punctual_lights.len(), 1);
+            assert_eq!(s.warnings.ignored_light_ranges, 1);
+        }
+        // glTF requires range > 0: a parser that refuses it must say so.
+        Err(e) => assert!(e.to_string().contains("range"), "{e}"),
+    }
+    let v = with_light(json!({"type": "spot", "intensity": 1.0,
+        "spot": {"innerConeAngle": 0.9, "outerConeAngle": 0.3}}));
+    match import_json(&v) {
+        Ok(s) => assert!(matches!(
+            s.punctual_lights[0].kind,
+            model::PunctualKind::Spot { inner, outer } if inner == 0.9 && outer == 0.3
+        )),
+        Err(e) => assert!(
+            e.to_string().contains("Angle") || e.to_string().contains("cone"),
+            "{e}"
+        ),
+    }
+}
