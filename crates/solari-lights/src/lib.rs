@@ -39,6 +39,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod alias;
+pub mod analytic;
 pub mod gpu;
 pub mod light_list;
 pub mod sample;

@@ -3,9 +3,12 @@
 // `!(x > 0.0)` is deliberate: it rejects NaN along with non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod common;
+
 use glam::{Mat4, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
+use solari_lights::analytic::polygon_irradiance;
 use solari_lights::{AliasTable, LIGHT_GONE, Light, LightList, Selection};
 use solari_scene::{DirectionalLight, Instance, Material, Mesh, Scene};
 
@@ -50,37 +53,9 @@ fn scene_of(quads: &[(Mat4, Vec3)]) -> Scene {
     scene
 }
 
-/// Irradiance at `x` (normal `n`) from a uniformly bright convex polygon `poly` of radiance
-/// `l` facing `x`: Lambert's formula, E = L/2 Σ θᵢ (n · ĉᵢ).
-fn polygon_irradiance(x: Vec3, n: Vec3, poly: &[Vec3], l: f32) -> f32 {
-    let mut sum = 0.0;
-    for i in 0..poly.len() {
-        let a = (poly[i] - x).normalize();
-        let b = (poly[(i + 1) % poly.len()] - x).normalize();
-        let theta = a.dot(b).clamp(-1.0, 1.0).acos();
-        sum += theta * n.dot(a.cross(b).normalize());
-    }
-    0.5 * l * sum.abs()
-}
-
-/// Monte Carlo irradiance at `x` with normal `n` by light sampling: mean and standard error.
+/// Light-sampling irradiance estimate (seed 17, as these tests were tuned with).
 fn estimate(list: &LightList, sel: Selection, x: Vec3, n: Vec3, samples: usize) -> (f64, f64) {
-    let mut rng = Pcg32::seed_from_u64(17);
-    let (mut s1, mut s2) = (0.0f64, 0.0f64);
-    for _ in 0..samples {
-        let u = [rng.random(), rng.random(), rng.random(), rng.random()];
-        let v = list
-            .sample(sel, x, u)
-            .map(|s| (s.radiance.x * n.dot(s.direction).max(0.0) / s.pdf) as f64)
-            .unwrap_or(0.0);
-        s1 += v;
-        s2 += v * v;
-    }
-    let m = s1 / samples as f64;
-    (
-        m,
-        ((s2 / samples as f64 - m * m).max(0.0) / samples as f64).sqrt(),
-    )
+    common::estimate(list, sel, x, n, samples, 17)
 }
 
 #[test]
@@ -196,7 +171,7 @@ fn area_light_irradiance_matches_the_analytic_answer() {
         for sel in [Selection::Uniform, Selection::Power] {
             let (e, se) = estimate(&list, sel, x, n, 200_000);
             assert!(
-                (e - exact as f64).abs() < 4.0 * se + 2e-3 * exact as f64,
+                (e - exact).abs() < 4.0 * se + 2e-3 * exact,
                 "{sel:?} at {x}: estimate {e:.5} ± {se:.5}, exact {exact:.5}"
             );
         }
@@ -302,7 +277,6 @@ fn absurd_emission_and_degenerate_points_stay_finite() {
 /// treated as no texture rather than trusted.
 #[test]
 fn emissive_textures_weigh_power_and_flag_samples() {
-    use solari_scene::model::ColorSpace;
     let mut scene = scene_of(&[
         (Mat4::from_translation(Vec3::Y), Vec3::splat(2.0)),
         (
@@ -313,19 +287,7 @@ fn emissive_textures_weigh_power_and_flag_samples() {
     // Half the texels white, half black: a mean of one half.
     scene
         .textures
-        .push(solari_scene::textured_scene::procedural_texture(
-            "checker",
-            8,
-            8,
-            ColorSpace::Srgb,
-            |x, y| {
-                if (x + y) % 2 == 0 {
-                    [255; 4]
-                } else {
-                    [0, 0, 0, 255]
-                }
-            },
-        ));
+        .push(solari_scene::textured_scene::checker_texture("checker", 8));
     scene.materials[0].emissive_texture = Some(0);
     let list = LightList::build(&scene);
     assert!(

@@ -1,5 +1,7 @@
 //! Point and spot lights (delta and sphere) against analytic answers, and their bad inputs.
 
+mod common;
+
 use glam::Vec3;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
@@ -26,24 +28,9 @@ fn list_of(lights: Vec<PunctualLight>) -> LightList {
     })
 }
 
-/// Light-sampled irradiance (red channel) at `x` with normal `n`: mean and standard error.
+/// Light-sampling irradiance estimate, power selection (seed 5).
 fn estimate(list: &LightList, x: Vec3, n: Vec3, samples: usize) -> (f64, f64) {
-    let mut rng = Pcg32::seed_from_u64(5);
-    let (mut s1, mut s2) = (0.0f64, 0.0f64);
-    for _ in 0..samples {
-        let u = [rng.random(), rng.random(), rng.random(), rng.random()];
-        let v = list
-            .sample(Selection::Power, x, u)
-            .map(|s| (s.radiance.x * n.dot(s.direction).max(0.0) / s.pdf) as f64)
-            .unwrap_or(0.0);
-        s1 += v;
-        s2 += v * v;
-    }
-    let m = s1 / samples as f64;
-    (
-        m,
-        ((s2 / samples as f64 - m * m).max(0.0) / samples as f64).sqrt(),
-    )
+    common::estimate(list, Selection::Power, x, n, samples, 5)
 }
 
 /// A point light delivers E = I cos θ / d². So does a sphere of any radius wholly above the

@@ -9,9 +9,10 @@
 //! that is not what is sampled: at a silhouette they can face away from a point that sees the
 //! triangle's front, and the estimate would be biased by the difference.
 
+mod common;
+
 use glam::{Mat4, Vec3};
-use rand::{Rng, SeedableRng};
-use rand_pcg::Pcg32;
+use solari_lights::analytic::polygon_irradiance;
 use solari_lights::{Light, LightList, Selection};
 use solari_scene::{Instance, Material, Scene};
 
@@ -35,27 +36,6 @@ fn sphere_light(segments: u32, rings: u32, centre: Vec3, radius: f32, l: f32) ->
     }
 }
 
-/// Irradiance at `x` (normal `n`) from a triangle of radiance `l` that faces `x`: Lambert's
-/// formula E = L/2 Σ θᵢ (n · ĉᵢ) (zero for one facing away: the emitter is one-sided). In f64,
-/// with θ from atan2: acos of a dot product near 1 loses the small angles of fine meshes.
-fn triangle_irradiance(x: Vec3, n: Vec3, tri: [Vec3; 3], l: f64) -> f64 {
-    let (x, n) = (x.as_dvec3(), n.as_dvec3());
-    let tri = tri.map(|p| p.as_dvec3());
-    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
-    if normal.dot(x - tri[0]) <= 0.0 {
-        return 0.0;
-    }
-    let mut sum = 0.0f64;
-    for i in 0..3 {
-        let a = (tri[i] - x).normalize();
-        let b = (tri[(i + 1) % 3] - x).normalize();
-        let c = a.cross(b);
-        let theta = c.length().atan2(a.dot(b));
-        sum += theta * n.dot(c.normalize());
-    }
-    0.5 * l * sum.abs()
-}
-
 #[test]
 fn tessellated_sphere_light_matches_lambert_and_approaches_the_sphere() {
     let (centre, radius, l) = (Vec3::new(0.3, 2.0, -0.2), 0.5f32, 3.0f32);
@@ -73,10 +53,10 @@ fn tessellated_sphere_light_matches_lambert_and_approaches_the_sphere() {
         let m = scene.instances[0].transform;
         let exact: f64 = (0..mesh.triangle_count())
             .map(|t| {
-                triangle_irradiance(
+                polygon_irradiance(
                     x,
                     n,
-                    mesh.triangle(t).map(|p| m.transform_point3(p)),
+                    &mesh.triangle(t).map(|p| m.transform_point3(p)),
                     l as f64,
                 )
             })
@@ -87,19 +67,8 @@ fn tessellated_sphere_light_matches_lambert_and_approaches_the_sphere() {
         let sphere = std::f64::consts::PI * l as f64 * r_eff * r_eff * (to.y / to.length())
             / to.length_squared();
         // Light sampling's estimate.
-        let mut rng = Pcg32::seed_from_u64(segments as u64);
-        let samples = 1_000_000;
-        let (mut s1, mut s2) = (0.0f64, 0.0f64);
-        for _ in 0..samples {
-            let u = [rng.random(), rng.random(), rng.random(), rng.random()];
-            let v = list.sample(Selection::Power, x, u).map_or(0.0, |s| {
-                (s.radiance.x * n.dot(s.direction).max(0.0) / s.pdf) as f64
-            });
-            s1 += v;
-            s2 += v * v;
-        }
-        let mean = s1 / samples as f64;
-        let se = ((s2 / samples as f64 - mean * mean).max(0.0) / samples as f64).sqrt();
+        let (mean, se) =
+            common::estimate(&list, Selection::Power, x, n, 1_000_000, segments as u64);
         let gap = (exact / sphere - 1.0).abs();
         eprintln!(
             "{segments}x{rings}: estimate {mean:.5} ± {se:.5}, Lambert {exact:.5}, sphere of equal \

@@ -6,6 +6,7 @@
 //! weighted right, for the sum to come out).
 
 use glam::{Vec3, Vec4};
+use solari_lights::analytic::polygon_irradiance;
 use solari_lights::{Selection, SpotCone};
 use solari_reference::path_tracer::{ReferenceImage, ReferenceSettings};
 use solari_scene::Scene;
@@ -136,24 +137,6 @@ fn point(position: Vec3, radius: f32, kind: PunctualKind) -> PunctualLight {
     }
 }
 
-/// Irradiance at `x` (normal `n`) from a one-sided triangle of radiance `l`: Lambert's
-/// formula in f64 (θ by atan2, which keeps the small angles of fine meshes).
-fn triangle_irradiance(x: Vec3, n: Vec3, tri: [Vec3; 3], l: f64) -> f64 {
-    let (x, n) = (x.as_dvec3(), n.as_dvec3());
-    let tri = tri.map(|p| p.as_dvec3());
-    if (tri[1] - tri[0]).cross(tri[2] - tri[0]).dot(x - tri[0]) <= 0.0 {
-        return 0.0;
-    }
-    let mut sum = 0.0f64;
-    for i in 0..3 {
-        let a = (tri[i] - x).normalize();
-        let b = (tri[(i + 1) % 3] - x).normalize();
-        let c = a.cross(b);
-        sum += c.length().atan2(a.dot(b)) * n.dot(c.normalize());
-    }
-    0.5 * l * sum.abs()
-}
-
 /// An emissive uv-sphere (64 × 32) of radius 0.5 over the floor: the image against Lambert's
 /// formula over its triangles (which is within 0.02% of a sphere of equal area,
 /// `solari-lights/tests/sphere_mesh.rs`). Light sampling picks flat triangles and BRDF rays
@@ -200,7 +183,7 @@ fn tessellated_sphere_light_on_a_plane() {
         .map(|x| {
             let e: f64 = triangles
                 .iter()
-                .map(|t| triangle_irradiance(*x, Vec3::Y, *t, l as f64))
+                .map(|t| polygon_irradiance(*x, Vec3::Y, t, l as f64))
                 .sum();
             ALBEDO as f64 / std::f64::consts::PI * e
         })
@@ -217,7 +200,6 @@ fn tessellated_sphere_light_on_a_plane() {
 /// holds to well under 1% here.
 #[test]
 fn emissive_textured_quad_gives_its_mean_power() {
-    use solari_scene::model::ColorSpace;
     let mut scene = floor_scene(point(Vec3::ZERO, 0.0, PunctualKind::Point));
     scene.punctual_lights.clear();
     let (h, half, factor) = (1.6f32, 0.25f32, 4.0f32);
@@ -243,19 +225,7 @@ fn emissive_textured_quad_gives_its_mean_power() {
     });
     scene
         .textures
-        .push(solari_scene::textured_scene::procedural_texture(
-            "checker",
-            8,
-            8,
-            ColorSpace::Srgb,
-            |x, y| {
-                if (x + y) % 2 == 0 {
-                    [255; 4]
-                } else {
-                    [0, 0, 0, 255]
-                }
-            },
-        ));
+        .push(solari_scene::textured_scene::checker_texture("checker", 8));
     scene.materials.push(Material {
         name: "panel".into(),
         emissive: Vec3::splat(factor),
@@ -274,17 +244,10 @@ fn emissive_textured_quad_gives_its_mean_power() {
     let points = floor_points(&scene);
     let mean = scene.textures[0].mean_linear().x;
     assert!((mean - 0.5).abs() < 1e-3, "{mean}");
-    let tris = [
-        [corners[0], corners[1], corners[2]],
-        [corners[0], corners[2], corners[3]],
-    ];
     let want: Vec<f64> = points
         .iter()
         .map(|x| {
-            let e: f64 = tris
-                .iter()
-                .map(|t| triangle_irradiance(*x, Vec3::Y, *t, (factor * mean) as f64))
-                .sum();
+            let e = polygon_irradiance(*x, Vec3::Y, &corners, (factor * mean) as f64);
             ALBEDO as f64 / std::f64::consts::PI * e
         })
         .collect();

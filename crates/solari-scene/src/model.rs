@@ -16,7 +16,7 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     /// Directional lights (`KHR_lights_punctual` type `directional`).
     pub directional_lights: Vec<DirectionalLight>,
-    /// Point and spot lights: imported, not yet rendered (reported as a warning).
+    /// Point and spot lights (`KHR_lights_punctual` types `point` and `spot`).
     pub punctual_lights: Vec<PunctualLight>,
     /// Cameras in document order.
     pub cameras: Vec<Camera>,

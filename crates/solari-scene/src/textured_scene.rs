@@ -41,6 +41,18 @@ pub fn procedural_texture(
     }
 }
 
+/// An `n × n` sRGB checker of white and black texels, alternating (for even `n`, half of
+/// each: a mean of exactly 0.5 in linear light), with its mip chain.
+pub fn checker_texture(name: &str, n: u32) -> Texture {
+    procedural_texture(name, n, n, ColorSpace::Srgb, |x, y| {
+        if (x + y) % 2 == 0 {
+            [255; 4]
+        } else {
+            [0, 0, 0, 255]
+        }
+    })
+}
+
 /// A unit UV sphere (`segments` around, `rings` from pole to pole) with MikkTSpace tangents.
 pub fn uv_sphere(name: &str, segments: u32, rings: u32) -> Mesh {
     let mut positions = Vec::new();

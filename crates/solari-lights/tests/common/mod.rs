@@ -1,8 +1,13 @@
-//! Shared by the GPU tests of this crate: the test scenes and a case kernel (one input and one
-//! output storage buffer in group 2, the lights in group 3).
+//! Shared by the tests of this crate: the test scenes, a case kernel (one input and one
+//! output storage buffer in group 2, the lights in group 3), and the light-sampling
+//! irradiance estimator the analytic tests use.
+// Not every test file uses every helper.
+#![allow(dead_code)]
 
 use glam::Vec3;
-use solari_lights::MODULES;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg32;
+use solari_lights::{LightList, MODULES, Selection};
 use solari_scene::gpu::Gpu;
 use solari_scene::model::{PunctualKind, PunctualLight};
 use solari_scene::shaders::{Backend, compose};
@@ -102,4 +107,32 @@ impl CaseKernel {
         let groups = [Some(&self.empty), Some(&self.empty), None, Some(group3)];
         self.kernel.run(gpu, &groups, cases).expect("dispatch")
     }
+}
+
+/// Irradiance (red channel) at `x` on a surface with normal `n`, estimated by `samples` light
+/// samples drawn with `selection` from a stream seeded by `seed`: the mean and its standard
+/// error.
+pub fn estimate(
+    list: &LightList,
+    selection: Selection,
+    x: Vec3,
+    n: Vec3,
+    samples: usize,
+    seed: u64,
+) -> (f64, f64) {
+    let mut rng = Pcg32::seed_from_u64(seed);
+    let (mut s1, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..samples {
+        let u = [rng.random(), rng.random(), rng.random(), rng.random()];
+        let v = list.sample(selection, x, u).map_or(0.0, |s| {
+            (s.radiance.x * n.dot(s.direction).max(0.0) / s.pdf) as f64
+        });
+        s1 += v;
+        s2 += v * v;
+    }
+    let m = s1 / samples as f64;
+    (
+        m,
+        ((s2 / samples as f64 - m * m).max(0.0) / samples as f64).sqrt(),
+    )
 }
