@@ -13,6 +13,15 @@ fn settings(args: &[&str]) -> RealtimeSettings {
     r.realtime.settings(FrameView::Lit).expect("valid settings")
 }
 
+/// `solari render ARGS`'s scene options, or clap's error.
+fn scene_args(args: &[&str]) -> Result<solari_app::cli::SceneArgs, clap::Error> {
+    let argv = [&["solari", "render"], args].concat();
+    Cli::try_parse_from(argv).map(|cli| match cli.command {
+        Command::Render(r) => r.scene,
+        _ => panic!("render"),
+    })
+}
+
 fn di(args: &[&str]) -> (bool, bool) {
     let s = settings(args);
     (s.di.temporal, s.di.spatial)
@@ -96,13 +105,7 @@ fn psr_and_gi_candidates_reach_the_settings() {
 #[test]
 fn brdf_model_reaches_the_scene_options() {
     use solari_scene::brdf::BrdfModel;
-    let parse = |args: &[&str]| {
-        let argv = [&["solari", "render"], args].concat();
-        Cli::try_parse_from(argv).map(|cli| match cli.command {
-            Command::Render(r) => r.scene.brdf,
-            _ => panic!("render"),
-        })
-    };
+    let parse = |args: &[&str]| scene_args(args).map(|s| s.brdf);
     assert_eq!(parse(&[]).expect("parses"), BrdfModel::default());
     assert_eq!(BrdfModel::default(), BrdfModel::Layered);
     assert_eq!(
@@ -119,13 +122,7 @@ fn brdf_model_reaches_the_scene_options() {
 /// refuses negative or non-finite lengths.
 #[test]
 fn light_radius_is_checked() {
-    let parse = |args: &[&str]| {
-        let argv = [&["solari", "render"], args].concat();
-        Cli::try_parse_from(argv).map(|cli| match cli.command {
-            Command::Render(r) => r.scene.light_radius,
-            _ => panic!("render"),
-        })
-    };
+    let parse = |args: &[&str]| scene_args(args).map(|s| s.light_radius);
     assert_eq!(parse(&[]).expect("parses"), 0.0);
     assert_eq!(parse(&["--light-radius", "0.05"]).expect("parses"), 0.05);
     for bad in ["-1", "nan", "inf", "ten"] {
