@@ -135,6 +135,30 @@ pub enum Light {
 }
 
 impl Light {
+    /// The nearest front-facing hit of the ray `o + t d` (`d` unit) on this sphere light,
+    /// within (0, `t_max`); `None` for a miss, a ray from inside (the far side faces away: the
+    /// emitter is one-sided), a delta point light or another kind. Solved about the projection
+    /// of the centre on the ray, which keeps precision for small spheres far away. WGSL twin:
+    /// `sphere_light_hit` in `light_sampling.wesl`, which the reference tracer's BRDF rays use.
+    pub fn sphere_hit(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<f32> {
+        let Light::Point {
+            position, radius, ..
+        } = *self
+        else {
+            return None;
+        };
+        self.sphere()?;
+        let oc = position - o;
+        let b = oc.dot(d);
+        let off = oc - b * d;
+        let h2 = radius * radius - off.dot(off);
+        if !(h2 > 0.0) {
+            return None;
+        }
+        let t = b - h2.sqrt();
+        (t > 0.0 && t < t_max).then_some(t)
+    }
+
     /// A sphere light's surface radiance (`intensity / (π r²)`), and its area `4π r²`; `None`
     /// for a delta point light and for other kinds.
     pub fn sphere(&self) -> Option<(Vec3, f32)> {

@@ -117,6 +117,109 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
     }
 }
 
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct HitCase {
+    o: [f32; 3],
+    light: u32,
+    d: [f32; 3],
+    t_max: f32,
+}
+
+/// `sphere_light_hit` (the reference tracer's BRDF rays against sphere lights) matches its
+/// Rust twin `Light::sphere_hit` on rays aimed near and past the spheres, from outside and
+/// inside, for every light of the test scenes (emissive, suns and delta points never hit).
+#[test]
+fn gpu_sphere_hits_match_the_cpu_twin() {
+    let Some(gpu) = test_gpu() else { return };
+    let kernel = CaseKernel::new(
+        &gpu,
+        "sphere_hit_test",
+        include_str!("../shaders/sphere_hit_test.wesl"),
+        &GpuLights::layout(&gpu),
+    );
+    let mut rng = Pcg32::seed_from_u64(12);
+    for (name, scene) in scenes() {
+        let list = LightList::build(&scene);
+        let gpu_lights = GpuLights::new(&gpu, &list, Selection::Power).expect("lights");
+        let (lo, hi) = scene.bounds();
+        let cases: Vec<HitCase> = (0..4000)
+            .map(|_| {
+                let light = rng.random_range(0..list.len() as u32);
+                let mut r = || rng.random_range(-0.2f32..1.2);
+                let mut o = lo + (hi - lo) * Vec3::new(r(), r(), r());
+                // One in ten rays starts inside its sphere: the far side faces away.
+                if let Light::Point { position, .. } = list.lights[light as usize]
+                    && rng.random_bool(0.1)
+                {
+                    o = position;
+                }
+                // Towards the light's centre, spread so some rays miss or graze.
+                let target = match list.lights[light as usize] {
+                    Light::Point {
+                        position, radius, ..
+                    } => {
+                        position
+                            + Vec3::new(rng.random(), rng.random(), rng.random()) * 2.5 * radius
+                            - Vec3::splat(1.25 * radius)
+                    }
+                    _ => lo.lerp(hi, 0.5),
+                };
+                let d = (target - o).normalize_or(Vec3::Y);
+                let t_max = if rng.random_bool(0.2) {
+                    rng.random_range(0.0..(hi - lo).length())
+                } else {
+                    3.4e38
+                };
+                HitCase {
+                    o: o.into(),
+                    light,
+                    d: d.into(),
+                    t_max,
+                }
+            })
+            .collect();
+        let results: Vec<f32> = kernel.run(&gpu, &gpu_lights.bind_group, &cases);
+        let (mut hits, mut bad) = (0, Vec::new());
+        for (c, t) in cases.iter().zip(results) {
+            let cpu = list.lights[c.light as usize].sphere_hit(c.o.into(), c.d.into(), c.t_max);
+            let ok = match cpu {
+                None => t < 0.0,
+                Some(want) => (t - want).abs() <= 1e-4 * want.max(1e-3),
+            };
+            // The twin itself: the hit lies on the sphere, on the side facing the ray.
+            if let (
+                Some(t),
+                Light::Point {
+                    position, radius, ..
+                },
+            ) = (cpu, &list.lights[c.light as usize])
+            {
+                let y = Vec3::from(c.o) + Vec3::from(c.d) * t;
+                assert!(((y - *position).length() - radius).abs() <= 1e-4 * radius.max(1.0));
+                assert!(
+                    (y - *position).dot(c.d.into()) < 0.0,
+                    "{c:?} hit from behind"
+                );
+            }
+            hits += cpu.is_some() as u32;
+            if !ok {
+                bad.push(format!("{c:?}: cpu {cpu:?} gpu {t}"));
+            }
+        }
+        eprintln!(
+            "{name}: {} cases, {hits} hits, {} mismatches",
+            cases.len(),
+            bad.len()
+        );
+        // Rays that graze a sphere within float noise may flip between hit and miss.
+        assert!(bad.len() <= 4, "{name}: {:#?}", &bad[..bad.len().min(3)]);
+        if list.lights.iter().any(|l| l.sphere().is_some()) {
+            assert!(hits > 100, "{name}: only {hits} hits");
+        }
+    }
+}
+
 /// naga's size of every named struct in entry module `entry` (names without WESL's prefix).
 fn wgsl_sizes(entry: &str, extra: &[(&str, &str)]) -> std::collections::HashMap<String, u32> {
     let extra: Vec<(&str, &str)> = MODULES.iter().chain(extra).copied().collect();
