@@ -133,6 +133,15 @@ pub struct SceneArgs {
     /// hard shadows (glTF's definition), a radius as glowing spheres with soft shadows.
     #[arg(long, default_value = "0", value_name = "METRES", value_parser = values::metres)]
     pub light_radius: f32,
+    /// An equirectangular HDR environment map (.hdr or .exr; +Y up, the image's centre
+    /// towards -Z) lighting the scene from every direction; replaces the scene's uniform
+    /// environment. Larger than 4096 texels wide it is reduced; over 16384 x 8192 refused.
+    #[arg(long, value_name = "FILE.hdr|FILE.exr")]
+    pub environment: Option<PathBuf>,
+    /// Factor on the environment map's radiance. With no map it scales the scene's uniform
+    /// environment, or sets a uniform one of this radiance where the scene has none.
+    #[arg(long, value_name = "FACTOR", value_parser = values::intensity)]
+    pub environment_intensity: Option<f32>,
     /// The folder the scene's buffer and image URIs may reach (default: the scene's own
     /// folder; URIs never leave it).
     #[arg(long)]
@@ -165,6 +174,9 @@ impl SceneArgs {
         if let Some(p) = &self.scene {
             check_input(p, "SCENE")?;
         }
+        if let Some(p) = &self.environment {
+            check_input(p, "--environment")?;
+        }
         if let Some(root) = &self.asset_root
             && !root.is_dir()
         {
@@ -173,8 +185,33 @@ impl SceneArgs {
         self.tracer().map(drop)
     }
 
-    /// Loads the scene (or generates it, or the built-in one).
+    /// Loads the scene (or generates it, or the built-in one), with `--environment`.
     pub fn load(&self) -> Result<(String, Scene), String> {
+        let (name, mut scene) = self.load_scene()?;
+        if let Some(path) = &self.environment {
+            let map = solari_scene::EnvironmentMap::load(path, &Default::default())
+                .map_err(|e| e.to_string())?;
+            log::info!(
+                "{}: {} x {} environment map, mean radiance {:.3}",
+                path.display(),
+                map.width(),
+                map.height(),
+                map.mean_radiance()
+            );
+            scene.environment_map = Some(std::sync::Arc::new(map));
+            scene.environment_radiance = glam::Vec3::ONE;
+        }
+        if let Some(k) = self.environment_intensity {
+            if scene.environment_map.is_some() || scene.environment_radiance == glam::Vec3::ZERO {
+                scene.environment_radiance = glam::Vec3::splat(k);
+            } else {
+                scene.environment_radiance *= k;
+            }
+        }
+        Ok((name, scene))
+    }
+
+    fn load_scene(&self) -> Result<(String, Scene), String> {
         if let Some((rocks, triangles)) = self.generated {
             let scene = solari_scene::generated_scene::rock_field(rocks, triangles)
                 .map_err(|e| format!("--generated: {e}"))?;

@@ -83,6 +83,19 @@ pub fn metres(s: &str) -> Result<f32, String> {
     }
 }
 
+/// An environment intensity: finite, not negative, at most `MAX_RADIANCE`.
+pub fn intensity(s: &str) -> Result<f32, String> {
+    let v = finite(s)?;
+    if (0.0..=solari_scene::MAX_RADIANCE).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{s}: must be within [0, {:e}]",
+            solari_scene::MAX_RADIANCE
+        ))
+    }
+}
+
 /// Exposure in stops: finite, within ±64.
 pub fn exposure(s: &str) -> Result<f32, String> {
     let v = finite(s)?;

@@ -23,6 +23,8 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         brdf: Default::default(),
         // Point lights have no surface a camera sees.
         light_radius: 0.0,
+        environment: None,
+        environment_intensity: None,
         asset_root: None,
     };
     let Prepared {

@@ -130,3 +130,51 @@ fn light_radius_is_checked() {
         assert!(err.contains(bad), "{err}");
     }
 }
+
+#[test]
+fn environment_options_are_checked_and_applied() {
+    let parse = |args: &[&str]| scene_args(args).map(|s| s.environment_intensity);
+    assert_eq!(parse(&[]).expect("parses"), None);
+    assert_eq!(
+        parse(&["--environment-intensity", "2.5"]).expect("parses"),
+        Some(2.5)
+    );
+    for bad in ["-1", "nan", "inf", "1e12", "bright"] {
+        let err = parse(&["--environment-intensity", bad])
+            .expect_err(bad)
+            .to_string();
+        assert!(err.contains(bad), "{err}");
+    }
+    // No map: the built-in scene's uniform environment (black) becomes the intensity.
+    let args = scene_args(&["--environment-intensity", "0.25"]).expect("parses");
+    let (_, scene) = args.load().expect("loads");
+    assert_eq!(scene.environment_radiance, glam::Vec3::splat(0.25));
+    assert!(scene.environment_map.is_none());
+    // A map: read, and scaled by the intensity.
+    let dir = std::env::temp_dir().join(format!("solari-cli-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("sky.exr");
+    image::Rgb32FImage::from_pixel(8, 4, image::Rgb([1.0, 2.0, 3.0]))
+        .save_with_format(&path, image::ImageFormat::OpenExr)
+        .unwrap();
+    let env = path.to_str().unwrap();
+    let args = scene_args(&["--environment", env, "--environment-intensity", "2"]).unwrap();
+    args.check().expect("the file exists");
+    let (_, scene) = args.load().expect("loads");
+    assert_eq!(
+        scene.environment(glam::Vec3::X),
+        glam::Vec3::new(2.0, 4.0, 6.0)
+    );
+    // A missing or corrupt map is an error that names the file.
+    let missing = dir.join("missing.hdr");
+    let args = scene_args(&["--environment", missing.to_str().unwrap()]).unwrap();
+    assert!(args.check().unwrap_err().contains("missing.hdr"));
+    let corrupt = dir.join("corrupt.exr");
+    std::fs::write(&corrupt, b"not an exr").unwrap();
+    let args = scene_args(&["--environment", corrupt.to_str().unwrap()]).unwrap();
+    let err = args.load().unwrap_err();
+    assert!(
+        err.contains("corrupt.exr") && err.contains("environment map"),
+        "{err}"
+    );
+}

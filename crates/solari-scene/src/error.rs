@@ -54,6 +54,14 @@ pub enum SceneError {
         /// The panic's message.
         message: String,
     },
+    /// An environment map file is missing, unreadable, corrupt, not HDR or too large.
+    #[error("{file}: environment map: {reason}")]
+    Environment {
+        /// The image file.
+        file: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The glTF JSON or GLB container is malformed.
     #[error("{file}: not a valid glTF file: {source}")]
     Gltf {

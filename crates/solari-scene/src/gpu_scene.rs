@@ -50,6 +50,7 @@ const BINDINGS: &[(u32, &str)] = &[
     (9, "bvh_triangles"),
     (10, "tlas_instances"),
     (11, "brdf_energy"),
+    (12, "environment_map"),
 ];
 
 enum Accel {
@@ -79,6 +80,7 @@ pub struct GpuScene {
     linear: wgpu::TextureView,
     sampler: wgpu::Sampler,
     brdf_energy: wgpu::TextureView,
+    environment: wgpu::TextureView,
     info: wgpu::Buffer,
     accel: Accel,
     mesh_offsets: Vec<(u32, u32)>,
@@ -115,10 +117,15 @@ impl GpuScene {
         .iter()
         .map(|b| b.size())
         .sum::<u64>();
-        let textures: u64 = [&self.srgb, &self.linear, &self.brdf_energy]
-            .iter()
-            .map(|v| crate::gpu::texture_bytes(v.texture()))
-            .sum();
+        let textures: u64 = [
+            &self.srgb,
+            &self.linear,
+            &self.brdf_energy,
+            &self.environment,
+        ]
+        .iter()
+        .map(|v| crate::gpu::texture_bytes(v.texture()))
+        .sum();
         let accel = match &self.accel {
             Accel::RayQuery { .. } => 0,
             Accel::Software {
@@ -179,8 +186,9 @@ impl GpuScene {
             }),
             Backend::Software => entries.extend([storage(8), storage(9), storage(10)]),
         }
-        entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 11,
+        // Read with textureLoad (filtered by hand, as the CPU twins do).
+        let unfiltered = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
             visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
             ty: wgpu::BindingType::Texture {
                 sample_type: wgpu::TextureSampleType::Float { filterable: false },
@@ -188,7 +196,8 @@ impl GpuScene {
                 multisampled: false,
             },
             count: None,
-        });
+        };
+        entries.extend([unfiltered(11), unfiltered(12)]);
         debug_assert!(
             entries
                 .iter()
@@ -291,8 +300,9 @@ impl GpuScene {
             mipmap_filter: wgpu::MipmapFilterMode::Linear,
             ..Default::default()
         });
+        let (environment, environment_scale) = upload_environment(gpu, scene);
         let info_data = GpuSceneInfo {
-            environment_radiance: scene.environment_radiance.into(),
+            environment_radiance: (scene.environment_radiance * environment_scale).into(),
             instance_count: scene.instances.len() as u32,
             tlas_root: 0,
             texture_layer_size: layer_size,
@@ -362,6 +372,7 @@ impl GpuScene {
             linear,
             sampler,
             brdf_energy: upload_energy_table(gpu),
+            environment,
             info,
             accel,
             mesh_offsets,
@@ -514,10 +525,16 @@ impl GpuScene {
                 ..
             } => entries.extend([buf(8, nodes), buf(9, triangles), buf(10, tlas_instances)]),
         }
-        entries.push(wgpu::BindGroupEntry {
-            binding: 11,
-            resource: wgpu::BindingResource::TextureView(&self.brdf_energy),
-        });
+        entries.extend([
+            wgpu::BindGroupEntry {
+                binding: 11,
+                resource: wgpu::BindingResource::TextureView(&self.brdf_energy),
+            },
+            wgpu::BindGroupEntry {
+                binding: 12,
+                resource: wgpu::BindingResource::TextureView(&self.environment),
+            },
+        ]);
         self.bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_scene/scene"),
             layout: &self.layout,
@@ -790,6 +807,80 @@ fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
         size,
     );
     texture.create_view(&Default::default())
+}
+
+/// Half floats stop at 65504: maps brighter than this are stored divided by a scale, which
+/// multiplies `GpuSceneInfo::environment_radiance` instead.
+const ENVIRONMENT_HALF_MAX: f32 = 60000.0;
+
+/// The environment map as an RGBA16F texture (one texel of 1 for a uniform environment) and
+/// the factor its texels were divided by.
+fn upload_environment(gpu: &Gpu, scene: &Scene) -> (wgpu::TextureView, f32) {
+    let uniform;
+    let map = match &scene.environment_map {
+        Some(map) => map.as_ref(),
+        None => {
+            uniform = crate::environment::EnvironmentMap::uniform(glam::Vec3::ONE)
+                .expect("one texel is a valid map");
+            &uniform
+        }
+    };
+    // Over the device's texture limit (only with a raised `EnvironmentOptions::max_width`):
+    // halved until it fits, as the loader does.
+    let limit = gpu.device.limits().max_texture_dimension_2d;
+    let reduced;
+    let map = if map.width() > limit || map.height() > limit {
+        let mut m = map.halved();
+        while m.width() > limit || m.height() > limit {
+            m = m.halved();
+        }
+        log::warn!(
+            "environment map reduced from {} x {} to {} x {} texels: the device's limit is {limit}",
+            map.width(),
+            map.height(),
+            m.width(),
+            m.height()
+        );
+        reduced = m;
+        &reduced
+    } else {
+        map
+    };
+    let scale = (map.max_component() / ENVIRONMENT_HALF_MAX).max(1.0);
+    let texels: Vec<u16> = map
+        .texels()
+        .iter()
+        .flat_map(|t| {
+            let t = *t / scale;
+            [t.x, t.y, t.z, 0.0].map(|c| half::f16::from_f32(c).to_bits())
+        })
+        .collect();
+    let size = wgpu::Extent3d {
+        width: map.width(),
+        height: map.height(),
+        depth_or_array_layers: 1,
+    };
+    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("solari_scene/environment_map"),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba16Float,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(map.width() * 8),
+            rows_per_image: Some(map.height()),
+        },
+        size,
+    );
+    (texture.create_view(&Default::default()), scale)
 }
 
 /// How a pipeline's software traversal is specialised for the scene it traces.

@@ -156,6 +156,18 @@ impl GpuView {
         }
     }
 
+    /// The unnormalized direction of the ray through `pixel` (in pixels from the top left,
+    /// jitter added): the twin of `view_ray_direction` in `view.wesl`.
+    pub fn ray_direction(&self, pixel: glam::Vec2) -> glam::Vec3 {
+        use glam::Vec3;
+        let size = glam::Vec2::new(self.width as f32, self.height as f32);
+        let p = pixel + glam::Vec2::from(self.jitter);
+        let ndc = glam::Vec2::new(p.x / size.x * 2.0 - 1.0, 1.0 - p.y / size.y * 2.0);
+        Vec3::from(self.forward)
+            + Vec3::from(self.right) * (ndc.x * self.tan_half_fov * self.aspect)
+            + Vec3::from(self.up) * (ndc.y * self.tan_half_fov)
+    }
+
     /// This view with its samples moved `jitter` pixels from the pixel centres
     /// ([`GpuView::jitter`]).
     pub fn with_jitter(self, jitter: [f32; 2]) -> Self {

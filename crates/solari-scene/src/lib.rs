@@ -19,6 +19,7 @@ pub mod brdf;
 pub mod bvh;
 pub mod case_kernel;
 pub mod default_scene;
+pub mod environment;
 pub mod error;
 pub mod finite_check;
 pub mod gbuffer;
@@ -49,6 +50,7 @@ pub mod validate;
 pub mod view_pass;
 
 pub use asset_io::ImportLimits;
+pub use environment::{EnvironmentMap, EnvironmentOptions};
 pub use error::{GpuError, SceneError};
 pub use gltf_import::{ImportOptions, import_slice, load_gltf, load_gltf_with};
 pub use model::*;

@@ -20,8 +20,13 @@ pub struct Scene {
     pub punctual_lights: Vec<PunctualLight>,
     /// Cameras in document order.
     pub cameras: Vec<Camera>,
-    /// A uniform environment radiance (black by default). Set by `render_setup.json`.
+    /// The environment's radiance (black by default; set by `render_setup.json` or the
+    /// application): uniform on its own, or the factor on [`Scene::environment_map`].
     pub environment_radiance: Vec3,
+    /// An equirectangular environment map, if any: radiance from direction `d` is
+    /// `environment_radiance * map.radiance(d)` ([`Scene::environment`]). Shared, since maps are
+    /// large and scenes are cloned.
+    pub environment_map: Option<std::sync::Arc<crate::environment::EnvironmentMap>>,
     /// Everything import dropped or does not render yet.
     pub warnings: ImportWarnings,
 }
@@ -408,6 +413,15 @@ pub struct SceneStats {
 }
 
 impl Scene {
+    /// Radiance arriving from unit direction `d` when nothing is hit: the uniform
+    /// environment, or the map times its factor.
+    pub fn environment(&self, d: Vec3) -> Vec3 {
+        match &self.environment_map {
+            Some(map) => self.environment_radiance * map.radiance(d),
+            None => self.environment_radiance,
+        }
+    }
+
     /// Counts of what the scene holds.
     pub fn stats(&self) -> SceneStats {
         let mut s = SceneStats {

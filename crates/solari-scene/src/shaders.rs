@@ -50,6 +50,7 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/gbuffer_write.wesl"),
     ),
     ("finite_check", include_str!("../shaders/finite_check.wesl")),
+    ("environment", include_str!("../shaders/environment.wesl")),
     (
         "gbuffer_override",
         include_str!("../shaders/gbuffer_override.wesl"),
