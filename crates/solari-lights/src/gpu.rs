@@ -18,6 +18,26 @@ pub const LIGHT_BINDINGS: BufferGroup = BufferGroup::new(
     ],
 );
 
+/// Binding 6 of group 3 (`light_sampling.wesl`): the environment's sampling distribution,
+/// after the tiles' bindings 4–5.
+pub const ENVIRONMENT_BINDINGS: BufferGroup =
+    BufferGroup::new(3, 6, &[("environment_cells", Buf::Read)]);
+
+/// WGSL twin: `GpuEnvironmentCell` in `light_sampling.wesl`: one cell of
+/// [`crate::environment::EnvironmentDistribution`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct GpuEnvironmentCell {
+    /// Probability of the cell.
+    pub pmf: f32,
+    /// Alias-table slot: probability of keeping this cell.
+    pub threshold: f32,
+    /// Alias-table slot: the cell taken otherwise.
+    pub alias_index: u32,
+}
+
+const _: () = assert!(size_of::<GpuEnvironmentCell>() == 12);
+
 /// WGSL twin: `GpuLight` in `light_sampling.wesl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -32,7 +52,7 @@ pub struct GpuLight {
     pub to_light: [f32; 3],
     /// Directional: cosine of the disk's angular radius. Point: the sphere's radius.
     pub cos_radius: f32,
-    /// Kind (0 emissive, 1 directional, 2 point) | 0x100 when double-sided | 0x200 with an
+    /// Kind (0 emissive, 1 directional, 2 point, 3 environment) | 0x100 when double-sided | 0x200 with an
     /// emissive texture.
     pub kind: u32,
     /// Emissive: instance index.
@@ -89,9 +109,17 @@ pub struct GpuLightInfo {
     pub first_punctual: u32,
     /// Number of sphere lights among them that a BRDF ray can hit (0: none to test).
     pub sphere_count: u32,
+    /// Index of the environment light, or `u32::MAX` for none.
+    pub environment_light: u32,
+    /// The environment distribution's cells across.
+    pub environment_cells_x: u32,
+    /// Its cells down.
+    pub environment_cells_y: u32,
+    /// Padding.
+    pub _pad: u32,
 }
 
-const _: () = assert!(size_of::<GpuLightInfo>() == 16);
+const _: () = assert!(size_of::<GpuLightInfo>() == 32);
 
 /// The GPU form of a [`LightList`], flattened for upload.
 pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>) {
@@ -138,6 +166,12 @@ pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>)
                     g.radiance = radiance.into();
                     g.area = solid_angle;
                 }
+                Light::Environment { .. } => {
+                    // The factor lives in the scene's `environment_radiance`, which the GPU's
+                    // `environment_radiance(d)` applies with the map.
+                    g.kind = 3;
+                    g.radiance = [1.0; 3];
+                }
                 Light::Point {
                     position,
                     radius,
@@ -181,7 +215,7 @@ pub struct GpuLights {
     pub bind_group: wgpu::BindGroup,
     /// Number of lights (0: passes that need lights can skip).
     pub light_count: u32,
-    buffers: [wgpu::Buffer; 4],
+    buffers: [wgpu::Buffer; 5],
 }
 
 impl GpuLights {
@@ -200,15 +234,22 @@ impl GpuLights {
             })
     }
 
-    /// Bindings 0–3 of group 3 ([`LIGHT_BINDINGS`]), for layouts that extend it (light
-    /// tiles).
+    /// Bindings 0–3 and 6 of group 3 ([`LIGHT_BINDINGS`], [`ENVIRONMENT_BINDINGS`]), for
+    /// layouts that extend it (light tiles).
     pub fn layout_entries(stages: wgpu::ShaderStages) -> Vec<wgpu::BindGroupLayoutEntry> {
-        LIGHT_BINDINGS.layout_entries(stages)
+        let mut entries = LIGHT_BINDINGS.layout_entries(stages);
+        entries.extend(ENVIRONMENT_BINDINGS.layout_entries(stages));
+        entries
     }
 
-    /// The buffers behind bindings 0–3, in binding order.
-    pub fn buffers(&self) -> &[wgpu::Buffer; 4] {
+    /// The buffers behind bindings 0–3 and 6, in binding order.
+    pub fn buffers(&self) -> &[wgpu::Buffer; 5] {
         &self.buffers
+    }
+
+    /// The bind-group entries of bindings 0–3 and 6, for groups that extend them.
+    pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
+        entries_of(&self.buffers)
     }
 
     /// Uploads `list` for sampling with `selection`.
@@ -244,6 +285,27 @@ impl GpuLights {
             bytemuck::cast_slice(&instance_lights),
             empty,
         )?;
+        let env = list.environment.as_ref();
+        let cells: Vec<GpuEnvironmentCell> = match env {
+            Some(e) => e
+                .distribution
+                .table
+                .pmf
+                .iter()
+                .zip(&e.distribution.table.entries)
+                .map(|(&pmf, a)| GpuEnvironmentCell {
+                    pmf,
+                    threshold: a.threshold,
+                    alias_index: a.alias,
+                })
+                .collect(),
+            None => vec![GpuEnvironmentCell::zeroed()],
+        };
+        let cell_buf = gpu.storage_buffer(
+            "solari_lights/environment_cells",
+            bytemuck::cast_slice(&cells),
+            empty,
+        )?;
         let info = GpuLightInfo {
             light_count: lights.len() as u32,
             selection: match selection {
@@ -255,26 +317,38 @@ impl GpuLights {
                 .iter()
                 .filter(|l| l.sphere().is_some())
                 .count() as u32,
+            environment_light: env.map_or(u32::MAX, |e| e.light),
+            environment_cells_x: env.map_or(0, |e| e.distribution.cells_x),
+            environment_cells_y: env.map_or(0, |e| e.distribution.cells_y),
+            _pad: 0,
         };
         let info_buf = gpu.uniform_buffer("solari_lights/info", &info);
         let layout = Self::layout(gpu);
+        let buffers = [light_buf, tri_buf, info_buf, map_buf, cell_buf];
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_lights/lights"),
             layout: &layout,
-            entries: &LIGHT_BINDINGS.entries(&[
-                ("lights", &light_buf),
-                ("emissive_triangles", &tri_buf),
-                ("light_info", &info_buf),
-                ("instance_lights", &map_buf),
-            ]),
+            entries: &entries_of(&buffers),
         });
         Ok(Self {
             layout,
             bind_group,
             light_count: info.light_count,
-            buffers: [light_buf, tri_buf, info_buf, map_buf],
+            buffers,
         })
     }
+}
+
+fn entries_of(buffers: &[wgpu::Buffer; 5]) -> Vec<wgpu::BindGroupEntry<'_>> {
+    let [lights, triangles, info, instances, cells] = buffers;
+    let mut entries = LIGHT_BINDINGS.entries(&[
+        ("lights", lights),
+        ("emissive_triangles", triangles),
+        ("light_info", info),
+        ("instance_lights", instances),
+    ]);
+    entries.extend(ENVIRONMENT_BINDINGS.entries(&[("environment_cells", cells)]));
+    entries
 }
 
 /// The crate's WESL modules, registered as `package::<name>` when passed to

@@ -40,16 +40,17 @@
 
 pub mod alias;
 pub mod analytic;
+pub mod environment;
 pub mod gpu;
 pub mod light_list;
 pub mod sample;
 pub mod tiles;
 
 pub use alias::{AliasEntry, AliasTable};
-pub use gpu::{GpuLights, LIGHT_BINDINGS, MODULES};
+pub use gpu::{ENVIRONMENT_BINDINGS, GpuLights, LIGHT_BINDINGS, MODULES};
 pub use light_list::{
-    EmissiveTriangle, LIGHT_GONE, Light, LightKey, LightList, LightListReport, Selection, SpotCone,
-    sun_disk,
+    EmissiveTriangle, EnvironmentLight, LIGHT_GONE, Light, LightKey, LightList, LightListReport,
+    Selection, SpotCone, sun_disk,
 };
 pub use sample::{LightSample, LightSampleId, ResolvedLightSample, unshadowed_contribution};
 pub use tiles::{

@@ -27,6 +27,8 @@ pub enum LightKey {
         /// Index into `Scene::directional_lights`.
         index: u32,
     },
+    /// The environment map (there is at most one).
+    Environment,
     /// A point or spot light, by index into `Scene::punctual_lights`.
     Punctual {
         /// Index into `Scene::punctual_lights`.
@@ -116,6 +118,12 @@ pub enum Light {
         irradiance: Vec3,
         /// Cosine of the disk's angular radius; 1 for a delta (zero-size) light.
         cos_radius: f32,
+    },
+    /// The environment map, importance-sampled by [`LightList::environment`]: radiance from
+    /// direction `d` is `radiance × map(d)`.
+    Environment {
+        /// The factor on the map (`Scene::environment_radiance`).
+        radiance: Vec3,
     },
     /// A point or spot light: a delta light at `position` when `radius` is 0, else a sphere
     /// whose outward-facing surface has uniform radiance `intensity / (π radius²)`, which gives
@@ -276,6 +284,17 @@ impl LightListReport {
     }
 }
 
+/// A sampled environment: its map and the distribution directions are drawn from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvironmentLight {
+    /// Index of [`Light::Environment`] in [`LightList::lights`].
+    pub light: u32,
+    /// The map (shared with the scene).
+    pub map: std::sync::Arc<solari_scene::EnvironmentMap>,
+    /// Its importance-sampling distribution.
+    pub distribution: crate::environment::EnvironmentDistribution,
+}
+
 /// Every light of a scene that can contribute, with both selection distributions.
 #[derive(Clone, Debug, Default)]
 pub struct LightList {
@@ -293,6 +312,8 @@ pub struct LightList {
     pub report: LightListReport,
     /// Index of the first point or spot light (they follow every other light).
     pub first_punctual: u32,
+    /// The environment, when it is a light ([`Scene::environment_is_light`]).
+    pub environment: Option<EnvironmentLight>,
 }
 
 impl LightList {
@@ -395,6 +416,27 @@ impl LightList {
                 to_light: -dir,
                 irradiance: light.irradiance,
                 cos_radius: radius_angle.cos(),
+            });
+        }
+        // The environment map: its irradiance on a surface facing the whole sky (π times its
+        // mean radiance) over the scene's cross-section, as for a directional light.
+        if scene.environment_is_light()
+            && let Some(map) = &scene.environment_map
+            && let Some(distribution) = crate::environment::EnvironmentDistribution::new(map)
+        {
+            let mean = scene.environment_radiance * map.mean_radiance();
+            list.power.push(
+                (luminance(mean) * std::f32::consts::PI * std::f32::consts::PI * radius * radius)
+                    .min(f32::MAX),
+            );
+            list.keys.push(LightKey::Environment);
+            list.environment = Some(EnvironmentLight {
+                light: list.lights.len() as u32,
+                map: map.clone(),
+                distribution,
+            });
+            list.lights.push(Light::Environment {
+                radiance: scene.environment_radiance,
             });
         }
         list.first_punctual = list.lights.len() as u32;

@@ -35,7 +35,8 @@ pub struct LightSampleId {
     /// Index of the light in the [`LightList`].
     pub light: u32,
     /// Emissive: triangle index within the light (relative to its first triangle, so it
-    /// survives other lights being added or removed). Directional and point: 0.
+    /// survives other lights being added or removed). Environment: the distribution's cell.
+    /// Directional and point: 0.
     pub triangle: u32,
     /// The two numbers that place the point (or direction), as 16-bit cells: low half first.
     pub point: u32,
@@ -70,6 +71,10 @@ pub struct ResolvedLightSample {
     /// emissive factor alone: the GPU's light readers multiply in the texel at the sample
     /// (`light_emission.wesl`); the CPU sampler has no textures.
     pub textured: bool,
+    /// The environment map (a direction, like a directional light): `radiance` is 1, and the
+    /// map's radiance along the direction is multiplied in where the sample is seen (by
+    /// [`ResolvedLightSample::toward`] on the CPU, by the light readers on the GPU).
+    pub environment: bool,
 }
 
 /// The 16-bit cell of a uniform number, and the number at the cell's centre: ids store cells,
@@ -127,6 +132,10 @@ impl LightList {
                     [*first_triangle as usize..(*first_triangle + *triangle_count) as usize];
                 tris.partition_point(|t| t.cdf < u[1]).min(tris.len() - 1) as u32
             }
+            Light::Environment { .. } => match &self.environment {
+                Some(env) => env.distribution.pick(u[1]),
+                None => 0,
+            },
             Light::Directional { .. } | Light::Point { .. } => 0,
         };
         Some((index, triangle))
@@ -168,6 +177,26 @@ impl LightList {
                     delta: false,
                     punctual: false,
                     textured: emissive_texture.is_some(),
+                    environment: false,
+                }
+            }
+            Light::Environment { .. } => {
+                let env = self.environment.as_ref()?;
+                if triangle >= env.distribution.cell_count() {
+                    return None;
+                }
+                let pdf = env.distribution.pdf_in_cell(triangle, point);
+                ResolvedLightSample {
+                    position: env.distribution.direction(triangle, point),
+                    normal: Vec3::ZERO,
+                    radiance: Vec3::ONE,
+                    inverse_pdf: 1.0 / (pdf * p_select),
+                    directional: true,
+                    double_sided: false,
+                    delta: false,
+                    punctual: false,
+                    textured: false,
+                    environment: true,
                 }
             }
             Light::Point {
@@ -193,6 +222,7 @@ impl LightList {
                         delta: false,
                         punctual: true,
                         textured: false,
+                        environment: false,
                     }
                 }
                 None => ResolvedLightSample {
@@ -205,6 +235,7 @@ impl LightList {
                     delta: true,
                     punctual: true,
                     textured: false,
+                    environment: false,
                 },
             },
             Light::Directional {
@@ -222,6 +253,7 @@ impl LightList {
                     delta,
                     punctual: false,
                     textured: false,
+                    environment: false,
                 };
                 let Some((radiance, solid_angle)) = sun_disk(*irradiance, *cos_radius) else {
                     return Some(directional(*to_light, *irradiance, 1.0 / p_select, true));
@@ -238,6 +270,18 @@ impl LightList {
             }
         };
         (resolved.inverse_pdf > 0.0 && resolved.inverse_pdf.is_finite()).then_some(resolved)
+    }
+
+    /// Solid-angle pdf with which [`LightList::sample`] would have produced the unit
+    /// direction `d` on the environment (0 when the environment is not a light): the other
+    /// half of MIS where a BRDF sample escapes the scene.
+    pub fn environment_pdf(&self, selection: Selection, d: Vec3) -> f32 {
+        match &self.environment {
+            Some(env) => {
+                self.selection_pdf(selection, env.light as usize) * env.distribution.pdf(d)
+            }
+            None => 0.0,
+        }
     }
 
     /// Solid-angle pdf with which [`LightList::sample`] would have produced the point `y` with
@@ -279,11 +323,22 @@ impl ResolvedLightSample {
     /// point.
     pub fn toward(&self, list: &LightList, light: u32, x: Vec3) -> Option<LightSample> {
         if self.directional {
+            let radiance = match (&list.environment, self.environment) {
+                (Some(env), true) => {
+                    let factor = match list.lights.get(light as usize) {
+                        Some(Light::Environment { radiance }) => *radiance,
+                        _ => return None,
+                    };
+                    self.radiance * factor * env.map.radiance(self.position)
+                }
+                (None, true) => return None,
+                _ => self.radiance,
+            };
             return Some(LightSample {
                 light,
                 direction: self.position,
                 distance: f32::INFINITY,
-                radiance: self.radiance,
+                radiance,
                 pdf: 1.0 / self.inverse_pdf,
                 delta: self.delta,
             });

@@ -68,6 +68,11 @@ pub struct LightTileSettings {
     /// H200 without any textured emitter), and they then shade with the emissive factor.
     /// `RealtimeRenderer` turns it off by itself for scenes without textured emitters.
     pub emissive_textures: bool,
+    /// Whether the environment map is sampled as a light (default true). False compiles
+    /// its code out of the presampling pass and every pass built with these settings,
+    /// which then ignore it as a light. `RealtimeRenderer` turns it off by itself for
+    /// scenes whose environment is not a light (`Scene::environment_is_light`).
+    pub environment: bool,
 }
 
 impl Default for LightTileSettings {
@@ -77,6 +82,7 @@ impl Default for LightTileSettings {
             samples_per_tile: 1024,
             point_lights: true,
             emissive_textures: true,
+            environment: true,
         }
     }
 }
@@ -85,6 +91,8 @@ impl Default for LightTileSettings {
 const POINT_LIGHTS_OFF: &[(&str, f64)] = &[("7110", 0.0)];
 /// Pipeline-overridable constant `LIGHTS_TEXTURED` (`@id(7111)` in `light_emission.wesl`).
 const EMISSIVE_TEXTURES_OFF: &[(&str, f64)] = &[("7111", 0.0)];
+/// Pipeline-overridable constant `LIGHTS_ENVIRONMENT` (`@id(7112)` in `light_sampling.wesl`).
+const ENVIRONMENT_OFF: &[(&str, f64)] = &[("7112", 0.0)];
 
 impl LightTileSettings {
     /// The pipeline constants that specialise a shader importing `light_sampling` for these
@@ -93,6 +101,9 @@ impl LightTileSettings {
         let mut c = base.to_vec();
         if !self.point_lights {
             c.extend_from_slice(POINT_LIGHTS_OFF);
+        }
+        if !self.environment {
+            c.extend_from_slice(ENVIRONMENT_OFF);
         }
         c
     }
@@ -115,6 +126,8 @@ impl LightTileSettings {
 
 /// Bits per axis of the packed emitter normal.
 pub const PACKED_NORMAL_BITS: u32 = 14;
+// Directional records have no normal: bit 27 marks the environment's.
+const FLAG_ENVIRONMENT: u32 = 1 << 27;
 const FLAG_TEXTURED: u32 = 1 << 28;
 const FLAG_PUNCTUAL: u32 = 1 << 29;
 const FLAG_SIDED_OR_DELTA: u32 = 1 << 30;
@@ -126,7 +139,8 @@ const FLAG_DIRECTIONAL: u32 = 1 << 31;
 pub struct PackedLightSample {
     /// Emissive: world point. Directional: unit direction towards the light.
     pub position: [f32; 3],
-    /// Octahedral normal in bits 0..28; bit 28 emissive texture; bit 29 point or spot light;
+    /// Octahedral normal in bits 0..28 (directional: bit 27 marks the environment); bit 28
+    /// emissive texture; bit 29 point or spot light;
     /// bit 30 double-sided (emissive) or delta (directional, point); bit 31 directional.
     pub normal_flags: u32,
     /// Emitted radiance (irradiance for a delta light).
@@ -152,7 +166,9 @@ impl PackedLightSample {
     /// Packs a resolved sample (the GPU does the same, bit for bit).
     pub fn pack(r: &ResolvedLightSample) -> Self {
         let flags = if r.directional {
-            FLAG_DIRECTIONAL | if r.delta { FLAG_SIDED_OR_DELTA } else { 0 }
+            FLAG_DIRECTIONAL
+                | if r.delta { FLAG_SIDED_OR_DELTA } else { 0 }
+                | if r.environment { FLAG_ENVIRONMENT } else { 0 }
         } else if r.punctual {
             FLAG_PUNCTUAL
                 | if r.delta {
@@ -200,6 +216,7 @@ impl PackedLightSample {
             delta,
             punctual,
             textured: self.normal_flags & FLAG_TEXTURED != 0 && !(directional || punctual),
+            environment: directional && self.normal_flags & FLAG_ENVIRONMENT != 0,
         })
     }
 }
@@ -382,13 +399,7 @@ impl LightTiles {
     /// Bind group 3 for tile readers (see [`LightTiles::reader_layout`]). Rebuild it when the
     /// light list is re-uploaded.
     pub fn reader_group(&self, gpu: &Gpu, lights: &GpuLights) -> wgpu::BindGroup {
-        let [lights_buf, triangles, info, instances] = lights.buffers();
-        let mut entries = crate::LIGHT_BINDINGS.entries(&[
-            ("lights", lights_buf),
-            ("emissive_triangles", triangles),
-            ("light_info", info),
-            ("instance_lights", instances),
-        ]);
+        let mut entries = lights.entries();
         entries.extend(TILE_BINDINGS.entries(&[
             ("light_tile_samples", &self.samples),
             ("light_tile_ids", &self.ids),

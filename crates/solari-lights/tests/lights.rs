@@ -316,3 +316,69 @@ fn emissive_textures_weigh_power_and_flag_samples() {
         }
     ));
 }
+
+/// The environment map as a light: irradiance estimated by light sampling alone (its
+/// importance distribution, selection against a sun) equals a quadrature of the map, for a
+/// map with a small hot spot that BRDF sampling would rarely find.
+#[test]
+fn environment_sampling_is_unbiased() {
+    let (w, h) = (64, 32);
+    let texels = (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            if (20..22).contains(&x) && (5..7).contains(&y) {
+                Vec3::new(2000.0, 1500.0, 1000.0)
+            } else {
+                Vec3::new(0.3 + 0.02 * (x % 7) as f32, 0.5, 0.9)
+            }
+        })
+        .collect();
+    let map = solari_scene::EnvironmentMap::new(w, h, texels).unwrap();
+    let mut scene = solari_scene::Scene {
+        environment_radiance: Vec3::splat(0.7),
+        environment_map: Some(std::sync::Arc::new(map)),
+        ..Default::default()
+    };
+    scene
+        .directional_lights
+        .push(solari_scene::DirectionalLight {
+            name: "sun".into(),
+            direction: Vec3::new(0.2, -1.0, 0.1).normalize(),
+            irradiance: Vec3::splat(3.0),
+            angular_diameter: 0.0,
+        });
+    let list = LightList::build(&scene);
+    assert_eq!(list.len(), 2);
+    assert!(list.environment.is_some());
+    for n in [Vec3::Y, Vec3::new(1.0, 0.5, -0.3).normalize()] {
+        // Quadrature over the sphere of radiance × max(cos, 0), plus the sun.
+        let (nt, np) = (1024, 2048);
+        let mut expected = 0.0f64;
+        for i in 0..nt {
+            let theta = (i as f64 + 0.5) / nt as f64 * std::f64::consts::PI;
+            for j in 0..np {
+                let phi = (j as f64 + 0.5) / np as f64 * std::f64::consts::TAU;
+                let d = Vec3::new(
+                    (theta.sin() * phi.cos()) as f32,
+                    theta.cos() as f32,
+                    (theta.sin() * phi.sin()) as f32,
+                );
+                let cos = d.dot(n).max(0.0) as f64;
+                let dw = theta.sin()
+                    * (std::f64::consts::PI / nt as f64)
+                    * (std::f64::consts::TAU / np as f64);
+                expected += scene.environment(d).x as f64 * cos * dw;
+            }
+        }
+        let sun = scene.directional_lights[0].clone();
+        expected += 3.0 * (-sun.direction).dot(n).max(0.0) as f64;
+        for selection in [Selection::Uniform, Selection::Power] {
+            let (mean, se) = common::estimate(&list, selection, Vec3::ZERO, n, 400_000, 11);
+            eprintln!("n {n} {selection:?}: {mean:.3} ± {se:.3}, quadrature {expected:.3}");
+            assert!(
+                (mean - expected).abs() < 4.0 * se + 2e-3 * expected,
+                "n {n} {selection:?}: {mean} ± {se} against {expected}"
+            );
+        }
+    }
+}

@@ -43,7 +43,21 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
         &GpuLights::layout(&gpu),
     );
     let mut rng = Pcg32::seed_from_u64(8);
-    for (name, scene) in scenes() {
+    // The Cornell box under an environment map with a hot spot.
+    let mut sky = solari_scene::default_scene::cornell_box();
+    let texels = (0..32 * 16)
+        .map(|i| match i {
+            70 | 71 => Vec3::new(400.0, 300.0, 200.0),
+            _ => Vec3::new(0.2, 0.4, 1.0) * (1.0 + (i % 32) as f32 / 8.0),
+        })
+        .collect();
+    let map = solari_scene::EnvironmentMap::new(32, 16, texels).expect("map");
+    sky.environment_map = Some(std::sync::Arc::new(map));
+    sky.environment_radiance = Vec3::splat(0.5);
+    let scenes = scenes()
+        .into_iter()
+        .chain([("cornell_box+sky".to_string(), sky)]);
+    for (name, scene) in scenes {
         let list = LightList::build(&scene);
         let (lo, hi) = scene.bounds();
         for selection in [Selection::Uniform, Selection::Power] {
@@ -75,8 +89,17 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                             && (r.flags >> 1 == 1) == s.delta
                             && (Vec3::from(r.direction) - s.direction).abs().max_element() < 1e-4
                             && rel(r.distance, s.distance, 1e-4)
-                            && (0..3).all(|i| rel(r.radiance[i], s.radiance[i], 1e-5))
                             && rel(r.pdf, s.pdf, 1e-3);
+                        // The GPU leaves the environment's radiance to the light readers.
+                        let environment = list.environment.as_ref().map(|e| e.light);
+                        let radiance = if environment == Some(s.light) {
+                            let p = list.environment_pdf(selection, s.direction);
+                            ok &= rel(r.emissive_pdf, p, 1e-3);
+                            Vec3::ONE
+                        } else {
+                            s.radiance
+                        };
+                        ok &= (0..3).all(|i| rel(r.radiance[i], radiance[i], 1e-5));
                         let y = x + s.direction * s.distance;
                         let normal = match list.lights[s.light as usize] {
                             Light::Emissive { first_triangle, .. } => {

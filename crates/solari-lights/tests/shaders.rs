@@ -2,7 +2,7 @@
 //! loop carries its `// bound:` note, and every Rust mirror of a light struct has the size and
 //! member offsets naga gives its WGSL twin.
 
-use solari_lights::gpu::{GpuEmissiveTriangle, GpuLight, GpuLightInfo};
+use solari_lights::gpu::{GpuEmissiveTriangle, GpuEnvironmentCell, GpuLight, GpuLightInfo};
 use solari_lights::tiles::{ENTRY_POINTS, GpuTileParams};
 use solari_lights::{LightSampleId, MODULES, PackedLightSample};
 use solari_scene::shaders::CheckedShaders;
@@ -52,7 +52,24 @@ fn rust_mirrors_match_naga_layouts() {
         GpuEmissiveTriangle,
         [v0, cdf, e1, area, e2, primitive]
     );
-    mirror!("GpuLightInfo", GpuLightInfo, [light_count, selection]);
+    mirror!(
+        "GpuLightInfo",
+        GpuLightInfo,
+        [
+            light_count,
+            selection,
+            first_punctual,
+            sphere_count,
+            environment_light,
+            environment_cells_x,
+            environment_cells_y
+        ]
+    );
+    mirror!(
+        "GpuEnvironmentCell",
+        GpuEnvironmentCell,
+        [pmf, threshold, alias_index]
+    );
     mirror!(
         "PackedLightSample",
         PackedLightSample,
@@ -64,13 +81,13 @@ fn rust_mirrors_match_naga_layouts() {
 
 #[test]
 fn bindings_are_bound_by_their_wgsl_names() {
-    use solari_lights::{LIGHT_BINDINGS, PRESAMPLE_BINDINGS};
+    use solari_lights::{ENVIRONMENT_BINDINGS, LIGHT_BINDINGS, PRESAMPLE_BINDINGS};
     use solari_scene::bindings::check_groups;
     let all = [MODULES, ENTRY_POINTS].concat();
     check_groups(
         &[(
             "presample_light_tiles",
-            &[&PRESAMPLE_BINDINGS, &LIGHT_BINDINGS],
+            &[&PRESAMPLE_BINDINGS, &LIGHT_BINDINGS, &ENVIRONMENT_BINDINGS],
         )],
         &all,
     )

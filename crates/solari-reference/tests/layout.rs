@@ -69,6 +69,7 @@ fn bindings_are_bound_by_their_wgsl_names() {
         &VIEW_BINDINGS,
         &REFERENCE_BINDINGS,
         &solari_lights::LIGHT_BINDINGS,
+        &solari_lights::ENVIRONMENT_BINDINGS,
     ];
     check_groups(&[("reference", &groups)], &extra).unwrap_or_else(|e| panic!("{e}"));
 }

@@ -580,6 +580,7 @@ impl RealtimeRenderer {
         let tiles_built = LightTileSettings {
             point_lights: settings.tiles.point_lights && list.has_point_lights(),
             emissive_textures: settings.tiles.emissive_textures && list.has_emissive_textures(),
+            environment: settings.tiles.environment && list.environment.is_some(),
             ..settings.tiles
         };
         let tiles = LightTiles::new(gpu, tiles_built)?;
@@ -874,9 +875,10 @@ impl RealtimeRenderer {
 
     /// Rebuilds the light list from `scene` (after lights were added, removed or changed);
     /// temporal reuse follows surviving lights to their new indices and drops removed ones.
-    /// Passes built while the scene had no point or spot lights (or no textured emitter)
-    /// have that code compiled out; the first ones added rebuild those passes (their history
-    /// goes with them).
+    /// Passes built while the scene had no point or spot lights (or no textured emitter, or
+    /// no environment map) have that code compiled out; the first ones added rebuild those
+    /// passes (their history goes with them). The scene's upload (`GpuScene`) must hold the
+    /// same environment: it carries the map the passes read.
     pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
         let list = LightList::build(scene);
         for line in list.report.lines() {
@@ -889,12 +891,16 @@ impl RealtimeRenderer {
         let textures = list.has_emissive_textures()
             && wanted.emissive_textures
             && !self.tiles_built.emissive_textures;
-        if points || textures {
+        let environment =
+            list.environment.is_some() && wanted.environment && !self.tiles_built.environment;
+        if points || textures || environment {
             log::info!(
-                "point lights or textured emitters added: rebuilding the passes that read lights"
+                "point lights, textured emitters or an environment map added: rebuilding the \
+                 passes that read lights"
             );
             self.tiles_built.point_lights |= points;
             self.tiles_built.emissive_textures |= textures;
+            self.tiles_built.environment |= environment;
             self.tiles = LightTiles::new(gpu, self.tiles_built)?;
             self.rebuild_light_readers(gpu, self.di.variant())?;
         }

@@ -244,6 +244,33 @@ fn direct_light_converges_to_the_reference_under_point_and_spot_lights() {
     check_convergence("point_lights", &point_scene());
 }
 
+/// The same floor and blocks under an environment map alone: a blue sky with a small bright
+/// sun-like spot (sharp shadows) and a dim ground, importance-sampled as a light. The camera
+/// sees the sky above the floor, which DI shows where rays escape.
+#[test]
+fn direct_light_converges_to_the_reference_under_an_environment_map() {
+    let mut scene = sun_scene();
+    scene.directional_lights.clear();
+    let (w, h) = (64u32, 32u32);
+    let texels = (0..w * h)
+        .map(|i| {
+            let (x, y) = (i % w, i / w);
+            if (40..42).contains(&x) && (9..11).contains(&y) {
+                Vec3::new(300.0, 260.0, 200.0)
+            } else if y < h / 2 {
+                Vec3::new(0.25, 0.4, 0.9) * (1.0 + y as f32 / 16.0)
+            } else {
+                Vec3::new(0.1, 0.08, 0.05)
+            }
+        })
+        .collect();
+    let map = solari_scene::EnvironmentMap::new(w, h, texels).expect("map");
+    scene.environment_map = Some(std::sync::Arc::new(map));
+    scene.environment_radiance = Vec3::ONE;
+    assert!(scene.environment_is_light());
+    check_convergence("environment", &scene);
+}
+
 /// RMSE against a 1024-path reference of: plain one-sample light sampling (the same pass
 /// with one candidate and no reuse, W = 1/pdf: one shadow ray per pixel, like ReSTIR DI);
 /// the reference tracer at one path (two rays at the first hit, light and BRDF samples

@@ -64,13 +64,18 @@ fn bindings_are_bound_by_their_wgsl_names() {
     use solari_restir::DI_BINDINGS;
     use solari_scene::bindings::check_groups;
     let own = [&DI_BINDINGS][..].to_vec();
-    let tiles = [
+    let lights = [
         &solari_lights::LIGHT_BINDINGS,
-        &solari_lights::TILE_BINDINGS,
+        &solari_lights::ENVIRONMENT_BINDINGS,
     ];
-    let initial: Vec<_> = own.iter().chain(&tiles).copied().collect();
+    let initial: Vec<_> = own
+        .iter()
+        .chain(&lights)
+        .chain(&[&solari_lights::TILE_BINDINGS])
+        .copied()
+        .collect();
     // The spatial pass reads the light list, not the tiles.
-    let spatial: Vec<_> = own.iter().chain(&tiles[..1]).copied().collect();
+    let spatial: Vec<_> = own.iter().chain(&lights).copied().collect();
     check_groups(
         &[
             ("restir_di_initial", &initial),
@@ -165,6 +170,7 @@ fn specular_gi_composes_its_mirror_matches_and_bindings_have_their_names() {
         &CACHE_BINDINGS,
         &solari_lights::LIGHT_BINDINGS,
         &solari_lights::TILE_BINDINGS,
+        &solari_lights::ENVIRONMENT_BINDINGS,
     ];
     check_groups(&[("specular_gi", &groups)], &specular_modules())
         .unwrap_or_else(|e| panic!("{e}"));

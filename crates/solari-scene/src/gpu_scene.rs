@@ -307,7 +307,7 @@ impl GpuScene {
             tlas_root: 0,
             texture_layer_size: layer_size,
             brdf_model: options.brdf.gpu_id(),
-            _pad: 0,
+            environment_sampled: scene.environment_is_light() as u32,
         };
         let info = gpu.uniform_buffer("solari_scene/scene_info", &info_data);
         let accel = match backend {

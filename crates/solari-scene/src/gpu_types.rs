@@ -93,8 +93,9 @@ pub struct GpuSceneInfo {
     pub texture_layer_size: u32,
     /// `brdf::BrdfModel::gpu_id` of the scene's BRDF.
     pub brdf_model: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// 1 when the environment is a sampled light ([`crate::Scene::environment_is_light`]):
+    /// paths that escape leave it to next-event estimation or weight it by MIS.
+    pub environment_sampled: u32,
 }
 const _: () = assert!(size_of::<GpuSceneInfo>() == 32);
 

@@ -413,6 +413,20 @@ pub struct SceneStats {
 }
 
 impl Scene {
+    /// Whether the environment is a light that the light list samples (with the map's
+    /// importance, `solari_lights`): an environment map that is not black. A uniform
+    /// environment is not: GI and the reference gather it where their rays escape. Passes
+    /// that trace paths leave a sampled environment to next-event estimation (or weight it by
+    /// MIS) where their rays escape (`GpuSceneInfo::environment_sampled`).
+    pub fn environment_is_light(&self) -> bool {
+        self.environment_map.is_some()
+            && self.environment_radiance.max_element() > 0.0
+            && self
+                .environment_map
+                .as_ref()
+                .is_some_and(|m| m.max_component() > 0.0)
+    }
+
     /// Radiance arriving from unit direction `d` when nothing is hit: the uniform
     /// environment, or the map times its factor.
     pub fn environment(&self, d: Vec3) -> Vec3 {
