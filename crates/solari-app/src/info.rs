@@ -10,6 +10,21 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
     warnings.extend(solari_lights::LightList::build(&scene).report.lines());
     let camera = args.scene.pick_camera(&name, &scene)?;
     let (lo, hi) = scene.bounds();
+    let environment = match &scene.environment_map {
+        Some(m) => format!(
+            "{} x {} map x {}, mean radiance {:.4}, {}",
+            m.width(),
+            m.height(),
+            scene.environment_radiance,
+            scene.environment_radiance * m.mean_radiance(),
+            if scene.environment_is_light() {
+                "sampled as a light"
+            } else {
+                "black"
+            }
+        ),
+        None => format!("uniform {}", scene.environment_radiance),
+    };
     if args.json {
         let v = serde_json::json!({
             "scene": name,
@@ -24,6 +39,7 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
                       "textures": s.textures, "materials": scene.materials.len(), "cameras": scene.cameras.len()},
             "bounds": {"min": lo.to_array(), "max": hi.to_array()},
             "camera": camera.name,
+            "environment": environment,
             "warnings": warnings,
         });
         println!(
@@ -57,6 +73,7 @@ pub fn run(args: &InfoArgs) -> Result<(), String> {
         );
         println!("bounds     {lo} .. {hi}");
         println!("textures   {}", s.textures);
+        println!("environment {environment}");
         println!("camera     {}", camera.name);
         if warnings.is_empty() {
             println!("warnings   none");
