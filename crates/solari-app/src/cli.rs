@@ -329,6 +329,10 @@ pub struct RealtimeArgs {
     /// Initial ReSTIR DI candidates per pixel.
     #[arg(long, default_value_t = 8)]
     pub candidates: u32,
+    /// BRDF-sampled ReSTIR DI candidates per pixel (0 to 4): rays along the BRDF that find
+    /// emitters and the environment, so glossy surfaces reflect lights in DI.
+    #[arg(long, default_value_t = 1)]
+    pub brdf_candidates: u32,
     /// ReSTIR DI reuse: all (temporal and spatial), temporal, spatial or none (plain RIS
     /// from the light tiles: each frame's samples stand alone).
     #[arg(long, value_enum, default_value_t = DiReuse::All)]
@@ -433,6 +437,7 @@ impl RealtimeArgs {
             tiles: self.tiles,
             di: RestirDiSettings {
                 initial_candidates: self.candidates,
+                brdf_candidates: self.brdf_candidates,
                 temporal: matches!(self.di_reuse, DiReuse::All | DiReuse::Temporal),
                 spatial: matches!(self.di_reuse, DiReuse::All | DiReuse::Spatial),
                 ..Default::default()

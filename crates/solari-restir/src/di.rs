@@ -413,7 +413,7 @@ impl RestirDi {
             spatial_radius: s.spatial_radius,
             confidence_cap: s.confidence_cap,
             translation_count: self.translation_count,
-            _pad: 0,
+            brdf_candidates: s.brdf_candidates,
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

@@ -12,6 +12,18 @@
 //!    (the luminance of Le · BRDF · cos · G, with the full BRDF). Optionally
 //!    ([`RestirDiSettings::initial_visibility`], off by default because it biases reuse) one
 //!    visibility ray tests the choice before reuse, as Solari 0.18 does.
+//!    **BRDF-sampled candidates** ([`RestirDiSettings::brdf_candidates`], default 1) join
+//!    them on surfaces of roughness 0.02–0.5: a direction drawn from the pixel's BRDF becomes
+//!    an environment sample when the environment is a light (every direction, occluded or
+//!    not, so the candidate does not depend on visibility), else a ray finds the emitter it
+//!    meets. Every candidate weighs target / (M_light p_light + M_brdf p_brdf), both pdfs in
+//!    the sample's measure (balance heuristic). On a glossy metal floor under a sky with a
+//!    small sun the first frame's RMSE fell from 0.665 to 0.100 (`tests/convergence.rs`,
+//!    64×64, lavapipe). The emitter case does depend on visibility: a point a ray could not
+//!    reach from one pixel (occluded) still carries that pixel's MIS weight when reuse moves
+//!    it to a neighbour that sees it, a bias of the kind initial visibility has; the glossy
+//!    Cornell box converges within 0.2% all the same. Sphere and delta lights and sun disks
+//!    are left to light sampling.
 //! 2. **Temporal reuse**: last frame's final reservoir at the motion-vector reprojection,
 //!    permuted within 4×4 blocks each frame (falling back to the unpermuted pixel), rejected
 //!    where the surfaces differ (tangent-plane distance over 0.3% of the view distance, or
@@ -33,11 +45,10 @@
 //!
 //! ## Limits
 //!
-//! - Only lights in the light list are sampled: the scene's constant environment and light
-//!   reflected by mirror-like surfaces (roughness under the BRDF's mirror threshold) are not
-//!   direct light here; the reference tracer's `--max-bounces 1` image includes both.
-//! - Emissive textures are not part of light samples (the light list uses the emissive
-//!   factor), as in `solari-lights`.
+//! - Only lights in the light list are sampled: a uniform environment (an environment map is
+//!   a light) and light reflected by mirror-like surfaces (roughness under the BRDF's mirror
+//!   threshold) are not direct light here; the reference tracer's `--max-bounces 1` image
+//!   includes both.
 //!
 //! ## Use
 //!

@@ -35,7 +35,23 @@ pub struct RestirDiSettings {
     /// if it could have been chosen, so light near shadow edges is lost (measured: the
     /// Cornell box comes out 2.3% dark, a soft-sun scene 12.8%, over 128 frames at 64×64).
     pub initial_visibility: bool,
+    /// BRDF-sampled candidates per pixel, beside the tile candidates (default 1, at most
+    /// [`MAX_BRDF_CANDIDATES`]). Each traces one ray along a direction drawn from the
+    /// pixel's BRDF; where it meets an emissive triangle, or escapes to an environment map
+    /// that is a light, that point joins initial RIS, weighted against the tile candidates
+    /// by the balance heuristic. Glossy surfaces then reflect lights and the sky in DI, which
+    /// light sampling alone finds only by chance. Only pixels of roughness at most
+    /// [`BRDF_CANDIDATE_MAX_ROUGHNESS`] trace them (rougher ones gain little), and never
+    /// mirrors (DI leaves them to specular GI). Sphere and delta lights and sun disks are
+    /// not hit by these rays and stay with light sampling alone. 0 turns them off.
+    pub brdf_candidates: u32,
 }
+
+/// The most BRDF-sampled candidates per pixel ([`RestirDiSettings::brdf_candidates`]).
+pub const MAX_BRDF_CANDIDATES: u32 = 4;
+
+/// Roughest surface that traces BRDF-sampled candidates (WGSL `BRDF_CANDIDATE_MAX_ROUGHNESS`).
+pub const BRDF_CANDIDATE_MAX_ROUGHNESS: f32 = 0.5;
 
 impl Default for RestirDiSettings {
     fn default() -> Self {
@@ -48,6 +64,7 @@ impl Default for RestirDiSettings {
             spatial_radius: 30.0,
             spatial_tries: 5,
             initial_visibility: false,
+            brdf_candidates: 1,
         }
     }
 }
@@ -60,6 +77,12 @@ impl RestirDiSettings {
             return bad(format!(
                 "initial_candidates is {}, expected 1 to {MAX_INITIAL_CANDIDATES}",
                 self.initial_candidates
+            ));
+        }
+        if self.brdf_candidates > MAX_BRDF_CANDIDATES {
+            return bad(format!(
+                "brdf_candidates is {}, expected at most {MAX_BRDF_CANDIDATES}",
+                self.brdf_candidates
             ));
         }
         check_reuse(
@@ -145,8 +168,8 @@ pub struct GpuDiParams {
     pub confidence_cap: f32,
     /// Entries of the light translation table (0 disables temporal reuse this frame).
     pub translation_count: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// [`RestirDiSettings::brdf_candidates`].
+    pub brdf_candidates: u32,
 }
 
 const _: () = assert!(size_of::<GpuDiParams>() == 48);
