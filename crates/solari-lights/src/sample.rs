@@ -272,6 +272,55 @@ impl LightList {
         (resolved.inverse_pdf > 0.0 && resolved.inverse_pdf.is_finite()).then_some(resolved)
     }
 
+    /// The identity of unit direction `d` on the environment light, to 16-bit cells: what a
+    /// BRDF-sampled ReSTIR DI candidate stores (twin of `environment_sample_id` in
+    /// `light_sampling.wesl`). `None` without an environment light.
+    pub fn environment_sample_id(&self, d: Vec3) -> Option<LightSampleId> {
+        let env = self.environment.as_ref()?;
+        let dist = &env.distribution;
+        let uv = solari_scene::environment::direction_to_uv(d);
+        let f = uv * glam::Vec2::new(dist.cells_x as f32, dist.cells_y as f32);
+        let cx = (f.x as u32).min(dist.cells_x - 1);
+        let cy = (f.y as u32).min(dist.cells_y - 1);
+        Some(LightSampleId {
+            light: env.light,
+            triangle: cy * dist.cells_x + cx,
+            point: quantize_u16(f.x - cx as f32) | (quantize_u16(f.y - cy as f32) << 16),
+        })
+    }
+
+    /// The identity of world point `y` on triangle `primitive` (the mesh's index) of emissive
+    /// `light`, to 16-bit cells: the inverse of the area-uniform mapping, what a BRDF ray that
+    /// meets an emitter stores (twin of `emissive_sample_id` in `light_sampling.wesl`).
+    /// `None` when the light is not emissive or the triangle is not part of it.
+    pub fn emissive_sample_id(&self, light: u32, primitive: u32, y: Vec3) -> Option<LightSampleId> {
+        let Some(Light::Emissive {
+            first_triangle,
+            triangle_count,
+            ..
+        }) = self.lights.get(light as usize)
+        else {
+            return None;
+        };
+        let tris =
+            &self.triangles[*first_triangle as usize..(*first_triangle + *triangle_count) as usize];
+        let index = tris.partition_point(|t| t.primitive < primitive);
+        let tri = tris.get(index).filter(|t| t.primitive == primitive)?;
+        // Barycentrics of y by least squares in the triangle's plane.
+        let d = y - tri.v0;
+        let (a, b, c) = (tri.e1.dot(tri.e1), tri.e1.dot(tri.e2), tri.e2.dot(tri.e2));
+        let det = a * c - b * b;
+        let b1 = ((c * d.dot(tri.e1) - b * d.dot(tri.e2)) / det).clamp(0.0, 1.0);
+        let b2 = ((a * d.dot(tri.e2) - b * d.dot(tri.e1)) / det).clamp(0.0, 1.0);
+        let su = (b1 + b2).min(1.0);
+        let t = if b1 + b2 > 0.0 { b2 / (b1 + b2) } else { 0.5 };
+        Some(LightSampleId {
+            light,
+            triangle: index as u32,
+            point: quantize_u16(su * su) | (quantize_u16(t) << 16),
+        })
+    }
+
     /// Solid-angle pdf with which [`LightList::sample`] would have produced the unit
     /// direction `d` on the environment (0 when the environment is not a light): the other
     /// half of MIS where a BRDF sample escapes the scene.

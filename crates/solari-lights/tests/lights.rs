@@ -382,3 +382,73 @@ fn environment_sampling_is_unbiased() {
         }
     }
 }
+
+/// The identities a BRDF-sampled ReSTIR DI candidate stores resolve back to the point or
+/// direction the ray found, within the 16-bit cells' precision: every emissive triangle of
+/// the many-lights scene at random points, and random directions on an environment map.
+#[test]
+fn sample_ids_of_found_points_and_directions_resolve_back() {
+    let mut rng = Pcg32::seed_from_u64(21);
+    for (name, scene) in common::scenes() {
+        let list = LightList::build(&scene);
+        for (i, light) in list.lights.iter().enumerate() {
+            let Light::Emissive {
+                first_triangle,
+                triangle_count,
+                ..
+            } = *light
+            else {
+                continue;
+            };
+            for t in &list.triangles[first_triangle as usize..][..triangle_count as usize] {
+                let (u, v): (f32, f32) = (rng.random(), rng.random());
+                let (u, v) = if u + v > 1.0 {
+                    (1.0 - u, 1.0 - v)
+                } else {
+                    (u, v)
+                };
+                let y = t.v0 + t.e1 * u + t.e2 * v;
+                let id = list
+                    .emissive_sample_id(i as u32, t.primitive, y)
+                    .expect("a triangle of the light");
+                let back = list.resolve(Selection::Power, id).expect("resolves");
+                let size = t.e1.length().max(t.e2.length());
+                assert!(
+                    (back.position - y).length() <= 1e-3 * size,
+                    "{name} light {i}: {y} came back as {}",
+                    back.position
+                );
+            }
+            assert!(
+                list.emissive_sample_id(i as u32, u32::MAX, Vec3::ZERO)
+                    .is_none()
+            );
+        }
+    }
+    let texels = (0..32 * 16)
+        .map(|i| Vec3::splat(1.0 + (i % 7) as f32))
+        .collect();
+    let scene = Scene {
+        environment_radiance: Vec3::ONE,
+        environment_map: Some(std::sync::Arc::new(
+            solari_scene::EnvironmentMap::new(32, 16, texels).unwrap(),
+        )),
+        ..Default::default()
+    };
+    let list = LightList::build(&scene);
+    for _ in 0..1000 {
+        let d = Vec3::new(
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+            rng.random_range(-1.0..1.0),
+        )
+        .normalize();
+        let id = list.environment_sample_id(d).expect("an environment light");
+        let back = list.resolve(Selection::Power, id).expect("resolves");
+        assert!(
+            (back.position - d).length() < 1e-3,
+            "{d} came back as {}",
+            back.position
+        );
+    }
+}

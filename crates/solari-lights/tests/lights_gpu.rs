@@ -8,7 +8,7 @@ use common::{CaseKernel, scenes};
 use glam::{Vec3, Vec4};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_lights::{GpuLights, Light, LightList, MODULES, Selection};
+use solari_lights::{GpuLights, Light, LightList, LightSampleId, MODULES, Selection};
 use solari_scene::gpu::test_gpu;
 use solari_scene::shaders::{Backend, compose};
 
@@ -31,6 +31,9 @@ struct GpuResult {
     flags: u32,
     emissive_pdf: f32,
     _pad: f32,
+    emissive_id: LightSampleId,
+    environment_id: LightSampleId,
+    _pad1: [u32; 2],
 }
 
 #[test]
@@ -77,8 +80,32 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
             let rel = |a: f32, b: f32, tol: f32| {
                 (a == b) || (a - b).abs() <= tol * a.abs().max(b.abs()).max(1e-6)
             };
+            // Ids of emitter points agree to `cells` 16-bit cells (float rounding differs).
+            let same_id = |g: LightSampleId, c: Option<LightSampleId>, cells: i64| match c {
+                None => g.light == u32::MAX,
+                Some(c) => {
+                    let near = |a: u32, b: u32| (a as i64 - b as i64).abs() <= cells;
+                    g.light == c.light
+                        && g.triangle == c.triangle
+                        && near(g.point & 0xffff, c.point & 0xffff)
+                        && near(g.point >> 16, c.point >> 16)
+                }
+            };
             for (c, r) in cases.iter().zip(results) {
                 let x = Vec3::from(c.x);
+                let d = (Vec3::new(c.u[0], c.u[1], c.u[2]) * 2.0 - 1.0).normalize();
+                // Environment ids: compared by the direction they resolve to, since a direction on
+                // a cell's border may fall either side with the GPU's acos and atan2.
+                let env_ok = match list.environment_sample_id(d) {
+                    None => r.environment_id.light == u32::MAX,
+                    Some(c) => {
+                        let at = |id| list.resolve(selection, id).map(|s| s.position);
+                        match (at(c), at(r.environment_id)) {
+                            (Some(a), Some(b)) => (a - b).length() < 1e-3,
+                            _ => false,
+                        }
+                    }
+                };
                 let cpu = list.sample(selection, x, c.u);
                 let gpu_valid = r.flags & 1 == 1;
                 let ok = match cpu {
@@ -118,8 +145,20 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                         ok
                     }
                 };
+                let emissive_cpu = cpu.and_then(|s| match list.lights[s.light as usize] {
+                    Light::Emissive { first_triangle, .. } => {
+                        let primitive = list.triangles[first_triangle as usize].primitive;
+                        list.emissive_sample_id(s.light, primitive, x + s.direction * s.distance)
+                    }
+                    _ => None,
+                });
+                let ok = ok && env_ok && same_id(r.emissive_id, emissive_cpu, 1);
                 if !ok {
-                    failures.push(format!("x {x} u {:?}: cpu {cpu:?} gpu {r:?}", c.u));
+                    failures.push(format!(
+                        "x {x} u {:?}: cpu {cpu:?} gpu {r:?}; cpu ids {:?} {emissive_cpu:?}",
+                        c.u,
+                        list.environment_sample_id(d)
+                    ));
                 }
             }
             eprintln!(
