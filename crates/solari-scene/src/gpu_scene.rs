@@ -487,6 +487,21 @@ impl GpuScene {
         Ok(())
     }
 
+    /// Uploads `scene`'s environment (its map, or the uniform radiance) in place of the one
+    /// the scene was created with: for a sky that changes at run time. A light list built
+    /// from the same scene (`solari_lights::LightList::build`) samples the new map; passes
+    /// bound to the old bind group must fetch [`GpuScene::bind_group`] again.
+    pub fn set_environment(&mut self, gpu: &Gpu, scene: &Scene) {
+        self.generation += 1;
+        let (environment, scale) = upload_environment(gpu, scene);
+        self.environment = environment;
+        self.info_data.environment_radiance = (scene.environment_radiance * scale).into();
+        self.info_data.environment_sampled = scene.environment_is_light() as u32;
+        gpu.queue
+            .write_buffer(&self.info, 0, bytemuck::bytes_of(&self.info_data));
+        self.rebind(gpu);
+    }
+
     fn rebind(&mut self, gpu: &Gpu) {
         fn buf(binding: u32, b: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
             wgpu::BindGroupEntry {
