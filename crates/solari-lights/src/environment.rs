@@ -47,15 +47,20 @@ impl EnvironmentDistribution {
         // reaches a cell: its own block widened by one texel (wrapping in u, clamped in v).
         let lum: Vec<f32> = map.texels().iter().map(|t| luminance(*t)).collect();
         let mut weights = Vec::with_capacity((cells_x * cells_y) as usize);
+        // The texels whose bilinear footprint reaches the cell's uv span [a, b): from the one
+        // whose centre lies at or before a to the one whose centre lies at or after b.
+        let window = |c: u32, cells: u32, n: u32| {
+            let a = c as f64 * n as f64 / cells as f64 - 0.5;
+            let b = (c + 1) as f64 * n as f64 / cells as f64 - 0.5;
+            (a.floor() as i64, b.floor() as i64 + 1)
+        };
         for cy in 0..cells_y {
-            let y0 = (cy * block) as i64 - 1;
-            let y1 = ((cy + 1) * block).min(h) as i64;
+            let (y0, y1) = window(cy, cells_y, h);
             let t0 = cy as f32 / cells_y as f32 * PI;
             let t1 = (cy + 1) as f32 / cells_y as f32 * PI;
             let solid_angle = (t0.cos() - t1.cos()) * (2.0 * PI / cells_x as f32);
             for cx in 0..cells_x {
-                let x0 = (cx * block) as i64 - 1;
-                let x1 = ((cx + 1) * block).min(w) as i64;
+                let (x0, x1) = window(cx, cells_x, w);
                 let mut peak = 0.0f32;
                 for y in y0..=y1 {
                     let y = y.clamp(0, h as i64 - 1) as u32;
@@ -195,6 +200,33 @@ mod tests {
         assert_eq!(d.table.pmf[(6 * 16) as usize], 0.0);
         let black = EnvironmentMap::new(4, 2, vec![Vec3::ZERO; 8]).unwrap();
         assert!(EnvironmentDistribution::new(&black).is_none());
+    }
+
+    /// Every direction the bilinear filter gives radiance has a pdf, also where the cell grid
+    /// does not divide the map evenly (1280 × 640: blocks of 3 texels, 427 × 214 cells).
+    #[test]
+    fn every_lit_direction_has_a_pdf_on_uneven_grids() {
+        for (w, h) in [(1280, 640), (1100, 550), (16, 8)] {
+            // Sparse bright texels in a black map: the cells around each must not be 0.
+            let texels = (0..w * h)
+                .map(|i| if i % 997 == 0 { Vec3::ONE } else { Vec3::ZERO })
+                .collect();
+            let map = EnvironmentMap::new(w, h, texels).unwrap();
+            let d = EnvironmentDistribution::new(&map).unwrap();
+            let mut checked = 0;
+            for i in 0..200_000u32 {
+                let uv = Vec2::new(
+                    (i as f32 * 0.618_034).fract(),
+                    (i as f32 * 0.754_877 + 0.01).fract() * 0.98 + 0.01,
+                );
+                let dir = uv_to_direction(uv);
+                if map.radiance(dir).max_element() > 0.0 {
+                    checked += 1;
+                    assert!(d.pdf(dir) > 0.0, "{w}x{h}: uv {uv} has light but no pdf");
+                }
+            }
+            assert!(checked > 100, "{w}x{h}: {checked} lit directions");
+        }
     }
 
     #[test]

@@ -27,8 +27,12 @@ pub enum LightKey {
         /// Index into `Scene::directional_lights`.
         index: u32,
     },
-    /// The environment map (there is at most one).
-    Environment,
+    /// The environment map (there is at most one), by the identity of its data (the `Arc`'s
+    /// address): a new map is a new light, so temporal reuse drops samples of the old one.
+    Environment {
+        /// `Arc::as_ptr` of `Scene::environment_map`.
+        map: usize,
+    },
     /// A point or spot light, by index into `Scene::punctual_lights`.
     Punctual {
         /// Index into `Scene::punctual_lights`.
@@ -429,7 +433,9 @@ impl LightList {
                 (luminance(mean) * std::f32::consts::PI * std::f32::consts::PI * radius * radius)
                     .min(f32::MAX),
             );
-            list.keys.push(LightKey::Environment);
+            list.keys.push(LightKey::Environment {
+                map: std::sync::Arc::as_ptr(map) as usize,
+            });
             list.environment = Some(EnvironmentLight {
                 light: list.lights.len() as u32,
                 map: map.clone(),

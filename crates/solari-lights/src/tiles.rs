@@ -70,8 +70,10 @@ pub struct LightTileSettings {
     pub emissive_textures: bool,
     /// Whether the environment map is sampled as a light (default true). False compiles
     /// its code out of the presampling pass and every pass built with these settings,
-    /// which then ignore it as a light. `RealtimeRenderer` turns it off by itself for
-    /// scenes whose environment is not a light (`Scene::environment_is_light`).
+    /// which then ignore it as a light: only for scenes whose environment is not a light
+    /// (`Scene::environment_is_light`), where `RealtimeRenderer` turns it off by itself.
+    /// With a map, GI leaves the sky to light sampling, so its light would be lost: the
+    /// renderer refuses that combination.
     pub environment: bool,
 }
 

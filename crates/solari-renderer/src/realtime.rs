@@ -1039,6 +1039,23 @@ impl RealtimeRenderer {
         camera: &Camera,
     ) -> Result<InFlight, GpuError> {
         self.fit_tracing_to(gpu, gpu_scene)?;
+        // The scene's upload tells the passes that trace paths to leave a sampled sky to
+        // light sampling; the light list must then hold it, or its light is lost (or, the
+        // other way round, counted twice).
+        let sampled = self.list.environment.is_some() && self.tiles_built.environment;
+        if gpu_scene.environment_sampled() != sampled {
+            return Err(GpuError::Validation(format!(
+                "the scene upload {} the environment as a light but the renderer's light list \
+                 {}: after GpuScene::set_environment call set_lights with the same scene (and \
+                 keep LightTileSettings::environment on for scenes with an environment map)",
+                if gpu_scene.environment_sampled() {
+                    "treats"
+                } else {
+                    "does not treat"
+                },
+                if sampled { "samples it" } else { "does not" }
+            )));
+        }
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;

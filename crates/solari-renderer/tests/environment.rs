@@ -205,3 +205,29 @@ fn mean_of(
     }
     sum / 24.0
 }
+
+/// A scene upload and a light list that disagree on the sky (one set without the other) are
+/// refused with a message saying what to call, never rendered with the sky lost or doubled.
+#[test]
+fn an_upload_and_lights_that_disagree_on_the_sky_are_refused() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let with_sky = env_common::floor_under_sky(0.8);
+    let mut without = with_sky.clone();
+    without.environment_map = None;
+    let camera = with_sky.camera(None).expect("camera");
+    let mut gpu_scene = upload(&gpu, backend, &without);
+    let mut renderer =
+        RealtimeRenderer::new(&gpu, backend, &without, &gpu_scene, 32, 32, settings())
+            .expect("renderer");
+    gpu_scene.set_environment(&gpu, &with_sky);
+    let err = renderer
+        .render(&gpu, &with_sky, &gpu_scene, &camera)
+        .expect_err("the lights do not hold the sky yet")
+        .to_string();
+    assert!(err.contains("set_lights"), "{err}");
+    renderer.set_lights(&gpu, &with_sky).expect("lights");
+    renderer
+        .render(&gpu, &with_sky, &gpu_scene, &camera)
+        .expect("agrees now");
+}

@@ -36,10 +36,10 @@ pub struct RestirDiSettings {
     /// Cornell box comes out 2.3% dark, a soft-sun scene 12.8%, over 128 frames at 64×64).
     pub initial_visibility: bool,
     /// BRDF-sampled candidates per pixel, beside the tile candidates (default 1, at most
-    /// [`MAX_BRDF_CANDIDATES`]). Each traces one ray along a direction drawn from the
-    /// pixel's BRDF; where it meets an emissive triangle, or escapes to an environment map
-    /// that is a light, that point joins initial RIS, weighted against the tile candidates
-    /// by the balance heuristic. Glossy surfaces then reflect lights and the sky in DI, which
+    /// [`MAX_BRDF_CANDIDATES`]). Each draws a direction from the pixel's BRDF: with an
+    /// environment map that is a light it is that map's sample (no ray); otherwise one ray
+    /// along it, and the emissive triangle it meets is the sample. The sample joins initial
+    /// RIS, weighted against the tile candidates by the balance heuristic. Glossy surfaces then reflect lights and the sky in DI, which
     /// light sampling alone finds only by chance. Only pixels of roughness at most
     /// [`BRDF_CANDIDATE_MAX_ROUGHNESS`] trace them (rougher ones gain little), and never
     /// mirrors (DI leaves them to specular GI). Sphere and delta lights and sun disks are

@@ -557,6 +557,12 @@ impl GpuScene {
         });
     }
 
+    /// Whether the upload treats the environment as a sampled light
+    /// ([`Scene::environment_is_light`] when it was made or last set).
+    pub fn environment_sampled(&self) -> bool {
+        self.info_data.environment_sampled != 0
+    }
+
     /// Bind group 0's layout.
     pub fn layout(&self) -> &wgpu::BindGroupLayout {
         &self.layout
