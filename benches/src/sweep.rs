@@ -13,6 +13,9 @@ pub struct SweepRow {
     pub tiles: u32,
     /// Samples per tile.
     pub samples_per_tile: u32,
+    /// The light grid's share (`off` for tiles alone, also when the CSV predates the
+    /// column).
+    pub light_grid: String,
     /// GPU ms of light tiles plus both ReSTIR DI passes.
     pub lighting_ms: f64,
     /// RMSE of a frame against the reference.
@@ -30,9 +33,14 @@ pub fn parse_sweep(text: &str) -> Result<Vec<SweepRow>, String> {
         t.column("lighting_ms")?,
         t.column("rmse")?,
     );
+    let grid = t.column("light_grid_share").ok();
     (0..t.len())
         .map(|i| {
             Ok(SweepRow {
+                light_grid: match grid {
+                    Some(c) => t.text(i, c)?.to_string(),
+                    None => "off".into(),
+                },
                 scene: t.text(i, scene)?.to_string(),
                 candidates: t.num(i, cand)? as u32,
                 tiles: t.num(i, tiles)? as u32,
@@ -56,6 +64,13 @@ mod tests {
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[1].candidates, 1);
         assert_eq!(rows[0].lighting_ms, 0.5);
+        assert_eq!(rows[0].light_grid, "off");
+        let grid = parse_sweep(
+            "scene,candidates,tiles,samples_per_tile,light_grid_share,lighting_ms,rmse\n\
+             f,8,128,1024,0.75,1,0.1\n",
+        )
+        .unwrap();
+        assert_eq!(grid[0].light_grid, "0.75");
         let bad = parse_sweep(
             "scene,candidates,tiles,samples_per_tile,lighting_ms,rmse\nbox,x,1,1,1,1\n",
         );

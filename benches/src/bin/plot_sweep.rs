@@ -1,5 +1,5 @@
-//! Draws a `solari bench-di` sweep as run time against error: one line per light-tile
-//! setting through its candidate counts, each point labelled with its count.
+//! Draws a `solari bench-di` sweep as run time against error: one line per light-tile and
+//! light-grid setting through its candidate counts, each point labelled with its count.
 //!
 //! `cargo run -p solari-benches --bin plot-sweep -- SWEEP.csv OUT.png [--font FONT.ttf]`
 //!
@@ -45,15 +45,19 @@ fn run() -> Result<(), String> {
         .label_style(("sans-serif", 14))
         .draw()
         .map_err(|e| e.to_string())?;
-    let mut settings: Vec<(u32, u32)> =
-        rows.iter().map(|r| (r.tiles, r.samples_per_tile)).collect();
+    let mut settings: Vec<(u32, u32, &str)> = rows
+        .iter()
+        .map(|r| (r.tiles, r.samples_per_tile, r.light_grid.as_str()))
+        .collect();
     settings.sort();
     settings.dedup();
-    for (i, (tiles, spt)) in settings.iter().enumerate() {
+    for (i, (tiles, spt, grid)) in settings.iter().enumerate() {
         let colour = Palette99::pick(i).to_rgba();
         let mut series: Vec<&SweepRow> = rows
             .iter()
-            .filter(|r| (r.tiles, r.samples_per_tile) == (*tiles, *spt))
+            .filter(|r| {
+                (r.tiles, r.samples_per_tile, r.light_grid.as_str()) == (*tiles, *spt, *grid)
+            })
             .collect();
         series.sort_by_key(|r| r.candidates);
         chart
@@ -62,7 +66,11 @@ fn run() -> Result<(), String> {
                 colour.stroke_width(2),
             ))
             .map_err(|e| e.to_string())?
-            .label(format!("{tiles} tiles × {spt}"))
+            .label(if *grid == "off" {
+                format!("{tiles} tiles × {spt}")
+            } else {
+                format!("{tiles} tiles × {spt}, light grid share {grid}")
+            })
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour));
         chart
             .draw_series(series.iter().map(|r| {

@@ -4,7 +4,7 @@
 
 use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
 use solari_app::cli::{BenchDiArgs, Prepared};
-use solari_lights::LightTileSettings;
+use solari_lights::{LightGridSettings, LightTileSettings};
 use solari_renderer::{RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 
@@ -12,6 +12,9 @@ use solari_restir::RestirDiSettings;
 struct Row {
     candidates: u32,
     tiles: LightTileSettings,
+    grid: Option<LightGridSettings>,
+    // The grid's build time (ms) and truncated cells.
+    grid_build: (f64, u32),
     // Mean GPU ms per pass over the timed frames.
     gbuffer: f64,
     light_tiles: f64,
@@ -24,6 +27,7 @@ struct Row {
 pub fn run(args: &BenchDiArgs) -> Result<(), String> {
     let (w, h) = args.size;
     let (candidates, tiles) = args.sweep()?;
+    let grids = args.grids()?;
     let reference = load_reference(args.reference.as_ref(), w, h)?;
     let Prepared {
         name,
@@ -34,15 +38,18 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         gpu_scene,
         ..
     } = args.scene.prepare()?;
-    let configs: Vec<(u32, LightTileSettings)> = tiles
-        .iter()
-        .flat_map(|t| candidates.iter().map(move |c| (*c, *t)))
-        .collect();
+    let mut configs: Vec<(u32, LightTileSettings, Option<LightGridSettings>)> = Vec::new();
+    for g in &grids {
+        for t in &tiles {
+            configs.extend(candidates.iter().map(|c| (*c, *t, *g)));
+        }
+    }
     let bar = frame_bar(configs.len() as u64 * args.frames as u64, false)?;
     let mut rows = Vec::new();
-    for (c, t) in configs {
+    for (c, t, g) in configs {
         let settings = RealtimeSettings {
             tiles: t,
+            light_grid: g,
             di: RestirDiSettings {
                 initial_candidates: c,
                 ..Default::default()
@@ -52,6 +59,9 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         };
         let mut renderer = RealtimeRenderer::new(&gpu, backend, &scene, &gpu_scene, w, h, settings)
             .map_err(|e| e.to_string())?;
+        let grid_build = renderer
+            .light_grid_report()
+            .map_or((0.0, 0), |r| (r.build_seconds * 1e3, r.truncated_cells));
         let mut sums = [0.0f64; 4];
         let names = [
             "gbuffer",
@@ -82,6 +92,8 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         rows.push(Row {
             candidates: c,
             tiles: t,
+            grid: g,
+            grid_build,
             gbuffer: sums[0] / timed,
             light_tiles: sums[1] / timed,
             initial_temporal: sums[2] / timed,
@@ -90,19 +102,25 @@ pub fn run(args: &BenchDiArgs) -> Result<(), String> {
         });
     }
     bar.finish_and_clear();
-    let header = "scene,width,height,tracer,adapter,candidates,tiles,samples_per_tile,timed_frames,\
+    let header = "scene,width,height,tracer,adapter,candidates,tiles,samples_per_tile,\
+                  light_grid_share,light_grid_build_ms,light_grid_truncated_cells,timed_frames,\
                   gbuffer_ms,light_tiles_ms,di_initial_temporal_ms,di_spatial_shade_ms,\
                   lighting_ms,rmse,rel_mse";
     let mut lines = vec![header.to_string()];
     for r in &rows {
         let (rmse, rel) = r.error.unwrap_or((f64::NAN, f64::NAN));
         lines.push(format!(
-            "{name},{w},{h},{},{},{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{rmse:.6},{rel:.6}",
+            "{name},{w},{h},{},{},{},{},{},{},{:.1},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{rmse:.6},\
+             {rel:.6}",
             backend.name(),
             gpu.info.name.replace(',', " "),
             r.candidates,
             r.tiles.tiles,
             r.tiles.samples_per_tile,
+            r.grid
+                .map_or("off".to_string(), |g| g.grid_share.to_string()),
+            r.grid_build.0,
+            r.grid_build.1,
             args.frames - args.warmup,
             r.gbuffer,
             r.light_tiles,

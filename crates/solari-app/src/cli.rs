@@ -11,7 +11,7 @@ use crate::cli_values::{self as values, ViewArg};
 use crate::output::{ImageOutputs, check_writable};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
-use solari_lights::{LightTileSettings, Selection};
+use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
     CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
@@ -115,6 +115,11 @@ pub struct SceneArgs {
         conflicts_with = "scene"
     )]
     pub generated: Option<(u32, u32)>,
+    /// Instead of a file, a generated square lit only by N coloured point lights among
+    /// posts (about 4 m² per light, no sun, black sky), for many-light sampling
+    /// (`--light-grid`).
+    #[arg(long, value_name = "N", conflicts_with_all = ["scene", "generated"])]
+    pub light_field: Option<u32>,
     /// Tracing backend: auto, ray-query or software (SOLARI_TRACER overrides).
     #[arg(long, default_value = "auto", value_parser = values::tracer)]
     pub tracer: TracerChoice,
@@ -212,6 +217,11 @@ impl SceneArgs {
     }
 
     fn load_scene(&self) -> Result<(String, Scene), String> {
+        if let Some(lights) = self.light_field {
+            let scene = solari_scene::generated_scene::point_light_field(lights)
+                .map_err(|e| format!("--light-field: {e}"))?;
+            return Ok((format!("<generated field of {lights} point lights>"), scene));
+        }
         if let Some((rocks, triangles)) = self.generated {
             let scene = solari_scene::generated_scene::rock_field(rocks, triangles)
                 .map_err(|e| format!("--generated: {e}"))?;
@@ -337,6 +347,15 @@ pub struct RealtimeArgs {
     /// from the light tiles: each frame's samples stand alone).
     #[arg(long, value_enum, default_value_t = DiReuse::All)]
     pub di_reuse: DiReuse,
+    /// ReSTIR DI draws initial candidates from a world-space light grid: SHARE of them
+    /// (0 to 0.95; 0.75 when the flag has no value) from the lights listed in the pixel's
+    /// cell, the rest from the light tiles, so no light is lost. For scenes with thousands
+    /// of lights (benches/RESULTS.md, "Light grid"). Off when absent.
+    #[arg(long, value_name = "SHARE", num_args = 0..=1, default_missing_value = "0.75",
+          value_parser = values::finite)]
+    pub light_grid: Option<f32>,
+    #[command(flatten)]
+    pub grid: LightGridArgs,
     /// Light tiles as TILESxSAMPLES.
     #[arg(long, default_value = "128x1024", value_parser = values::tiles)]
     pub tiles: LightTileSettings,
@@ -443,6 +462,7 @@ impl RealtimeArgs {
                 ..Default::default()
             },
             selection: self.selection,
+            light_grid: self.light_grid.map(|share| self.grid.settings(share)),
             gi: self.gi,
             restir_gi: RestirGiSettings {
                 spatial_radius: self.gi_spatial_radius,
@@ -485,6 +505,29 @@ impl RealtimeArgs {
         };
         settings.validate()?;
         Ok(settings)
+    }
+}
+
+/// The light grid's layout (`--light-grid-cells`, `--light-grid-capacity`).
+#[derive(Args, Clone, Copy, Debug)]
+pub struct LightGridArgs {
+    /// Most light-grid cells (cubes covering the scene's bounds).
+    #[arg(long, default_value_t = LightGridSettings::default().max_cells)]
+    pub light_grid_cells: u32,
+    /// Most lights listed per light-grid cell; fuller cells keep the strongest (reported).
+    #[arg(long, default_value_t = LightGridSettings::default().capacity)]
+    pub light_grid_capacity: u32,
+}
+
+impl LightGridArgs {
+    /// The grid's settings with `share` of the candidates drawn from it.
+    pub fn settings(&self, share: f32) -> LightGridSettings {
+        LightGridSettings {
+            max_cells: self.light_grid_cells,
+            capacity: self.light_grid_capacity,
+            grid_share: share,
+            ..Default::default()
+        }
     }
 }
 
@@ -883,6 +926,12 @@ pub struct BenchDiArgs {
     /// Light-tile settings to sweep as TILESxSAMPLES (comma separated).
     #[arg(long, default_value = "128x1024")]
     pub tiles: String,
+    /// Light-grid shares to sweep (comma separated; `off` for light tiles alone), as
+    /// realtime's `--light-grid`.
+    #[arg(long, default_value = "off")]
+    pub light_grid: String,
+    #[command(flatten)]
+    pub grid: LightGridArgs,
     /// Direct-only reference (EXR from `render --mode reference --max-bounces 1
     /// --pixel-centre`) for the error columns.
     #[arg(long)]
@@ -893,6 +942,18 @@ pub struct BenchDiArgs {
 }
 
 impl BenchDiArgs {
+    /// The swept light grids (`None`: tiles alone), each checked.
+    pub fn grids(&self) -> Result<Vec<Option<LightGridSettings>>, String> {
+        values::list(&self.light_grid, "--light-grid", |s| {
+            if s.trim() == "off" {
+                return Ok(None);
+            }
+            let grid = self.grid.settings(values::finite(s)?);
+            grid.check()?;
+            Ok(Some(grid))
+        })
+    }
+
     /// The swept candidate counts and tile settings.
     pub fn sweep(&self) -> Result<(Vec<u32>, Vec<LightTileSettings>), String> {
         let candidates = values::list(&self.candidates, "--candidates", values::number::<u32>)?;
@@ -917,6 +978,7 @@ impl BenchDiArgs {
             self.reference.as_ref(),
             self.csv.as_ref(),
         )?;
+        self.grids()?;
         self.sweep().map(drop)
     }
 }

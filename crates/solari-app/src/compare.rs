@@ -16,6 +16,7 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
     let scene_args = SceneArgs {
         scene: (path.as_os_str() != "builtin").then(|| path.clone()),
         generated: None,
+        light_field: None,
         tracer: solari_scene::gpu::TracerChoice::Auto,
         camera: args.camera.clone(),
         bvh_quality: solari_scene::bvh::BvhQuality::Medium,

@@ -153,6 +153,12 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             .iter()
             .map(|(n, s)| (n.to_string(), serde_json::json!(s)))
             .collect();
+        let grid_json = renderer.light_grid_report().map(|g| {
+            serde_json::json!({
+                "cells": g.cells, "entries": g.entries, "max_lights": g.max_lights,
+                "empty_cells": g.empty_cells, "truncated_cells": g.truncated_cells,
+                "build_s": g.build_seconds})
+        });
         let v = serde_json::json!({"scene": name, "mode": "realtime", "files": files,
             "width": ow, "height": oh, "frames": args.frames,
             "camera_path": format!("{path:?}").to_lowercase(),
@@ -179,7 +185,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "load_s": load_seconds, "upload_s": upload_seconds,
             "renderer_build_s": renderer_seconds,
             "triangles": scene.stats().triangles, "instances": scene.instances.len(),
-            "finite_checked": args.realtime.check_finite});
+            "finite_checked": args.realtime.check_finite,
+            "light_grid": grid_json});
         println!("{v}");
     } else {
         println!(
@@ -207,6 +214,9 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "set-up: scene loaded in {load_seconds:.2} s, uploaded (BVH built) in \
              {upload_seconds:.2} s, renderer built in {renderer_seconds:.2} s"
         );
+        if let Some(grid) = renderer.light_grid_report() {
+            println!("{}", grid.summary());
+        }
         let mib = |b: u64| b as f64 / (1 << 20) as f64;
         let parts: Vec<String> = memory
             .iter()

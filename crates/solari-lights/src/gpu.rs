@@ -1,5 +1,6 @@
 //! The light list on the GPU: bind group 3 for `shaders/light_sampling.wesl`.
 
+use crate::light_grid::LightGrid;
 use crate::light_list::{Light, LightList, Selection, sun_disk};
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
@@ -22,6 +23,17 @@ pub const LIGHT_BINDINGS: BufferGroup = BufferGroup::new(
 /// after the tiles' bindings 4–5.
 pub const ENVIRONMENT_BINDINGS: BufferGroup =
     BufferGroup::new(3, 6, &[("environment_cells", Buf::Read)]);
+
+/// Bindings 7–8 of group 3 (`light_grid.wesl`): the light grid's cells and their sorted
+/// light lists ([`LightGrid`]); one empty cell stands in when the list has no grid.
+pub const GRID_BINDINGS: BufferGroup = BufferGroup::new(
+    3,
+    7,
+    &[
+        ("light_grid_cells", Buf::Read),
+        ("light_grid_lights", Buf::Read),
+    ],
+);
 
 /// WGSL twin: `GpuEnvironmentCell` in `light_sampling.wesl`: one cell of
 /// [`crate::environment::EnvironmentDistribution`].
@@ -117,9 +129,17 @@ pub struct GpuLightInfo {
     pub environment_cells_y: u32,
     /// Padding.
     pub _pad: u32,
+    /// The light grid's corner ([`LightGrid::origin`]).
+    pub grid_origin: [f32; 3],
+    /// Its cell edge.
+    pub grid_cell_size: f32,
+    /// Its cells per axis; zeros without a grid.
+    pub grid_dims: [u32; 3],
+    /// [`LightGrid::grid_share`]; 0 without a grid.
+    pub grid_share: f32,
 }
 
-const _: () = assert!(size_of::<GpuLightInfo>() == 32);
+const _: () = assert!(size_of::<GpuLightInfo>() == 64);
 
 /// The GPU form of a [`LightList`], flattened for upload.
 pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>) {
@@ -215,7 +235,9 @@ pub struct GpuLights {
     pub bind_group: wgpu::BindGroup,
     /// Number of lights (0: passes that need lights can skip).
     pub light_count: u32,
-    buffers: [wgpu::Buffer; 5],
+    /// Whether a light grid was uploaded ([`GpuLights::with_grid`]).
+    pub has_grid: bool,
+    buffers: [wgpu::Buffer; 7],
 }
 
 impl GpuLights {
@@ -234,26 +256,38 @@ impl GpuLights {
             })
     }
 
-    /// Bindings 0–3 and 6 of group 3 ([`LIGHT_BINDINGS`], [`ENVIRONMENT_BINDINGS`]), for
-    /// layouts that extend it (light tiles).
+    /// Bindings 0–3 and 6–8 of group 3 ([`LIGHT_BINDINGS`], [`ENVIRONMENT_BINDINGS`],
+    /// [`GRID_BINDINGS`]), for layouts that extend it (light tiles).
     pub fn layout_entries(stages: wgpu::ShaderStages) -> Vec<wgpu::BindGroupLayoutEntry> {
         let mut entries = LIGHT_BINDINGS.layout_entries(stages);
         entries.extend(ENVIRONMENT_BINDINGS.layout_entries(stages));
+        entries.extend(GRID_BINDINGS.layout_entries(stages));
         entries
     }
 
-    /// The buffers behind bindings 0–3 and 6, in binding order.
-    pub fn buffers(&self) -> &[wgpu::Buffer; 5] {
+    /// The buffers behind bindings 0–3 and 6–8, in binding order.
+    pub fn buffers(&self) -> &[wgpu::Buffer; 7] {
         &self.buffers
     }
 
-    /// The bind-group entries of bindings 0–3 and 6, for groups that extend them.
+    /// The bind-group entries of bindings 0–3 and 6–8, for groups that extend them.
     pub fn entries(&self) -> Vec<wgpu::BindGroupEntry<'_>> {
         entries_of(&self.buffers)
     }
 
-    /// Uploads `list` for sampling with `selection`.
+    /// Uploads `list` for sampling with `selection`, without a light grid.
     pub fn new(gpu: &Gpu, list: &LightList, selection: Selection) -> Result<Self, GpuError> {
+        Self::with_grid(gpu, list, selection, None)
+    }
+
+    /// Uploads `list` for sampling with `selection`, and `grid` (built for this list) for
+    /// passes that draw candidates from it (`light_grid.wesl`).
+    pub fn with_grid(
+        gpu: &Gpu,
+        list: &LightList,
+        selection: Selection,
+        grid: Option<&LightGrid>,
+    ) -> Result<Self, GpuError> {
         let (lights, triangles) = gpu_lights(list);
         // Storage bindings must not be empty: one zeroed element stands in.
         let light_bytes = if lights.is_empty() {
@@ -321,10 +355,37 @@ impl GpuLights {
             environment_cells_x: env.map_or(0, |e| e.distribution.cells_x),
             environment_cells_y: env.map_or(0, |e| e.distribution.cells_y),
             _pad: 0,
+            grid_origin: grid.map_or([0.0; 3], |g| g.origin.into()),
+            grid_cell_size: grid.map_or(1.0, |g| g.cell_size),
+            grid_dims: grid.map_or([0; 3], |g| g.dims.into()),
+            grid_share: grid.map_or(0.0, |g| g.grid_share),
         };
+        let (grid_cells, grid_lights): (&[[u32; 2]], &[u32]) = match grid {
+            Some(g) if !g.entries.is_empty() => (&g.cells, &g.entries),
+            Some(g) => (&g.cells, &[0]),
+            None => (&[[0, 0]], &[0]),
+        };
+        let grid_cell_buf = gpu.storage_buffer(
+            "solari_lights/grid_cells",
+            bytemuck::cast_slice(grid_cells),
+            empty,
+        )?;
+        let grid_light_buf = gpu.storage_buffer(
+            "solari_lights/grid_lights",
+            bytemuck::cast_slice(grid_lights),
+            empty,
+        )?;
         let info_buf = gpu.uniform_buffer("solari_lights/info", &info);
         let layout = Self::layout(gpu);
-        let buffers = [light_buf, tri_buf, info_buf, map_buf, cell_buf];
+        let buffers = [
+            light_buf,
+            tri_buf,
+            info_buf,
+            map_buf,
+            cell_buf,
+            grid_cell_buf,
+            grid_light_buf,
+        ];
         let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_lights/lights"),
             layout: &layout,
@@ -334,13 +395,22 @@ impl GpuLights {
             layout,
             bind_group,
             light_count: info.light_count,
+            has_grid: grid.is_some(),
             buffers,
         })
     }
 }
 
-fn entries_of(buffers: &[wgpu::Buffer; 5]) -> Vec<wgpu::BindGroupEntry<'_>> {
-    let [lights, triangles, info, instances, cells] = buffers;
+fn entries_of(buffers: &[wgpu::Buffer; 7]) -> Vec<wgpu::BindGroupEntry<'_>> {
+    let [
+        lights,
+        triangles,
+        info,
+        instances,
+        cells,
+        grid_cells,
+        grid_lights,
+    ] = buffers;
     let mut entries = LIGHT_BINDINGS.entries(&[
         ("lights", lights),
         ("emissive_triangles", triangles),
@@ -348,6 +418,10 @@ fn entries_of(buffers: &[wgpu::Buffer; 5]) -> Vec<wgpu::BindGroupEntry<'_>> {
         ("instance_lights", instances),
     ]);
     entries.extend(ENVIRONMENT_BINDINGS.entries(&[("environment_cells", cells)]));
+    entries.extend(GRID_BINDINGS.entries(&[
+        ("light_grid_cells", grid_cells),
+        ("light_grid_lights", grid_lights),
+    ]));
     entries
 }
 
@@ -363,6 +437,7 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/light_packing.wesl"),
     ),
     ("light_tiles", include_str!("../shaders/light_tiles.wesl")),
+    ("light_grid", include_str!("../shaders/light_grid.wesl")),
     (
         "light_emission",
         include_str!("../shaders/light_emission.wesl"),

@@ -33,7 +33,9 @@
 //! ```
 //!
 //! The CPU code here is the reference the GPU light-sampling module is tested against.
-//! [`LightTiles`] presamples resolved light samples on the GPU for ReSTIR DI (see `tiles`).
+//! [`LightTiles`] presamples resolved light samples on the GPU for ReSTIR DI (see `tiles`);
+//! for scenes with thousands of lights, a [`LightGrid`] lets ReSTIR DI draw most candidates
+//! from the lights near each pixel (see `light_grid`).
 
 // `!(x > 0.0)` is deliberate throughout: it rejects NaN along with non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -42,12 +44,14 @@ pub mod alias;
 pub mod analytic;
 pub mod environment;
 pub mod gpu;
+pub mod light_grid;
 pub mod light_list;
 pub mod sample;
 pub mod tiles;
 
 pub use alias::{AliasEntry, AliasTable};
-pub use gpu::{ENVIRONMENT_BINDINGS, GpuLights, LIGHT_BINDINGS, MODULES};
+pub use gpu::{ENVIRONMENT_BINDINGS, GRID_BINDINGS, GpuLights, LIGHT_BINDINGS, MODULES};
+pub use light_grid::{LIGHT_GRID_ON, LightGrid, LightGridReport, LightGridSettings};
 pub use light_list::{
     EmissiveTriangle, EnvironmentLight, LIGHT_GONE, Light, LightKey, LightList, LightListReport,
     Selection, SpotCone, sun_disk,

@@ -122,7 +122,26 @@ impl LightList {
             return None;
         }
         let index = self.select(selection, u[0]);
-        let triangle = match &self.lights[index] {
+        Some((index, self.pick_part(index, u[1])))
+    }
+
+    /// A sample identity on light `light` from three uniform numbers: `u[0]` picks the
+    /// triangle (emissive) or cell (environment), `u[1..]` the point. `None` for a light
+    /// that does not exist. WGSL twin: `light_sample_on`.
+    pub fn generate_on(&self, light: u32, u: [f32; 3]) -> Option<LightSampleId> {
+        if light as usize >= self.lights.len() {
+            return None;
+        }
+        Some(LightSampleId {
+            light,
+            triangle: self.pick_part(light as usize, u[0]),
+            point: quantize_u16(u[1]) | (quantize_u16(u[2]) << 16),
+        })
+    }
+
+    // The triangle (emissive) or cell (environment) of light `index` that u picks.
+    fn pick_part(&self, index: usize, u: f32) -> u32 {
+        match &self.lights[index] {
             Light::Emissive {
                 first_triangle,
                 triangle_count,
@@ -130,15 +149,14 @@ impl LightList {
             } => {
                 let tris = &self.triangles
                     [*first_triangle as usize..(*first_triangle + *triangle_count) as usize];
-                tris.partition_point(|t| t.cdf < u[1]).min(tris.len() - 1) as u32
+                tris.partition_point(|t| t.cdf < u).min(tris.len() - 1) as u32
             }
             Light::Environment { .. } => match &self.environment {
-                Some(env) => env.distribution.pick(u[1]),
+                Some(env) => env.distribution.pick(u),
                 None => 0,
             },
             Light::Directional { .. } | Light::Point { .. } => 0,
-        };
-        Some((index, triangle))
+        }
     }
 
     fn resolve_at(

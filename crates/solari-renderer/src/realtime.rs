@@ -17,7 +17,10 @@ use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
     TemporalUpscaler, UpscaleSettings,
 };
-use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+use solari_lights::{
+    GpuLights, LightGrid, LightGridReport, LightGridSettings, LightList, LightTileSettings,
+    LightTiles, Selection,
+};
 use solari_restir::{
     GI_PASS_LABELS, PASS_LABELS as DI_LABELS, PsrBindings, RestirDi, RestirDiSettings, RestirGi,
     RestirGiSettings, SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings,
@@ -205,6 +208,13 @@ pub struct RealtimeSettings {
     pub di: RestirDiSettings,
     /// Light selection for tile samples (power-proportional by default).
     pub selection: Selection,
+    /// A world-space light grid that ReSTIR DI draws most initial candidates from (default
+    /// `None`: light tiles alone). For scenes with thousands of local lights, where a tile
+    /// sample rarely lies near the pixel (`solari_lights::light_grid`'s docs; time against
+    /// error in `benches/RESULTS.md`, "Light grid"). Built on the CPU from the light list at
+    /// start-up and in [`RealtimeRenderer::set_lights`]; with it,
+    /// [`RestirDiSettings::light_grid`] is set to match.
+    pub light_grid: Option<LightGridSettings>,
     /// Indirect light (default [`GiMode::Path`]: one traced bounce per pixel lit by the world
     /// cache, no reuse). Chosen by measurement (`benches/RESULTS.md`, "GI: the whole
     /// matrix"): on the H200 at 1080p with the fallback denoiser its one-frame relMSE was
@@ -300,6 +310,9 @@ impl RealtimeSettings {
     /// Checks every component's knobs (the message names the bad one).
     pub fn validate(&self) -> Result<(), String> {
         self.di.validate().map_err(|e| e.to_string())?;
+        if let Some(grid) = &self.light_grid {
+            grid.check()?;
+        }
         if self.needs_cache() {
             self.cache.validate().map_err(|e| e.to_string())?;
         }
@@ -358,6 +371,7 @@ impl Default for RealtimeSettings {
             tiles: LightTileSettings::default(),
             di: RestirDiSettings::default(),
             selection: Selection::Power,
+            light_grid: None,
             gi: GiMode::default(),
             cache: WorldCacheSettings::default(),
             restir_gi: RestirGiSettings::default(),
@@ -441,6 +455,7 @@ pub struct RealtimeRenderer {
     psr_generation: Option<u64>,
     list: LightList,
     lights: GpuLights,
+    grid_report: Option<LightGridReport>,
     lights_group: wgpu::BindGroup,
     profiler: Option<GpuProfiler>,
     denoiser: Option<Box<dyn Denoiser>>,
@@ -460,6 +475,26 @@ pub struct RealtimeRenderer {
     cache_readbacks: Vec<wgpu::Buffer>,
     next_cache_readback: usize,
     upscaler: Option<TemporalUpscaler>,
+}
+
+// The light grid for `list` when one is asked for and there are lights; its summary (with
+// the cells that had more lights than their capacity) is logged.
+fn build_light_grid(
+    scene: &Scene,
+    list: &LightList,
+    settings: Option<&LightGridSettings>,
+) -> Result<Option<LightGrid>, GpuError> {
+    let Some(settings) = settings else {
+        return Ok(None);
+    };
+    if list.is_empty() {
+        return Ok(None);
+    }
+    let grid = LightGrid::build(list, scene.bounds(), settings).map_err(GpuError::Validation)?;
+    // Full cells are the normal case with thousands of lights (each keeps its strongest),
+    // so the count goes in the summary rather than a warning.
+    log::info!("{}", grid.report.summary());
+    Ok(Some(grid))
 }
 
 // The detector over a G-buffer target set: emission and f90 finite and non-negative, motion
@@ -534,6 +569,13 @@ impl RealtimeRenderer {
         dlss: &DlssAvailability,
     ) -> Result<Self, GpuError> {
         settings.validate().map_err(GpuError::Validation)?;
+        let settings = RealtimeSettings {
+            di: RestirDiSettings {
+                light_grid: settings.light_grid.is_some(),
+                ..settings.di
+            },
+            ..settings
+        };
         if output_width == 0 || output_height == 0 {
             return Err(GpuError::Validation(format!(
                 "output size {output_width}×{output_height} is empty"
@@ -603,7 +645,8 @@ impl RealtimeRenderer {
         } else {
             None
         };
-        let lights = GpuLights::new(gpu, &list, settings.selection)?;
+        let grid = build_light_grid(scene, &list, settings.light_grid.as_ref())?;
+        let lights = GpuLights::with_grid(gpu, &list, settings.selection, grid.as_ref())?;
         let lights_group = tiles.reader_group(gpu, &lights);
         let cache = if settings.needs_cache() {
             let cache = WorldCache::new(
@@ -693,6 +736,7 @@ impl RealtimeRenderer {
             psr_generation: None,
             list,
             lights,
+            grid_report: grid.map(|g| g.report),
             lights_group,
             profiler,
             denoiser: created.denoiser,
@@ -904,11 +948,19 @@ impl RealtimeRenderer {
             self.tiles = LightTiles::new(gpu, self.tiles_built)?;
             self.rebuild_light_readers(gpu, self.di.variant())?;
         }
-        self.lights = GpuLights::new(gpu, &list, self.settings.selection)?;
+        let grid = build_light_grid(scene, &list, self.settings.light_grid.as_ref())?;
+        self.lights = GpuLights::with_grid(gpu, &list, self.settings.selection, grid.as_ref())?;
+        self.grid_report = grid.map(|g| g.report);
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
         self.di.set_light_translation(translation);
         self.list = list;
         Ok(())
+    }
+
+    /// What the light grid's last build produced; `None` without a grid
+    /// ([`RealtimeSettings::light_grid`]) or lights.
+    pub fn light_grid_report(&self) -> Option<&LightGridReport> {
+        self.grid_report.as_ref()
     }
 
     /// The light list in use.

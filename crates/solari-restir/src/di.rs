@@ -3,7 +3,7 @@
 use crate::reservoir::GpuReservoir;
 use crate::settings::{GpuDiParams, RestirDiSettings, flags};
 use bytemuck::Zeroable;
-use solari_lights::{LightTileSettings, LightTiles};
+use solari_lights::{LIGHT_GRID_ON, LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer::GBuffer;
@@ -208,7 +208,11 @@ impl RestirDi {
             pass_pipeline(gpu, backend, &modules, &layouts, entry, constants)
         };
         let constants = tiles.reader_constants(variant.constants());
-        let initial = pipeline("restir_di_initial", &constants)?;
+        let mut initial_constants = constants.clone();
+        if settings.light_grid {
+            initial_constants.push(LIGHT_GRID_ON);
+        }
+        let initial = pipeline("restir_di_initial", &initial_constants)?;
         let spatial = pipeline("restir_di_spatial", &constants)?;
         let emission = pipeline("restir_di_emission", &[])?;
         let params = gpu.uniform_buffer("solari_restir/di_params", &GpuDiParams::zeroed());

@@ -45,6 +45,14 @@ pub struct RestirDiSettings {
     /// mirrors (DI leaves them to specular GI). Sphere and delta lights and sun disks are
     /// not hit by these rays and stay with light sampling alone. 0 turns them off.
     pub brdf_candidates: u32,
+    /// Draw initial candidates from the light grid uploaded with the light list
+    /// (`solari_lights::GpuLights::with_grid`; default off): each candidate comes from the
+    /// lights listed in the pixel's grid cell with the grid's share, from the light tiles
+    /// otherwise, weighted by the mixture's pdf so no light is lost. For scenes with
+    /// thousands of local lights, where a tile sample is rarely near the pixel. Costs one
+    /// light resolve per grid candidate and a short binary search per candidate. Without an
+    /// uploaded grid every candidate comes from the tiles, as with this off.
+    pub light_grid: bool,
 }
 
 /// The most BRDF-sampled candidates per pixel ([`RestirDiSettings::brdf_candidates`]).
@@ -65,6 +73,7 @@ impl Default for RestirDiSettings {
             spatial_tries: 5,
             initial_visibility: false,
             brdf_candidates: 1,
+            light_grid: false,
         }
     }
 }

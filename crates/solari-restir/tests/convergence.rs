@@ -5,6 +5,7 @@
 //! notes (`cargo test --release -p solari-restir --test convergence -- --nocapture`).
 
 use glam::Vec3;
+use solari_lights::LightGridSettings;
 use solari_restir::RestirDiSettings;
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::model::{PunctualKind, PunctualLight};
@@ -14,7 +15,8 @@ use solari_scene::{Camera, DirectionalLight, Scene, default_scene};
 mod common;
 
 use common::{
-    DirectLight, SIZE, di_settings, luminance, reference_direct, rgb, rmse, tile_settings,
+    DirectLight, SIZE, di_settings, grid_settings, luminance, reference_direct, rgb, rmse,
+    tile_settings,
 };
 
 /// An open floor with a block under a soft sun, seen from above: directional light, hard
@@ -87,9 +89,30 @@ fn run_static(
     scene: &Scene,
     settings: RestirDiSettings,
     frames: u32,
+    each: impl FnMut(u32, &[[f32; 4]]),
+) {
+    run_static_grid(gpu, backend, scene, settings, grid_settings(), frames, each);
+}
+
+/// [`run_static`] with `grid`'s layout for the light grid.
+fn run_static_grid(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    settings: RestirDiSettings,
+    grid: LightGridSettings,
+    frames: u32,
     mut each: impl FnMut(u32, &[[f32; 4]]),
 ) {
-    let mut direct = DirectLight::new(gpu, backend, scene, SIZE, settings, tile_settings());
+    let mut direct = DirectLight::with_grid(
+        gpu,
+        backend,
+        scene,
+        (SIZE, SIZE),
+        settings,
+        tile_settings(),
+        grid,
+    );
     let camera = scene.camera(None).expect("camera");
     for frame in 0..frames {
         each(frame, &direct.render(gpu, scene, &camera));
@@ -167,11 +190,16 @@ impl Batches {
 /// means) plus 1% of the region's value for what the G-buffer quantises (8-bit colour,
 /// 16-bit normals) and the light samples' 16-bit cells.
 fn check_convergence(name: &str, scene: &Scene) {
+    check_convergence_with(name, scene, di_settings(), 1024);
+}
+
+/// [`check_convergence`] with other DI settings and reference paths per pixel.
+fn check_convergence_with(name: &str, scene: &Scene, settings: RestirDiSettings, spp: u32) {
     let Some(gpu) = test_gpu() else { return };
     let backend = gpu.backend(Default::default()).expect("backend");
-    let reference = reference_direct(&gpu, backend, scene, SIZE, 1024);
+    let reference = reference_direct(&gpu, backend, scene, SIZE, spp);
     let mut batches = Batches::new(32);
-    run_static(&gpu, backend, scene, di_settings(), 512, |frame, pixels| {
+    run_static(&gpu, backend, scene, settings, 512, |frame, pixels| {
         assert!(
             pixels.iter().flatten().all(|c| c.is_finite()),
             "{name}: non-finite pixel at frame {frame}"
@@ -415,6 +443,57 @@ fn one_frame_is_far_less_noisy_than_light_sampling_in_an_unshadowed_room() {
         warmed < 0.3 * plain,
         "frames 32-39: {warmed} vs plain {plain}"
     );
+}
+
+/// A small field of 64 coloured delta point lights among posts (the H200 bench's scene at
+/// 1/156 of its lights).
+fn light_field() -> Scene {
+    solari_scene::generated_scene::point_light_field(64).expect("field")
+}
+
+/// Through the light grid (`common::grid_settings`: 64 cells listing at most 4 lights each,
+/// so most lights are missing from most cells and reach them only through the global share)
+/// DI still converges to the reference: a wrong mixture pdf would show as bias here. The
+/// reference takes 4096 paths per pixel: with 64 lights its own noise would otherwise eat
+/// the 1% margin.
+#[test]
+fn direct_light_converges_to_the_reference_through_the_light_grid() {
+    let grid = RestirDiSettings {
+        light_grid: true,
+        ..di_settings()
+    };
+    check_convergence_with("light_grid", &light_field(), grid, 4096);
+}
+
+/// On a field of 1,024 point lights a frame without reuse is far less noisy with the grid
+/// (default layout) than with light tiles alone: tile candidates are drawn by power over the
+/// whole field, so a pixel's eight rarely include the few lights near it; the grid's come
+/// mostly from its cell. Measured: RMSE 5.57 with tiles, 1.65 with the grid. The grid pays
+/// only where lights far outnumber a cell's capacity: on the 64-light field it measured
+/// 1.48 with tiles against 1.65 (default grid) and 3.27 (64 cells of 4).
+#[test]
+fn the_light_grid_lowers_one_frame_error_among_many_lights() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = solari_scene::generated_scene::point_light_field(1024).expect("field");
+    let reference = reference_direct(&gpu, backend, &scene, SIZE, 4096);
+    let error = |light_grid: bool, grid: LightGridSettings| {
+        let settings = RestirDiSettings {
+            temporal: false,
+            spatial: false,
+            light_grid,
+            ..di_settings()
+        };
+        let mut e = 0.0;
+        run_static_grid(&gpu, backend, &scene, settings, grid, 8, |_, pixels| {
+            e += rmse(&rgb(pixels), &reference) / 8.0;
+        });
+        e
+    };
+    let tiles = error(false, LightGridSettings::default());
+    let grid = error(true, LightGridSettings::default());
+    println!("light field, one frame without reuse: RMSE tiles {tiles:.4}, grid {grid:.4}");
+    assert!(grid < 0.5 * tiles, "grid {grid} vs tiles {tiles}");
 }
 
 /// Settings are checked before any GPU work.

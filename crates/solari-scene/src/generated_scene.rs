@@ -1,7 +1,11 @@
-//! A scene of any size made in code, for scale tests: a square field of rocks, each its own
-//! mesh (a displaced sphere), on a ground plane under a sun, with a few glowing spheres. With
-//! `rock_field(1024, 10_000)` it holds 10.2 million distinct triangles in 1,029 instances,
-//! so loading, BVH builds and per-frame costs can be measured at a scale no shared scene has.
+//! Scenes of any size made in code, for scale tests.
+//!
+//! - [`rock_field`]: a square field of rocks, each its own mesh (a displaced sphere), on a
+//!   ground plane under a sun, with a few glowing spheres. With `rock_field(1024, 10_000)` it
+//!   holds 10.2 million distinct triangles in 1,029 instances, so loading, BVH builds and
+//!   per-frame costs can be measured at a scale no shared scene has.
+//! - [`point_light_field`]: a square lit only by thousands of coloured point lights among
+//!   posts, for many-light sampling (light tiles against the light grid).
 
 use crate::geometry::generate_normals;
 use crate::model::*;
@@ -153,6 +157,101 @@ pub fn rock_field(rocks: u32, triangles: u32) -> Result<Scene, String> {
     })
 }
 
+/// Most lights [`point_light_field`] accepts.
+pub const MAX_FIELD_LIGHTS: u32 = 1 << 20;
+
+/// A square of about 4 m² per light, lit only by `lights` coloured point lights (delta,
+/// 0.2–2.5 m above the ground, 1–8 W/sr) scattered at random among posts on a 5 m grid, with
+/// a camera low over one edge looking across it. No sun and a black sky: every pixel's light
+/// comes from the nearby few of thousands. Deterministic. Errors name the argument.
+pub fn point_light_field(lights: u32) -> Result<Scene, String> {
+    if !(1..=MAX_FIELD_LIGHTS).contains(&lights) {
+        return Err(format!(
+            "lights must be 1 to {MAX_FIELD_LIGHTS}, not {lights}"
+        ));
+    }
+    let side = (2.0 * (lights as f32).sqrt()).max(10.0);
+    let materials = vec![
+        Material {
+            name: "ground".into(),
+            base_color: Vec4::new(0.5, 0.5, 0.5, 1.0),
+            roughness: 0.8,
+            ..Default::default()
+        },
+        Material {
+            name: "post".into(),
+            base_color: Vec4::new(0.7, 0.6, 0.5, 1.0),
+            roughness: 0.4,
+            ..Default::default()
+        },
+    ];
+    let meshes = vec![ground_plane(side + 4.0, 1.0), uv_sphere("post", 12, 6)];
+    let mut instances = vec![Instance {
+        name: "ground".into(),
+        mesh: 0,
+        material: 0,
+        transform: Mat4::IDENTITY,
+    }];
+    let posts = (side / 5.0).floor() as u32;
+    for i in 0..posts * posts {
+        let (x, z) = ((i % posts) as f32, (i / posts) as f32);
+        let centre = Vec3::new(
+            (x + 0.5) * 5.0 - 0.5 * side,
+            1.0,
+            (z + 0.5) * 5.0 - 0.5 * side,
+        );
+        instances.push(Instance {
+            name: format!("post_{i}"),
+            mesh: 1,
+            material: 1,
+            transform: Mat4::from_scale_rotation_translation(
+                Vec3::new(0.35, 1.0, 0.35),
+                Quat::IDENTITY,
+                centre,
+            ),
+        });
+    }
+    let mut rng = Rng(pcg_hash(0x5eed_1167));
+    let punctual_lights = (0..lights)
+        .map(|i| {
+            let position = Vec3::new(
+                (rng.next_f32() - 0.5) * side,
+                0.2 + 2.3 * rng.next_f32(),
+                (rng.next_f32() - 0.5) * side,
+            );
+            // A saturated colour of luminance 1 to 8.
+            let tint = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) + 0.15;
+            let luminance = 0.2126 * tint.x + 0.7152 * tint.y + 0.0722 * tint.z;
+            let intensity = tint / luminance * (1.0 + 7.0 * rng.next_f32());
+            PunctualLight {
+                name: format!("light_{i}"),
+                kind: PunctualKind::Point,
+                position,
+                direction: Vec3::NEG_Z,
+                intensity,
+                range: None,
+                radius: 0.0,
+            }
+        })
+        .collect();
+    let mut camera = Camera::look_at(
+        "edge",
+        Vec3::new(0.0, 4.0, 0.5 * side + 1.0),
+        Vec3::new(0.0, 0.0, 0.5 * side - 25.0),
+        Vec3::Y,
+        60f32.to_radians(),
+    );
+    camera.aspect = Some(16.0 / 9.0);
+    Ok(Scene {
+        meshes,
+        instances,
+        materials,
+        cameras: vec![camera],
+        punctual_lights,
+        ..Default::default()
+    })
+}
+
 // A unit sphere pushed in and out by a few random waves: every rock differs.
 fn rock(index: u32, segments: u32, rings: u32, rng: &mut Rng) -> Mesh {
     let mut mesh = uv_sphere(&format!("rock_{index}"), segments, rings);
@@ -213,6 +312,38 @@ mod tests {
         assert_eq!(
             rock_field(20, 500).unwrap().meshes[3].positions,
             scene.meshes[3].positions
+        );
+    }
+
+    #[test]
+    fn the_light_field_has_its_lights_inside_the_ground() {
+        let scene = point_light_field(400).unwrap();
+        assert_eq!(scene.punctual_lights.len(), 400);
+        scene.validate().expect("a valid scene");
+        let (lo, hi) = scene.bounds();
+        for l in &scene.punctual_lights {
+            assert!(
+                l.position.x >= lo.x && l.position.x <= hi.x,
+                "{}",
+                l.position
+            );
+            assert!(
+                l.position.z >= lo.z && l.position.z <= hi.z,
+                "{}",
+                l.position
+            );
+            assert!(l.intensity.min_element() > 0.0 && l.intensity.is_finite());
+        }
+        assert_eq!(
+            point_light_field(400).unwrap().punctual_lights,
+            scene.punctual_lights,
+            "deterministic"
+        );
+        assert!(point_light_field(0).unwrap_err().contains("lights"));
+        assert!(
+            point_light_field(MAX_FIELD_LIGHTS + 1)
+                .unwrap_err()
+                .contains("lights")
         );
     }
 

@@ -3,7 +3,9 @@
 //! (`solari-reference`). solari-worldcache's tests include this file too.
 #![allow(dead_code)]
 
-use solari_lights::{GpuLights, LightList, LightTileSettings, LightTiles, Selection};
+use solari_lights::{
+    GpuLights, LightGrid, LightGridSettings, LightList, LightTileSettings, LightTiles, Selection,
+};
 use solari_reference::centre_image;
 #[allow(unused_imports)] // not every including test compares images
 pub use solari_reference::rmse;
@@ -37,6 +39,30 @@ pub fn di_settings() -> RestirDiSettings {
     }
 }
 
+/// The light grid the tests build when [`RestirDiSettings::light_grid`] is on: few cells and
+/// short lists, so that small scenes have truncated cells and lights left out of cells.
+pub fn grid_settings() -> LightGridSettings {
+    LightGridSettings {
+        max_cells: 64,
+        capacity: 4,
+        ..Default::default()
+    }
+}
+
+// The light list on the GPU, with a grid of `grid` when DI draws from one.
+fn upload_lights(
+    gpu: &Gpu,
+    scene: &Scene,
+    list: &LightList,
+    di: &RestirDiSettings,
+    grid: &LightGridSettings,
+) -> GpuLights {
+    let grid = di
+        .light_grid
+        .then(|| LightGrid::build(list, scene.bounds(), grid).expect("grid"));
+    GpuLights::with_grid(gpu, list, Selection::Power, grid.as_ref()).expect("lights")
+}
+
 /// One scene's G-buffer, lights, light tiles and ReSTIR DI at `size × size`.
 pub struct DirectLight {
     /// The tracer the passes were built for.
@@ -54,6 +80,7 @@ pub struct DirectLight {
     /// ReSTIR DI.
     pub di: RestirDi,
     list: LightList,
+    grid: LightGridSettings,
     frame: u32,
     last_camera: Option<Camera>,
     context: Option<FrameContext<'static>>,
@@ -77,14 +104,28 @@ impl DirectLight {
         gpu: &Gpu,
         backend: Backend,
         scene: &Scene,
+        size: (u32, u32),
+        di: RestirDiSettings,
+        tiles: LightTileSettings,
+    ) -> Self {
+        Self::with_grid(gpu, backend, scene, size, di, tiles, grid_settings())
+    }
+
+    /// As [`DirectLight::new_sized`], with `grid`'s layout for the light grid (used when
+    /// `di.light_grid` is on).
+    pub fn with_grid(
+        gpu: &Gpu,
+        backend: Backend,
+        scene: &Scene,
         (width, height): (u32, u32),
         di: RestirDiSettings,
         tiles: LightTileSettings,
+        grid: LightGridSettings,
     ) -> Self {
         let gpu_scene =
             GpuScene::new(gpu, scene, backend, &GpuSceneOptions::default()).expect("upload");
         let list = LightList::build(scene);
-        let lights = GpuLights::new(gpu, &list, Selection::Power).expect("lights");
+        let lights = upload_lights(gpu, scene, &list, &di, &grid);
         let light_tiles = LightTiles::new(gpu, tiles).expect("tiles");
         let lights_group = light_tiles.reader_group(gpu, &lights);
         let variant = TraceVariant::for_scene(&gpu_scene);
@@ -97,6 +138,7 @@ impl DirectLight {
             lights_group,
             gpu_scene,
             list,
+            grid,
             frame: 0,
             last_camera: None,
             context: None,
@@ -109,7 +151,7 @@ impl DirectLight {
         let list = LightList::build(scene);
         self.di
             .set_light_translation(list.translation_from(&self.list));
-        self.lights = GpuLights::new(gpu, &list, Selection::Power).expect("lights");
+        self.lights = upload_lights(gpu, scene, &list, &self.di.settings(), &self.grid);
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
         self.list = list;
     }
