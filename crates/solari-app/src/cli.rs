@@ -936,6 +936,10 @@ pub struct BenchDiArgs {
     /// --pixel-centre`) for the error columns.
     #[arg(long)]
     pub reference: Option<PathBuf>,
+    /// Frames at the end of each setting whose errors are averaged (as mean squared error)
+    /// into the error columns; 1 scores the last frame alone.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub error_frames: u32,
     /// Also write the CSV here.
     #[arg(long)]
     pub csv: Option<PathBuf>,
