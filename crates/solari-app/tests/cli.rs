@@ -325,6 +325,27 @@ fn bad_arguments_are_refused_before_any_work() {
             &["render", "x.gltf", "--generated", "4x100"],
             "cannot be used with",
         ),
+        (&["render", "--light-field", "0"], "lights must be 1 to"),
+        (
+            &["render", "x.gltf", "--light-field", "10"],
+            "cannot be used with",
+        ),
+        (
+            &["render", "--mode", "realtime", "--light-grid", "1.5"],
+            "light grid share",
+        ),
+        (
+            &[
+                "render",
+                "--mode",
+                "realtime",
+                "--light-grid",
+                "--light-grid-capacity",
+                "0",
+            ],
+            "light grid capacity",
+        ),
+        (&["bench-di", "--light-grid", "off,2"], "light grid share"),
         (&["soak", "--frames", "0"], "--frames"),
         (&["soak", "--toggle-lights", "0"], "--toggle-lights"),
         (&["soak", "--summary", "no/such/s.json"], "does not exist"),
