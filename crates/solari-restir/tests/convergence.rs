@@ -277,6 +277,13 @@ fn direct_light_converges_to_the_reference_under_point_and_spot_lights() {
 /// sees the sky above the floor, which DI shows where rays escape.
 #[test]
 fn direct_light_converges_to_the_reference_under_an_environment_map() {
+    let scene = sky_scene();
+    assert!(scene.environment_is_light());
+    check_convergence("environment", &scene);
+}
+
+/// The floor and blocks of [`sun_scene`] lit by a 64×32 environment map alone (no sun).
+fn sky_scene() -> Scene {
     let mut scene = sun_scene();
     scene.directional_lights.clear();
     let (w, h) = (64u32, 32u32);
@@ -295,8 +302,7 @@ fn direct_light_converges_to_the_reference_under_an_environment_map() {
     let map = solari_scene::EnvironmentMap::new(w, h, texels).expect("map");
     scene.environment_map = Some(std::sync::Arc::new(map));
     scene.environment_radiance = Vec3::ONE;
-    assert!(scene.environment_is_light());
-    check_convergence("environment", &scene);
+    scene
 }
 
 /// A glossy version of a scene: every material smooth enough for BRDF-sampled candidates,
@@ -318,26 +324,8 @@ fn glossy(mut scene: Scene, roughness: f32, metallic: f32) -> Scene {
 /// other scenes do, and a single frame's error drops against tile candidates alone.
 #[test]
 fn direct_light_converges_on_glossy_surfaces_with_brdf_candidates() {
-    let mut sky = sun_scene();
-    sky.directional_lights.clear();
-    let (w, h) = (64u32, 32u32);
-    let texels = (0..w * h)
-        .map(|i| {
-            let (x, y) = (i % w, i / w);
-            if (40..42).contains(&x) && (9..11).contains(&y) {
-                Vec3::new(300.0, 260.0, 200.0)
-            } else if y < h / 2 {
-                Vec3::new(0.25, 0.4, 0.9) * (1.0 + y as f32 / 16.0)
-            } else {
-                Vec3::new(0.1, 0.08, 0.05)
-            }
-        })
-        .collect();
-    let map = solari_scene::EnvironmentMap::new(w, h, texels).expect("map");
-    sky.environment_map = Some(std::sync::Arc::new(map));
-    sky.environment_radiance = Vec3::ONE;
     let scenes = [
-        ("glossy_environment", glossy(sky, 0.25, 1.0)),
+        ("glossy_environment", glossy(sky_scene(), 0.25, 1.0)),
         (
             "glossy_cornell_box",
             glossy(default_scene::cornell_box(), 0.2, 1.0),

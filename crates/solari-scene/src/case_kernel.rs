@@ -23,6 +23,19 @@ impl CaseKernel {
         layouts: &[Option<&wgpu::BindGroupLayout>],
         io_group: usize,
     ) -> Result<Self, GpuError> {
+        Self::with_constants(gpu, label, wgsl, layouts, io_group, &[])
+    }
+
+    /// [`CaseKernel::new`] with pipeline-overridable `constants` (`(id, value)`), for code
+    /// that a pass compiles in only under an override.
+    pub fn with_constants(
+        gpu: &Gpu,
+        label: &str,
+        wgsl: &str,
+        layouts: &[Option<&wgpu::BindGroupLayout>],
+        io_group: usize,
+        constants: &[(&str, f64)],
+    ) -> Result<Self, GpuError> {
         if layouts.get(io_group).is_none_or(|l| l.is_some()) {
             return Err(GpuError::Validation(format!(
                 "case kernel {label}: layout slot {io_group} must be the empty (None) case slot"
@@ -41,7 +54,7 @@ impl CaseKernel {
             .map(|(i, l)| if i == io_group { Some(&io_layout) } else { *l })
             .collect();
         let pipeline =
-            gpu.compute_pipeline(label, wgsl, &layouts, ShaderChecks::BoundsOnly, &[])?;
+            gpu.compute_pipeline(label, wgsl, &layouts, ShaderChecks::BoundsOnly, constants)?;
         Ok(Self {
             label: label.to_owned(),
             pipeline,

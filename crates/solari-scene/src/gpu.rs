@@ -412,6 +412,41 @@ impl Gpu {
         })
     }
 
+    /// [`Gpu::texture_2d`] filled with `texels` (tightly packed rows, top row first, in the
+    /// format's texel layout); `COPY_DST` is added to `usage`. Panics when `texels` is not
+    /// exactly one texel per pixel: a caller bug, never user input.
+    pub fn texture_2d_with(
+        &self,
+        label: &str,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+        texels: &[u8],
+    ) -> wgpu::Texture {
+        let texel_bytes = format
+            .block_copy_size(None)
+            .expect("an uncompressed colour format");
+        assert_eq!(
+            texels.len() as u64,
+            size.0 as u64 * size.1 as u64 * texel_bytes as u64,
+            "{label}: texel data for {}x{} {format:?}",
+            size.0,
+            size.1
+        );
+        let texture = self.texture_2d(label, size, format, usage | wgpu::TextureUsages::COPY_DST);
+        self.queue.write_texture(
+            texture.as_image_copy(),
+            texels,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(size.0 * texel_bytes),
+                rows_per_image: Some(size.1),
+            },
+            texture.size(),
+        );
+        texture
+    }
+
     /// Copies `size` bytes of `buffer` (which needs `COPY_SRC`) back to the CPU. Blocks.
     pub fn read_buffer(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, GpuError> {
         let staging = self.device.create_buffer(&wgpu::BufferDescriptor {

@@ -802,30 +802,12 @@ fn upload_energy_table(gpu: &Gpu) -> wgpu::TextureView {
         }
         texels.extend([table.a_avg[r], table.b_avg[r]]);
     }
-    let size = wgpu::Extent3d {
-        width: n as u32 + 1,
-        height: n as u32,
-        depth_or_array_layers: 1,
-    };
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("solari_scene/brdf_energy"),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rg32Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    gpu.queue.write_texture(
-        texture.as_image_copy(),
+    let texture = gpu.texture_2d_with(
+        "solari_scene/brdf_energy",
+        (n as u32 + 1, n as u32),
+        wgpu::TextureFormat::Rg32Float,
+        wgpu::TextureUsages::TEXTURE_BINDING,
         bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some((n as u32 + 1) * 8),
-            rows_per_image: Some(n as u32),
-        },
-        size,
     );
     texture.create_view(&Default::default())
 }
@@ -876,30 +858,12 @@ fn upload_environment(gpu: &Gpu, scene: &Scene) -> (wgpu::TextureView, f32) {
             [t.x, t.y, t.z, 0.0].map(|c| half::f16::from_f32(c).to_bits())
         })
         .collect();
-    let size = wgpu::Extent3d {
-        width: map.width(),
-        height: map.height(),
-        depth_or_array_layers: 1,
-    };
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("solari_scene/environment_map"),
-        size,
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba16Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
-    gpu.queue.write_texture(
-        texture.as_image_copy(),
+    let texture = gpu.texture_2d_with(
+        "solari_scene/environment_map",
+        (map.width(), map.height()),
+        wgpu::TextureFormat::Rgba16Float,
+        wgpu::TextureUsages::TEXTURE_BINDING,
         bytemuck::cast_slice(&texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(map.width() * 8),
-            rows_per_image: Some(map.height()),
-        },
-        size,
     );
     (texture.create_view(&Default::default()), scale)
 }

@@ -223,30 +223,13 @@ fn float_textures_count_their_channels() {
         let c = rng.random_range(0..4);
         texels[i][c] = [f32::NAN, f32::INFINITY, -1.5, -0.0][rng.random_range(0..4)];
     }
-    let texture = gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("test/rgba16f"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba16Float,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    });
     let halves: Vec<u16> = texels.iter().flatten().map(|&v| f16(v)).collect();
-    gpu.queue.write_texture(
-        texture.as_image_copy(),
+    let texture = gpu.texture_2d_with(
+        "test/rgba16f",
+        (w, h),
+        wgpu::TextureFormat::Rgba16Float,
+        wgpu::TextureUsages::TEXTURE_BINDING,
         bytemuck::cast_slice(&halves),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(w * 8),
-            rows_per_image: Some(h),
-        },
-        texture.size(),
     );
     let mut checker = FiniteChecker::new(&gpu, &["tex"]).unwrap();
     for (float_mask, non_negative_mask) in [(0xf, 0xf), (0x7, 0x1), (0x8, 0x0)] {

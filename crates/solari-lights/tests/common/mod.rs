@@ -88,12 +88,25 @@ impl CaseKernel {
         source: &'static str,
         group3: &wgpu::BindGroupLayout,
     ) -> Self {
+        Self::with_constants(gpu, name, source, group3, &[])
+    }
+
+    /// [`CaseKernel::new`] with pipeline-overridable constants (`(id, value)`).
+    pub fn with_constants(
+        gpu: &Gpu,
+        name: &'static str,
+        source: &'static str,
+        group3: &wgpu::BindGroupLayout,
+        constants: &[(&str, f64)],
+    ) -> Self {
         let (empty_layout, empty) = gpu.empty_group();
         let extra: Vec<(&str, &str)> = MODULES.iter().copied().chain([(name, source)]).collect();
         let wgsl = compose(name, Backend::Software, &extra).expect("compose");
         let layouts = [Some(&empty_layout), Some(&empty_layout), None, Some(group3)];
-        let kernel = solari_scene::case_kernel::CaseKernel::new(gpu, name, &wgsl, &layouts, 2)
-            .expect("pipeline");
+        let kernel = solari_scene::case_kernel::CaseKernel::with_constants(
+            gpu, name, &wgsl, &layouts, 2, constants,
+        )
+        .expect("pipeline");
         Self { kernel, empty }
     }
 
