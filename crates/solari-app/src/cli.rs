@@ -13,7 +13,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
-    CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
+    CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, QualityTier, RealtimeSettings,
 };
 use solari_restir::{RestirDiSettings, RestirGiSettings, SpecularGiSettings};
 use solari_scene::brdf::BrdfModel;
@@ -59,6 +59,10 @@ pub enum Command {
     /// optionally toggling lights, and print a JSON summary (non-finite counts per pass,
     /// overflows, GPU memory, frame-time percentiles).
     Soak(SoakArgs),
+    /// Open a window with the real-time renderer: fly camera (WASD, right-drag to look),
+    /// drop a .gltf/.glb to load it, toggles for GI, denoiser, view and quality, per-pass
+    /// GPU times and frame time on screen, F12 for a screenshot.
+    View(ViewArgs),
 }
 
 impl Cli {
@@ -74,6 +78,7 @@ impl Cli {
             Command::BenchCache(a) => a.check(),
             Command::BenchDenoise(a) => a.check(),
             Command::Soak(a) => a.check().map(drop),
+            Command::View(a) => a.check().map(drop),
         }
     }
 }
@@ -328,6 +333,12 @@ impl SceneArgs {
 /// The knobs of the real-time renderer, shared by `render --mode realtime` and `soak`.
 #[derive(Args, Clone, Debug)]
 pub struct RealtimeArgs {
+    /// Quality tier, low, medium, high or ultra: sets the internal scale, GI mode, specular
+    /// GI, DI candidates and reuse and the denoiser's iterations together, over those
+    /// flags (the table and its measured basis: `solari_renderer::quality`). Absent: the
+    /// flags as given, whose defaults are the high tier.
+    #[arg(long, value_parser = values::quality)]
+    pub quality: Option<QualityTier>,
     /// Camera path, fixed or orbit (a ±20° swing around the scene's centre).
     #[arg(long, default_value = "fixed", value_parser = values::camera_path)]
     pub camera_path: CameraPath,
@@ -451,7 +462,7 @@ pub struct RealtimeArgs {
 impl RealtimeArgs {
     /// The renderer's settings, every knob checked (the error names the bad one).
     pub fn settings(&self, view: FrameView) -> Result<RealtimeSettings, String> {
-        let settings = RealtimeSettings {
+        let mut settings = RealtimeSettings {
             gbuffer: self.gbuffer,
             tiles: self.tiles,
             di: RestirDiSettings {
@@ -503,6 +514,9 @@ impl RealtimeArgs {
             antialias: self.antialias,
             ..Default::default()
         };
+        if let Some(tier) = self.quality {
+            settings = tier.apply(&settings);
+        }
         settings.validate()?;
         Ok(settings)
     }
@@ -717,6 +731,54 @@ impl SoakArgs {
         let mut settings = self.realtime.settings(FrameView::Lit)?;
         // A soak counts every finding to the end instead of stopping at the first.
         settings.finite_check = FiniteCheck::Count;
+        Ok(settings)
+    }
+}
+
+/// `solari view`.
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// The scene (drop another .gltf/.glb on the window to switch).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Window size in physical pixels as WIDTHxHEIGHT (the window may be resized).
+    #[arg(long, default_value = "1280x720", value_parser = values::size)]
+    pub size: (u32, u32),
+    /// The renderer's starting knobs (most can be changed in the window).
+    #[command(flatten)]
+    pub realtime: RealtimeArgs,
+    /// Exposure in EV (stops) for the window and PNG screenshots.
+    #[arg(long, default_value_t = 0.0, value_parser = values::finite, allow_hyphen_values = true)]
+    pub exposure: f32,
+    /// Render this many frames, write `--screenshot` (if given) and close: for scripts and
+    /// tests. Without it the window stays open until closed (Esc).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    pub frames: Option<u32>,
+    /// Screenshot file (F12, and after `--frames`): .png is the window as shown, overlay
+    /// included unless hidden; .exr is the renderer's linear output. Default for F12:
+    /// solari-view-N.png in the working folder.
+    #[arg(long, value_name = "FILE.png|FILE.exr")]
+    pub screenshot: Option<PathBuf>,
+    /// Start with the overlay hidden (F1 toggles it).
+    #[arg(long)]
+    pub no_ui: bool,
+    /// Present without waiting for the display's refresh (frame times then show the
+    /// renderer's own pace).
+    #[arg(long)]
+    pub no_vsync: bool,
+}
+
+impl ViewArgs {
+    /// Up-front checks; returns the renderer's starting settings (timestamps on, for the
+    /// overlay's pass times).
+    pub fn check(&self) -> Result<RealtimeSettings, String> {
+        self.scene.check()?;
+        if let Some(p) = &self.screenshot {
+            crate::output::ImageFormat::for_path(p)?;
+            check_writable(p, "--screenshot")?;
+        }
+        let mut settings = self.realtime.settings(FrameView::Lit)?;
+        settings.timestamps = true;
         Ok(settings)
     }
 }

@@ -4,7 +4,7 @@
 
 use solari_denoise::DenoiserKind;
 use solari_lights::{LightTileSettings, Selection};
-use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode};
+use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode, QualityTier};
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
@@ -144,6 +144,11 @@ pub fn gi(s: &str) -> Result<GiMode, String> {
     named(s, GiMode::parse(s), "off, cache, path or restir")
 }
 
+/// `low`, `medium`, `high` or `ultra`.
+pub fn quality(s: &str) -> Result<QualityTier, String> {
+    named(s, QualityTier::parse(s), "low, medium, high or ultra")
+}
+
 /// `none`, `fallback` or `dlss-rr`.
 pub fn denoiser(s: &str) -> Result<DenoiserKind, String> {
     named(s, DenoiserKind::parse(s), "none, fallback or dlss-rr")
@@ -252,5 +257,11 @@ mod tests {
         assert_eq!(view("lit"), Ok(ViewArg::Frame(FrameView::Lit)));
         assert!(list("1,x", "--candidates", number::<u32>).is_err());
         assert_eq!(list("1, 8", "--candidates", number::<u32>), Ok(vec![1, 8]));
+        assert_eq!(quality("ultra"), Ok(QualityTier::Ultra));
+        assert!(
+            quality("max")
+                .unwrap_err()
+                .contains("low, medium, high or ultra")
+        );
     }
 }

@@ -4,6 +4,7 @@
 //! - `solari render [SCENE] --mode reference --spp N [--max-bounces N] --out FILE.exr`
 //! - `solari render [SCENE] --mode realtime --frames N [--camera-path orbit] --out FILE.png`
 //! - `solari soak [SCENE] --frames N --camera-path orbit --toggle-lights K`
+//! - `solari view [SCENE] [--size WxH] [--frames N --screenshot FILE.png]`
 //! - `solari info [SCENE] [--json]`
 //! - `solari compare TEST REFERENCE [--heatmap OUT.png] [--mask-emitters SCENE] [--json]`
 //! - `solari bench-rays [SCENE | --heightfield N] [--json]`
@@ -25,6 +26,8 @@ mod info;
 mod realtime_cmd;
 mod render;
 mod soak;
+mod view;
+mod view_overlay;
 
 use clap::Parser;
 use solari_app::cli::{Cli, Command};
@@ -41,6 +44,7 @@ fn main() {
         Command::BenchCache(a) => bench_cache::run(a),
         Command::BenchDenoise(a) => bench_denoise::run(a),
         Command::Soak(a) => soak::run(a),
+        Command::View(a) => view::run(a),
     });
     if let Err(e) = result {
         eprintln!("error: {e}");

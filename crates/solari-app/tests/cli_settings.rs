@@ -178,3 +178,34 @@ fn environment_options_are_checked_and_applied() {
         "{err}"
     );
 }
+
+#[test]
+fn a_quality_tier_sets_its_knobs_over_the_flags() {
+    use solari_renderer::QualityTier;
+    for tier in QualityTier::ALL {
+        let s = settings(&["--quality", tier.name()]);
+        assert_eq!(QualityTier::of(&s), Some(tier), "{}", tier.name());
+        // The tier wins over a flag it sets; flags it does not set stay.
+        let s = settings(&[
+            "--quality",
+            tier.name(),
+            "--candidates",
+            "3",
+            "--tiles",
+            "4x64",
+        ]);
+        assert_eq!(QualityTier::of(&s), Some(tier));
+        assert_eq!(s.tiles.sample_count(), 256);
+    }
+    // No tier: the flags' defaults are the high tier.
+    assert_eq!(QualityTier::of(&settings(&[])), Some(QualityTier::High));
+    let refused = solari_app::cli::Cli::try_parse_from([
+        "solari",
+        "render",
+        "--mode",
+        "realtime",
+        "--quality",
+        "max",
+    ]);
+    assert!(refused.is_err());
+}

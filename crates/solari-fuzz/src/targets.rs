@@ -298,6 +298,7 @@ pub fn cli(args: &[OsString]) -> Outcome {
         Command::BenchCache(a) => Some(&a.scene),
         Command::BenchDenoise(a) => Some(&a.scene),
         Command::Soak(a) => Some(&a.scene),
+        Command::View(a) => Some(&a.scene),
         Command::Compare(a) => {
             for p in [&a.test, &a.reference] {
                 if let Err(e) = solari_reference::image_io::read_linear(p) {

@@ -8,10 +8,12 @@
 
 pub mod gbuffer_choice;
 pub mod present;
+pub mod quality;
 pub mod realtime;
 
 pub use gbuffer_choice::{GBufferChoice, GBufferTiming};
 pub use present::Presenter;
+pub use quality::QualityTier;
 pub use realtime::{
     CameraPath, CameraRig, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES,
     PassRun, RealtimeRenderer, RealtimeSettings,
