@@ -135,6 +135,7 @@ impl Overlay {
         let input = self.state.take_egui_input(window);
         let output = self.ctx.run_pass(input, |ctx| {
             panel(ctx, figures, controls, &mut requests);
+            pass_window(ctx, figures.report.as_ref());
         });
         self.state
             .handle_platform_output(window, output.platform_output);
@@ -205,7 +206,11 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
         .default_width(260.0)
         .resizable(false)
         .show(ctx, |ui| {
-            ui.label(&f.scene);
+            // The file's name: a full path would widen the panel.
+            let name = std::path::Path::new(&f.scene)
+                .file_name()
+                .map_or(f.scene.clone(), |n| n.to_string_lossy().into_owned());
+            ui.label(name).on_hover_text(&f.scene);
             ui.small(&f.device);
             ui.small(format!(
                 "{}×{} output, lighting at {}×{}",
@@ -231,9 +236,6 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
                     format!("{} non-finite values so far", f.non_finite),
                 );
             }
-            egui::CollapsingHeader::new("passes (GPU ms)")
-                .default_open(true)
-                .show(ui, |ui| pass_table(ui, f.report.as_ref()));
             ui.separator();
             let before = c.tier;
             egui::ComboBox::from_label("quality")
@@ -290,6 +292,15 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
                  drop a .gltf/.glb · Esc quit",
             );
         });
+}
+
+/// The passes that ran and their GPU times, in a window at the top right.
+fn pass_window(ctx: &egui::Context, report: Option<&FrameReport>) {
+    egui::Window::new("GPU ms per pass")
+        .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
+        .resizable(false)
+        .collapsible(true)
+        .show(ctx, |ui| pass_table(ui, report));
 }
 
 fn pass_table(ui: &mut egui::Ui, report: Option<&FrameReport>) {
