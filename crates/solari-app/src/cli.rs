@@ -7,13 +7,13 @@
 //! mistake costs no render time and leaves no partial output. The fuzz harness drives
 //! `Cli::try_parse_from` and `Cli::check` with hostile arguments.
 
-use crate::cli_values::{self as values, ViewArg};
+use crate::cli_values::{self as values, QualityArg, ViewArg};
 use crate::output::{ImageOutputs, check_writable};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
-    CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, QualityTier, RealtimeSettings,
+    CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
 use solari_restir::{RestirDiSettings, RestirGiSettings, SpecularGiSettings};
 use solari_scene::brdf::BrdfModel;
@@ -333,12 +333,24 @@ impl SceneArgs {
 /// The knobs of the real-time renderer, shared by `render --mode realtime` and `soak`.
 #[derive(Args, Clone, Debug)]
 pub struct RealtimeArgs {
-    /// Quality tier, low, medium, high or ultra: sets the internal scale, GI mode, specular
-    /// GI, DI candidates and reuse and the denoiser's iterations together, over those
-    /// flags (the table and its measured basis: `solari_renderer::quality`). Absent: the
-    /// flags as given, whose defaults are the high tier.
+    /// Quality: a tier (low, medium, high or ultra) sets the internal scale and
+    /// antialiasing, GI mode, specular GI and ReSTIR DI reuse together, over those flags (the
+    /// tiers and their measured basis: `solari_renderer::quality`); auto times the scene on
+    /// this adapter at start-up and takes the setting with the least measured error that fits
+    /// `--budget-ms` (`solari_renderer::auto_quality`). Absent: the flags as given, whose
+    /// defaults are the high tier.
     #[arg(long, value_parser = values::quality)]
-    pub quality: Option<QualityTier>,
+    pub quality: Option<QualityArg>,
+    /// GPU milliseconds per frame that `--quality auto` must fit (default 16.7: 60 frames a
+    /// second).
+    #[arg(long, default_value_t = 16.7, value_parser = values::finite)]
+    pub budget_ms: f32,
+    /// Time-against-error table for `--quality auto` (CSV with scene, setting, gpu_ms and
+    /// rel_mse columns, as `benches/results/quality_table.py` writes from a sweep of your own
+    /// scenes); default: the table shipped in `solari-renderer`. A scene is looked up by its
+    /// file's stem; others get each setting's worst error over the table's scenes.
+    #[arg(long, value_name = "FILE.csv")]
+    pub quality_table: Option<PathBuf>,
     /// Camera path, fixed or orbit (a ±20° swing around the scene's centre).
     #[arg(long, default_value = "fixed", value_parser = values::camera_path)]
     pub camera_path: CameraPath,
@@ -514,8 +526,22 @@ impl RealtimeArgs {
             antialias: self.antialias,
             ..Default::default()
         };
-        if let Some(tier) = self.quality {
+        if let Some(QualityArg::Tier(tier)) = self.quality {
             settings = tier.apply(&settings);
+        }
+        if !(self.budget_ms > 0.0 && self.budget_ms <= 10_000.0) {
+            return Err(format!(
+                "--budget-ms must be above 0 and at most 10000, not {}",
+                self.budget_ms
+            ));
+        }
+        if self.quality_table.is_some() && self.quality != Some(QualityArg::Auto) {
+            return Err("--quality-table is for --quality auto".into());
+        }
+        if let Some(p) = &self.quality_table {
+            check_input(p, "--quality-table")?;
+            // Parsed now too, so a bad table stops the command before any work.
+            crate::quality_choice::error_table(self)?;
         }
         settings.validate()?;
         Ok(settings)
@@ -727,6 +753,12 @@ impl SoakArgs {
         self.scene.check()?;
         if let Some(p) = &self.summary {
             check_writable(p, "--summary")?;
+        }
+        if self.realtime.quality == Some(QualityArg::Auto) {
+            return Err(
+                "--quality auto is for `render --mode realtime` and `view`: a soak runs                  fixed settings (give a tier or the flags)"
+                    .into(),
+            );
         }
         let mut settings = self.realtime.settings(FrameView::Lit)?;
         // A soak counts every finding to the end instead of stopping at the first.

@@ -144,9 +144,21 @@ pub fn gi(s: &str) -> Result<GiMode, String> {
     named(s, GiMode::parse(s), "off, cache, path or restir")
 }
 
-/// `low`, `medium`, `high` or `ultra`.
-pub fn quality(s: &str) -> Result<QualityTier, String> {
-    named(s, QualityTier::parse(s), "low, medium, high or ultra")
+/// `--quality`: a tier, or automatic.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum QualityArg {
+    /// A named tier.
+    Tier(QualityTier),
+    /// Chosen at start-up from measured time against error (`--budget-ms`).
+    Auto,
+}
+
+/// `auto`, `low`, `medium`, `high` or `ultra`.
+pub fn quality(s: &str) -> Result<QualityArg, String> {
+    if s == "auto" {
+        return Ok(QualityArg::Auto);
+    }
+    named(s, QualityTier::parse(s), "auto, low, medium, high or ultra").map(QualityArg::Tier)
 }
 
 /// `none`, `fallback` or `dlss-rr`.
@@ -257,11 +269,12 @@ mod tests {
         assert_eq!(view("lit"), Ok(ViewArg::Frame(FrameView::Lit)));
         assert!(list("1,x", "--candidates", number::<u32>).is_err());
         assert_eq!(list("1, 8", "--candidates", number::<u32>), Ok(vec![1, 8]));
-        assert_eq!(quality("ultra"), Ok(QualityTier::Ultra));
+        assert_eq!(quality("ultra"), Ok(QualityArg::Tier(QualityTier::Ultra)));
+        assert_eq!(quality("auto"), Ok(QualityArg::Auto));
         assert!(
             quality("max")
                 .unwrap_err()
-                .contains("low, medium, high or ultra")
+                .contains("auto, low, medium, high or ultra")
         );
     }
 }

@@ -5,6 +5,7 @@
 use crate::bench_io::frame_bar;
 use solari_app::cli::{Prepared, RenderArgs, RenderPlan};
 use solari_app::output::AtomicFile;
+use solari_app::quality_choice::{Target, resolve, table_scene_name};
 use solari_renderer::{FrameReport, PASS_NAMES, RealtimeRenderer};
 use std::io::Write;
 use std::time::Instant;
@@ -27,6 +28,19 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         load_seconds,
         upload_seconds,
     } = args.scene.prepare()?;
+    let target = Target {
+        gpu: &gpu,
+        backend,
+        scene: &scene,
+        gpu_scene: &gpu_scene,
+        camera: &camera,
+        size: (w, h),
+        table_name: table_scene_name(&args.scene),
+    };
+    let (settings, quality) = resolve(&args.realtime, &target, settings)?;
+    if let Some(q) = &quality {
+        eprintln!("{}", q.line());
+    }
     let build_start = Instant::now();
     let mut renderer =
         RealtimeRenderer::with_dlss(&gpu, backend, &scene, &gpu_scene, w, h, settings, &dlss)
@@ -148,6 +162,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         .reduce(|a, b| a + b);
     let elapsed = start.elapsed().as_secs_f64();
     let files: Vec<_> = plan.outputs.files.iter().map(|(p, _)| p).collect();
+    let applied = *renderer.settings();
     if args.json {
         let per_pass: serde_json::Map<String, serde_json::Value> = passes
             .iter()
@@ -162,12 +177,17 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         let v = serde_json::json!({"scene": name, "mode": "realtime", "files": files,
             "width": ow, "height": oh, "frames": args.frames,
             "camera_path": format!("{path:?}").to_lowercase(),
-            "candidates": args.realtime.candidates, "tiles": format!("{}x{}",
+            "candidates": applied.di.initial_candidates, "tiles": format!("{}x{}",
                 args.realtime.tiles.tiles, args.realtime.tiles.samples_per_tile),
             "tracer": backend.name(), "adapter": gpu.info.name, "passes": per_pass,
             "brdf": args.scene.brdf.name(),
-            "seconds": elapsed, "gi": format!("{:?}", args.realtime.gi), "specular_gi": args.realtime.specular_gi, "psr": args.realtime.psr, "gi_samples": args.realtime.gi_samples,
-            "di_reuse": format!("{:?}", args.realtime.di_reuse).to_lowercase(),
+            "seconds": elapsed, "gi": format!("{:?}", applied.gi),
+            "specular_gi": applied.specular_gi, "psr": applied.psr,
+            "gi_samples": applied.restir_gi.initial_samples,
+            "di_reuse": match (applied.di.temporal, applied.di.spatial) {
+                (true, true) => "all", (true, false) => "temporal",
+                (false, true) => "spatial", (false, false) => "none" },
+            "quality": quality.as_ref().map(|q| q.json()),
             "cache_active_cells": cache.map(|c| c.active_cells),
             "cache_overflows": cache.map(|c| c.overflows), "cache_bytes": cache_memory,
             "denoiser": renderer.denoiser_kind().name(),
@@ -180,8 +200,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "wall_frame_ms": wall_ms, "fps": wall_ms.map(|m| 1e3 / m),
             "gpu_frame_ms": gpu_frame_ms,
             "frames_in_flight": args.realtime.frames_in_flight,
-            "internal_scale": args.realtime.internal_scale,
-            "antialias": args.realtime.antialias,
+            "internal_scale": applied.internal_scale,
+            "antialias": applied.antialias,
             "load_s": load_seconds, "upload_s": upload_seconds,
             "renderer_build_s": renderer_seconds,
             "triangles": scene.stats().triangles, "instances": scene.instances.len(),

@@ -7,9 +7,10 @@
 //! with a screenshot, which is how the tests drive it under Xvfb.
 
 use crate::view_overlay::{Controls, FrameFigures, Overlay};
-use solari_app::cli::{SceneArgs, ViewArgs};
+use solari_app::cli::{RealtimeArgs, SceneArgs, ViewArgs};
 use solari_app::fly_camera::{FlyCamera, MoveInput};
 use solari_app::output::{ImageFormat, ImageOutputs, write_atomic};
+use solari_app::quality_choice::{QualityReport, Target, resolve, table_scene_name};
 use solari_denoise::DenoiserKind;
 use solari_reference::image_io::encode_png_rgb8;
 use solari_renderer::{QualityTier, RealtimeRenderer, RealtimeSettings};
@@ -128,6 +129,9 @@ struct Session {
     renderer: RealtimeRenderer,
     start: Camera,
     camera: FlyCamera,
+    // The settings the renderer was built with (`--quality auto` chooses them per scene).
+    settings: RealtimeSettings,
+    quality: Option<QualityReport>,
 }
 
 impl Session {
@@ -135,6 +139,7 @@ impl Session {
         gpu: &Gpu,
         backend: Backend,
         args: &SceneArgs,
+        realtime: &RealtimeArgs,
         settings: RealtimeSettings,
         size: (u32, u32),
     ) -> Result<Self, String> {
@@ -150,6 +155,19 @@ impl Session {
         };
         let gpu_scene =
             GpuScene::new(gpu, &scene, backend, &options).map_err(|e| format!("{name}: {e}"))?;
+        let target = Target {
+            gpu,
+            backend,
+            scene: &scene,
+            gpu_scene: &gpu_scene,
+            camera: &start,
+            size,
+            table_name: table_scene_name(args),
+        };
+        let (settings, quality) = resolve(realtime, &target, settings)?;
+        if let Some(q) = &quality {
+            println!("{}", q.line());
+        }
         let renderer =
             RealtimeRenderer::new(gpu, backend, &scene, &gpu_scene, size.0, size.1, settings)
                 .map_err(|e| format!("{name}: {e}"))?;
@@ -162,6 +180,8 @@ impl Session {
             renderer,
             start,
             camera,
+            settings,
+            quality,
         })
     }
 }
@@ -173,6 +193,7 @@ struct Viewer {
     gpu: Gpu,
     backend: Backend,
     scene_args: SceneArgs,
+    realtime_args: RealtimeArgs,
     settings: RealtimeSettings,
     session: Session,
     overlay: Overlay,
@@ -230,7 +251,8 @@ impl Viewer {
         let config = surface_config(&surface, &gpu, window.inner_size(), !args.no_vsync)?;
         surface.configure(&gpu.device, &config);
         let size = (config.width, config.height);
-        let session = Session::load(&gpu, backend, &args.scene, settings, size)?;
+        let session = Session::load(&gpu, backend, &args.scene, &args.realtime, settings, size)?;
+        let settings = session.settings;
         let overlay = Overlay::new(&window, &gpu.device, config.format, !args.no_ui);
         let controls = controls_of(&settings, args.exposure, session.camera.speed);
         log::info!(
@@ -243,6 +265,10 @@ impl Viewer {
         );
         let figures = FrameFigures {
             device: format!("{} · {}", gpu.info.name, backend.name()),
+            status: session
+                .quality
+                .as_ref()
+                .map_or(String::new(), QualityReport::line),
             ..Default::default()
         };
         Ok(Self {
@@ -252,6 +278,7 @@ impl Viewer {
             gpu,
             backend,
             scene_args: args.scene.clone(),
+            realtime_args: args.realtime.clone(),
             settings,
             session,
             overlay,
@@ -548,13 +575,27 @@ impl Viewer {
         }
         let size = (self.config.width, self.config.height);
         let started = Instant::now();
-        match Session::load(&self.gpu, self.backend, &args, self.settings, size) {
+        match Session::load(
+            &self.gpu,
+            self.backend,
+            &args,
+            &self.realtime_args,
+            self.settings,
+            size,
+        ) {
             Ok(session) => {
                 self.figures.status = format!(
-                    "loaded {} in {:.1} s",
+                    "loaded {} in {:.1} s{}",
                     session.name,
-                    started.elapsed().as_secs_f64()
+                    started.elapsed().as_secs_f64(),
+                    session
+                        .quality
+                        .as_ref()
+                        .map_or(String::new(), |q| format!("; {}", q.line()))
                 );
+                self.settings = session.settings;
+                self.controls =
+                    controls_of(&self.settings, self.controls.exposure, self.controls.speed);
                 self.session = session;
                 self.controls.speed = self.session.camera.speed;
                 self.figures.report = None;

@@ -526,3 +526,83 @@ fn a_generated_field_renders_and_reports_its_set_up() {
     );
     assert!(d.0.join("g.png").is_file());
 }
+
+/// `--quality auto` probes the scene, reports its choice in the JSON, applies it, takes the
+/// cheapest setting when nothing fits, reads a table of the user's own, and refuses bad
+/// budgets and tables before any work.
+#[test]
+fn quality_auto_chooses_reports_and_refuses_bad_input() {
+    let d = Dir::new("auto");
+    let run = |extra: &[&str]| -> Value {
+        let args = [
+            &[
+                "render", "--mode", "realtime", "--size", "48x32", "--frames", "2", "--json",
+            ][..],
+            &["--quality", "auto", "--out", "a.png"],
+            extra,
+        ]
+        .concat();
+        let out = solari(&d, &args.iter().map(OsStr::new).collect::<Vec<_>>());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{args:?}: {err}");
+        assert!(err.contains("quality auto:"), "{err}");
+        serde_json::from_slice(&out.stdout).expect("JSON")
+    };
+    let generous = run(&["--budget-ms", "10000"]);
+    let q = &generous["quality"];
+    assert_eq!(q["fits"], json!(true), "{q}");
+    assert_eq!(q["fitting"], json!(24));
+    // The built-in box is the table's cornell_box; with every setting in budget its best
+    // measured setting is taken, and the JSON shows the applied knobs.
+    assert_eq!(q["table_scene"], json!("cornell_box"));
+    assert_eq!(q["expected_error"], json!(1.0));
+    assert_eq!(q["chosen"], json!("aa-path-nodi"));
+    assert_eq!(generous["antialias"], json!(true));
+    assert_eq!(generous["di_reuse"], json!("none"));
+    let tight = run(&["--budget-ms", "0.001"]);
+    assert_eq!(tight["quality"]["fits"], json!(false));
+    assert_eq!(tight["internal_scale"], json!(0.5));
+    // A table of one's own: one measured setting, so it is the choice.
+    let table = d.write(
+        "table.csv",
+        b"scene,setting,gpu_ms,rel_mse\ncornell_box,67-cache,1,0.5\n",
+    );
+    let own = run(&[
+        "--budget-ms",
+        "10000",
+        "--quality-table",
+        table.to_str().unwrap(),
+    ]);
+    assert_eq!(own["quality"]["chosen"], json!("67-cache"));
+    assert_eq!(own["gi"], json!("WorldCache"));
+    std::fs::remove_file(&table).unwrap();
+    std::fs::remove_file(d.0.join("a.png")).unwrap();
+    let bad = d.write("bad.csv", b"scene,setting\nx,100-path\n");
+    let bad = bad.to_str().unwrap();
+    for (args, needle) in [
+        (vec!["--quality", "auto", "--budget-ms", "0"], "--budget-ms"),
+        (vec!["--quality", "auto", "--budget-ms", "NaN"], "finite"),
+        (
+            vec!["--quality", "high", "--quality-table", bad],
+            "for --quality auto",
+        ),
+        (
+            vec!["--quality", "auto", "--quality-table", "missing.csv"],
+            "missing.csv",
+        ),
+        (vec!["--quality", "auto", "--quality-table", bad], "gpu_ms"),
+        (
+            vec!["--quality", "best"],
+            "auto, low, medium, high or ultra",
+        ),
+    ] {
+        let args = [
+            &[
+                "render", "--mode", "realtime", "--size", "8x8", "--frames", "1",
+            ][..],
+            &args,
+        ]
+        .concat();
+        fails(&d, &args, needle);
+    }
+}

@@ -6,14 +6,16 @@
 //! [`RealtimeRenderer::render`] call, with a report of the passes that ran, their GPU times
 //! and (optionally) the non-finite detector's counts per pass.
 
+pub mod auto_quality;
 pub mod gbuffer_choice;
 pub mod present;
 pub mod quality;
 pub mod realtime;
 
+pub use auto_quality::{AutoChoice, CostModel, ErrorTable};
 pub use gbuffer_choice::{GBufferChoice, GBufferTiming};
 pub use present::Presenter;
-pub use quality::QualityTier;
+pub use quality::{QualitySetting, QualityTier, Resolution};
 pub use realtime::{
     CameraPath, CameraRig, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES,
     PassRun, RealtimeRenderer, RealtimeSettings,

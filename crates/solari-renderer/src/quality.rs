@@ -1,32 +1,149 @@
-//! Quality tiers: named sets of the knobs that trade GPU time for error (GI mode, specular
-//! GI, ReSTIR DI reuse and candidates, denoiser iterations, internal resolution), each chosen
-//! from time-against-error measurements on the H200 at 1920×1080 (`benches/RESULTS.md`):
+//! Quality settings: a grid of 24 points that trade GPU time for error (internal scale, GI
+//! mode, ReSTIR DI reuse), four named tiers among them, and the table of their measured time
+//! and error that automatic quality ([`crate::auto_quality`]) chooses from.
 //!
-//! | tier | internal scale | GI | specular GI | DI | denoiser iterations | basis |
-//! |---|---|---|---|---|---|---|
-//! | low | 0.5 + upscaler | cache | off | 4 candidates, no reuse | 3 | "Internal resolution": 0.5 takes 33–39% of native's GPU time; "GI: the whole matrix": cache+nodi is the cheapest row on every scene |
-//! | medium | 0.67 + upscaler | path | on | 8 candidates, no reuse | 4 | 0.67 takes 52–57%; path+spec+nodi matched the default's error on three of four scenes for 0.35–1.34 ms less |
-//! | high | 1 | path | on | 8 candidates, temporal + spatial reuse | 5 | the library defaults: lowest error at its cost on interior and sun_boxes, within 4% of the lowest everywhere |
-//! | ultra | 1, jittered + upscaler (AA) | ReSTIR GI | on | 16 candidates, temporal + spatial reuse | 5 | AA gave the lowest relMSE and FLIP on every scene for 0.08–0.10 ms; ReSTIR GI 1–4% below path GI on three scenes |
+//! A grid point is `SCALE-GI[-nodi]`: SCALE `50` or `67` (internal scale 0.5 or 0.67 with the
+//! temporal upscaler), `100` (native) or `aa` (native, jittered, through the upscaler:
+//! antialiased); GI `cache` (world-cache GI, specular GI off: it costs 0.6–2 ms without GI
+//! reservoirs to reuse), `path` or `restir` (specular GI on); `-nodi`: ReSTIR DI without
+//! reuse. Every other knob is the caller's.
 //!
-//! A tier changes only these knobs; every other setting (tiles, cache, light grid, timestamps)
-//! is the caller's. The denoiser kind is left alone too, except that the tiers below `high`
-//! need the temporal upscaler, which DLSS-RR replaces: with DLSS-RR chosen, they keep scale 1.
+//! The tiers, chosen from the grid's sweep on four scenes (`data/quality_h100.csv`; relMSE as
+//! a multiple of each scene's best grid point, cornell_box / interior / many_lights /
+//! sun_boxes, and GPU ms at 1920×1080 on an H100):
+//!
+//! | tier | point | error × best | GPU ms | why |
+//! |---|---|---|---|---|
+//! | low | `50-path-nodi` | 2.1 / 1.6 / 2.1 / 3.5 | 0.97 / 2.22 / 1.51 / 1.29 | a quarter of the pixels; path GI beat cache GI at 0.5 on every scene but many_lights (equal) |
+//! | medium | `100-path-nodi` | 1.8 / 1.2 / 1.9 / 1.8 | 2.33 / 6.23 / 4.11 / 2.90 | native without DI reuse: at most 1.9× the best; 0.67 was 4.3–4.7× on many_lights |
+//! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 2.65 / 8.28 / 4.33 / 3.26 | the library defaults |
+//! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 2.75 / 8.39 / 4.44 / 3.36 | within 8% of the best everywhere |
+//!
+//! The sweep's plainest finding: antialiasing (`aa`) costs 0.08–0.11 ms over native and cut
+//! relMSE 1.2–1.8× on every scene; the defaults do not use it yet (`benches/RESULTS.md`,
+//! "Automatic quality").
 
 use crate::realtime::{GiMode, RealtimeSettings};
 use solari_denoise::DenoiserKind;
 
-/// A named set of quality knobs (see the module docs for each tier's values and basis).
+/// The resolution part of a grid point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Resolution {
+    /// Internal scale 0.5 and the temporal upscaler.
+    Half,
+    /// Internal scale 0.67 and the temporal upscaler.
+    TwoThirds,
+    /// Native, no upscaler.
+    Native,
+    /// Native, jittered, through the temporal upscaler (antialiased).
+    Antialiased,
+}
+
+impl Resolution {
+    /// Every resolution, fewest pixels first.
+    pub const ALL: [Resolution; 4] = [Self::Half, Self::TwoThirds, Self::Native, Self::Antialiased];
+
+    /// `50`, `67`, `100` or `aa`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Half => "50",
+            Self::TwoThirds => "67",
+            Self::Native => "100",
+            Self::Antialiased => "aa",
+        }
+    }
+
+    /// The internal scale.
+    pub fn scale(self) -> f32 {
+        match self {
+            Self::Half => 0.5,
+            Self::TwoThirds => 0.67,
+            Self::Native | Self::Antialiased => 1.0,
+        }
+    }
+
+    /// Whether frames go through the temporal upscaler.
+    pub fn upscaled(self) -> bool {
+        self != Self::Native
+    }
+}
+
+/// One point of the quality grid (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct QualitySetting {
+    /// Internal scale and antialiasing.
+    pub resolution: Resolution,
+    /// [`GiMode::WorldCache`], [`GiMode::Path`] or [`GiMode::Restir`].
+    pub gi: GiMode,
+    /// ReSTIR DI's temporal and spatial reuse.
+    pub di_reuse: bool,
+}
+
+impl QualitySetting {
+    /// The 24 grid points.
+    pub fn grid() -> Vec<QualitySetting> {
+        let mut v = Vec::with_capacity(24);
+        for resolution in Resolution::ALL {
+            for gi in [GiMode::WorldCache, GiMode::Path, GiMode::Restir] {
+                for di_reuse in [true, false] {
+                    v.push(Self {
+                        resolution,
+                        gi,
+                        di_reuse,
+                    });
+                }
+            }
+        }
+        v
+    }
+
+    /// The name, `SCALE-GI[-nodi]` (module docs).
+    pub fn name(&self) -> String {
+        let gi = match self.gi {
+            GiMode::WorldCache => "cache",
+            GiMode::Restir => "restir",
+            _ => "path",
+        };
+        let nodi = if self.di_reuse { "" } else { "-nodi" };
+        format!("{}-{gi}{nodi}", self.resolution.name())
+    }
+
+    /// Parses a name [`QualitySetting::name`] gives.
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::grid().into_iter().find(|g| g.name() == s)
+    }
+
+    /// Whether specular GI runs at this point (not with cache GI: module docs).
+    pub fn specular_gi(&self) -> bool {
+        self.gi != GiMode::WorldCache
+    }
+
+    /// `settings` with this point's knobs. With DLSS-RR as the denoiser, which upscales by
+    /// itself, the resolution part is left at native (the temporal upscaler cannot run).
+    pub fn apply(&self, settings: &RealtimeSettings) -> RealtimeSettings {
+        let mut s = *settings;
+        let dlss = s.denoiser == Some(DenoiserKind::DlssRr);
+        s.internal_scale = if dlss { 1.0 } else { self.resolution.scale() };
+        s.antialias = !dlss && self.resolution == Resolution::Antialiased;
+        s.gi = self.gi;
+        s.specular_gi = self.specular_gi();
+        s.di.temporal = self.di_reuse;
+        s.di.spatial = self.di_reuse;
+        s
+    }
+}
+
+/// A named grid point (see the module docs for each tier and its basis).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum QualityTier {
-    /// Quarter of the pixels, cache-only GI, no reuse: the cheapest frame.
+    /// `50-path-nodi`: a quarter of the pixels.
     Low,
-    /// 0.67 internal scale, path GI with specular, no DI reuse.
+    /// `100-path-nodi`: native, no DI reuse.
     Medium,
-    /// The library defaults.
+    /// `100-path`: the library defaults.
     #[default]
     High,
-    /// Native antialiased, ReSTIR GI, 16 DI candidates.
+    /// `aa-path`: native, antialiased.
     Ultra,
 }
 
@@ -49,26 +166,25 @@ impl QualityTier {
         }
     }
 
-    /// `settings` with this tier's knobs (module docs); the result passes
+    /// The grid point the tier names.
+    pub fn setting(self) -> QualitySetting {
+        let (resolution, di_reuse) = match self {
+            Self::Low => (Resolution::Half, false),
+            Self::Medium => (Resolution::Native, false),
+            Self::High => (Resolution::Native, true),
+            Self::Ultra => (Resolution::Antialiased, true),
+        };
+        QualitySetting {
+            resolution,
+            gi: GiMode::Path,
+            di_reuse,
+        }
+    }
+
+    /// `settings` with this tier's knobs ([`QualitySetting::apply`]); the result passes
     /// [`RealtimeSettings::validate`] whenever `settings` did.
     pub fn apply(self, settings: &RealtimeSettings) -> RealtimeSettings {
-        let mut s = *settings;
-        let (scale, antialias, gi, specular, candidates, reuse, iterations) = match self {
-            Self::Low => (0.5, false, GiMode::WorldCache, false, 4, false, 3),
-            Self::Medium => (0.67, false, GiMode::Path, true, 8, false, 4),
-            Self::High => (1.0, false, GiMode::Path, true, 8, true, 5),
-            Self::Ultra => (1.0, true, GiMode::Restir, true, 16, true, 5),
-        };
-        let dlss = s.denoiser == Some(DenoiserKind::DlssRr);
-        s.internal_scale = if dlss { 1.0 } else { scale };
-        s.antialias = antialias && !dlss;
-        s.gi = gi;
-        s.specular_gi = specular;
-        s.di.initial_candidates = candidates;
-        s.di.temporal = reuse;
-        s.di.spatial = reuse;
-        s.denoise.atrous_iterations = iterations;
-        s
+        self.setting().apply(settings)
     }
 
     /// The tier whose knobs `settings` holds, if any (a hand-tuned setting matches none).
@@ -82,9 +198,12 @@ impl QualityTier {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::auto_quality::ErrorTable;
 
     #[test]
-    fn every_tier_validates_names_round_trip_and_is_recognised() {
+    fn every_grid_point_and_tier_validates_and_names_round_trip() {
+        let grid = QualitySetting::grid();
+        assert_eq!(grid.len(), 24);
         for denoiser in [
             None,
             Some(DenoiserKind::None),
@@ -95,40 +214,58 @@ mod tests {
                 denoiser,
                 ..Default::default()
             };
+            for g in &grid {
+                let s = g.apply(&base);
+                s.validate()
+                    .unwrap_or_else(|e| panic!("{} {denoiser:?}: {e}", g.name()));
+                assert_eq!(QualitySetting::parse(&g.name()), Some(*g));
+                assert_eq!(g.apply(&s), s);
+            }
             for tier in QualityTier::ALL {
                 let s = tier.apply(&base);
-                s.validate()
-                    .unwrap_or_else(|e| panic!("{tier:?} {denoiser:?}: {e}"));
                 assert_eq!(QualityTier::parse(tier.name()), Some(tier));
-                assert_eq!(QualityTier::of(&s), Some(tier), "{denoiser:?}");
-                // Applying twice changes nothing.
-                assert_eq!(tier.apply(&s), s);
+                // With DLSS-RR low and medium differ only in resolution, which it owns.
+                let found = QualityTier::of(&s).expect("a tier");
+                assert_eq!(found.apply(&base), s, "{tier:?} {denoiser:?}");
+                if denoiser != Some(DenoiserKind::DlssRr) {
+                    assert_eq!(found, tier, "{denoiser:?}");
+                }
             }
         }
         assert_eq!(QualityTier::parse("max"), None);
+        assert_eq!(QualitySetting::parse("100-path-di"), None);
         // The default settings are the high tier.
         assert_eq!(
             QualityTier::of(&RealtimeSettings::default()),
             Some(QualityTier::High)
         );
-        let mut custom = RealtimeSettings::default();
-        custom.di.initial_candidates = 3;
+        let custom = RealtimeSettings {
+            internal_scale: 0.8,
+            ..Default::default()
+        };
         assert_eq!(QualityTier::of(&custom), None);
     }
 
+    /// The tiers' claims hold in the measured table: each costs no less than the one below on
+    /// every scene, and its worst error (as a multiple of each scene's best) is no higher.
     #[test]
-    fn tiers_get_cheaper_downwards() {
-        let base = RealtimeSettings::default();
-        let pixels = |t: QualityTier| {
-            let (w, h) = t.apply(&base).render_size((1920, 1080));
-            w as u64 * h as u64
+    fn tiers_are_ordered_by_measured_time_and_error() {
+        let table = ErrorTable::builtin();
+        let scenes = table.scenes();
+        assert_eq!(scenes.len(), 4);
+        let worst = |t: QualityTier| {
+            scenes
+                .iter()
+                .map(|s| table.relative_error(s, &t.setting()).expect("measured"))
+                .fold(0.0f64, f64::max)
         };
-        let tiers = QualityTier::ALL;
-        for pair in tiers.windows(2) {
-            assert!(pixels(pair[0]) <= pixels(pair[1]), "{pair:?}");
-            let (a, b) = (pair[0].apply(&base), pair[1].apply(&base));
-            assert!(a.di.initial_candidates <= b.di.initial_candidates);
-            assert!(a.denoise.atrous_iterations <= b.denoise.atrous_iterations);
+        for pair in QualityTier::ALL.windows(2) {
+            for s in &scenes {
+                let ms = |t: QualityTier| table.gpu_ms(s, &t.setting()).expect("timed");
+                assert!(ms(pair[0]) <= ms(pair[1]), "{s}: {pair:?}");
+            }
+            assert!(worst(pair[0]) >= worst(pair[1]) * 0.95, "{pair:?}");
         }
+        assert!(worst(QualityTier::Ultra) < 1.1);
     }
 }

@@ -1,0 +1,81 @@
+#!/usr/bin/env bash
+# Issue 20 item 2 (automatic quality) on the H200 (device tool): the full sweep that auto
+# quality is judged against, and auto's own picks.
+#   time:  every setting of the grid (SETTINGS) at 1920x1080, `render --mode realtime
+#          --denoiser fallback --frames 200 --json` (GPU ms per frame: the sum of the passes);
+#   error: the same settings at 960x540 (a quarter of the pixels, so `compare` stays quick):
+#          frame 136 of a still camera against a full-bounce reference (--spp $SPP);
+#   auto:  `render --quality auto --budget-ms B` at 1920x1080 for B in BUDGETS: the setting
+#          it picks (its JSON) and that setting's own frame time.
+# A setting is SCALE-GI[-nodi]: SCALE 50, 67 (internal scale 0.5, 0.67 with the temporal
+# upscaler), 100 (native) or aa (native, jittered + upscaler); GI cache (specular GI off),
+# path or restir (specular GI on); -nodi: ReSTIR DI without reuse.
+# Carry .gl, .dev/bins.tar.xz (stripped `solari`) and .dev/SOLARI_COMMIT; scenes come from
+# crates/solari-testdata. Usage: PHASES="time error auto" bash benches/results/quality_h200.sh
+# (SCENES, SETTINGS, BUDGETS, SPP override). Results: $OUT/quality_h200.tar.gz and
+# $OUT/quality_table.csv (benches/results/quality_table.py).
+set -u
+source benches/results/device_env.sh
+mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+BIN=${SOLARI_BIN:-/root/bins/solari}
+R=${RESULTS:-/root/quality}
+SPP=${SPP:-1024}
+SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
+all=""
+for s in 50 67 100 aa; do for g in cache path restir; do all="$all $s-$g $s-$g-nodi"; done; done
+SETTINGS=${SETTINGS:-$all}
+BUDGETS=${BUDGETS:-4 8 16}
+PHASES=${PHASES:-time error auto}
+mkdir -p "$R" "$OUT"
+flags() {
+  local parts; IFS=- read -ra parts <<< "$1"
+  case ${parts[0]} in 50) echo "--internal-scale 0.5" ;; 67) echo "--internal-scale 0.67" ;;
+    100) ;; aa) echo "--antialias" ;; *) echo "bad scale in $1" >&2; exit 2 ;; esac
+  case ${parts[1]} in cache) echo "--gi cache --specular-gi off" ;;
+    path|restir) echo "--gi ${parts[1]} --specular-gi on" ;; *) echo "bad GI in $1" >&2; exit 2 ;; esac
+  [ "${parts[2]:-}" = nodi ] && echo "--di-reuse none"
+  true
+}
+scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
+nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
+cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
+if [[ " $PHASES " == *" time "* ]]; then
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    for g in $SETTINGS; do
+      echo "== $s $g time $(date -u +%T)" >&2
+      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
+        --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_time.json" 2> "$R/${s}_${g}_time.log"
+    done
+  done
+fi
+if [[ " $PHASES " == *" error "* ]]; then
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    echo "== $s reference $(date -u +%T)" >&2
+    $BIN render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
+      --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
+    for g in $SETTINGS; do
+      n="${s}_${g}_error"
+      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
+        --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
+      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
+      rm -f "$R/$n.exr"
+    done
+    rm -f "$R/${s}_ref.exr"
+  done
+fi
+if [[ " $PHASES " == *" auto "* ]]; then
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    for b in $BUDGETS; do
+      echo "== $s auto $b ms $(date -u +%T)" >&2
+      $BIN render "$f" --mode realtime --quality auto --budget-ms "$b" --denoiser fallback \
+        --frames 200 --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_auto${b}.json" \
+        2> "$R/${s}_auto${b}.log"
+    done
+  done
+fi
+rm -f "$R/x.png"
+tar czf "$OUT/quality_h200.tar.gz" -C "$R" --exclude='*.exr' .
+python3 benches/results/quality_table.py "$R" > "$OUT/quality_table.csv"; cat "$OUT/quality_table.csv"

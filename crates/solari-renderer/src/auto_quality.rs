@@ -1,0 +1,503 @@
+//! Automatic quality: the grid point ([`QualitySetting`]) with the least expected error whose
+//! GPU time, predicted for this scene on this adapter, fits a frame budget.
+//!
+//! - **Time** is measured at start-up ([`probe`]): one renderer at the output size with every
+//!   costly option on (ReSTIR GI, specular GI, DI reuse, the upscaler), a few frames, then
+//!   DI reuse off and GI reuse off through the `set_*_settings` calls (no rebuild), each pass
+//!   timed with timestamp queries. [`CostModel`] adds up the passes a grid point runs;
+//!   passes that work per pixel scale with the point's pixel count as `f + 0.1 (1 - f)` of
+//!   native (a fit to the sweep's per-pass times at 0.5 and 0.67: 9% of a pass did not
+//!   shrink with its pixels), and cache GI, the one pass the probe does not run, is taken as
+//!   0.45 × the G-buffer's time (its largest ratio in the sweep).
+//! - **Error** comes from a measured table ([`ErrorTable`]: relMSE of every grid point on a
+//!   scene against a reference, as `benches/results/quality_h200.sh` writes it): a scene the
+//!   table holds uses its own rows; any other scene uses, for each point, its worst error over
+//!   the table's scenes as a multiple of each scene's best (the choice that was never far
+//!   off). [`ErrorTable::builtin`] holds the four bundled scenes measured on an H100.
+
+use crate::quality::{QualitySetting, Resolution};
+use crate::realtime::{GiMode, RealtimeRenderer, RealtimeSettings};
+use solari_restir::RestirGiSettings;
+use solari_scene::gpu::Gpu;
+use solari_scene::gpu_scene::GpuScene;
+use solari_scene::shaders::Backend;
+use solari_scene::{Camera, GpuError, Scene};
+use std::collections::HashMap;
+
+/// The sweep shipped with the crate (`data/quality_h100.csv`).
+const BUILTIN_TABLE: &str = include_str!("../data/quality_h100.csv");
+
+/// Fraction of a per-pixel pass's native time that does not shrink with its pixels.
+const FIXED_SHARE: f64 = 0.1;
+
+/// Cache GI's pass time as a multiple of the G-buffer's (the sweep's largest ratio).
+const CACHE_GI_PER_GBUFFER: f64 = 0.45;
+
+/// One measured row: a grid point on a scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ErrorRow {
+    /// The scene's name (its file's stem).
+    pub scene: String,
+    /// The grid point.
+    pub setting: QualitySetting,
+    /// GPU ms per frame where it was measured.
+    pub gpu_ms: f64,
+    /// relMSE against the scene's reference.
+    pub rel_mse: f64,
+}
+
+/// Measured time and error of grid points on scenes (module docs).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ErrorTable {
+    /// The rows, in file order.
+    pub rows: Vec<ErrorRow>,
+}
+
+impl ErrorTable {
+    /// The table shipped with the crate: cornell_box, sun_boxes, many_lights and interior.
+    pub fn builtin() -> Self {
+        Self::parse_csv(BUILTIN_TABLE).expect("the shipped table parses")
+    }
+
+    /// Reads CSV with the columns `scene`, `setting`, `gpu_ms` and `rel_mse` (any order, other
+    /// columns ignored, `#` lines skipped), as `benches/results/quality_table.py` writes it.
+    /// Rows whose setting is not a grid point (auto picks) are skipped; a bad number or a
+    /// missing column is an error naming the line.
+    pub fn parse_csv(text: &str) -> Result<Self, String> {
+        let mut lines = text
+            .lines()
+            .enumerate()
+            .filter(|(_, l)| !l.trim().is_empty() && !l.starts_with('#'));
+        let (_, header) = lines.next().ok_or("quality table: no header line")?;
+        let columns: Vec<&str> = header.split(',').map(str::trim).collect();
+        let col = |name: &str| {
+            columns
+                .iter()
+                .position(|c| *c == name)
+                .ok_or_else(|| format!("quality table: no {name:?} column in {header:?}"))
+        };
+        let (scene, setting, gpu_ms, rel_mse) = (
+            col("scene")?,
+            col("setting")?,
+            col("gpu_ms")?,
+            col("rel_mse")?,
+        );
+        let mut rows = Vec::new();
+        for (i, line) in lines {
+            let cells: Vec<&str> = line.split(',').map(str::trim).collect();
+            let cell = |c: usize| {
+                cells
+                    .get(c)
+                    .copied()
+                    .ok_or_else(|| format!("quality table line {}: too few cells", i + 1))
+            };
+            let Some(point) = QualitySetting::parse(cell(setting)?) else {
+                continue;
+            };
+            let number = |c: usize| -> Result<f64, String> {
+                let v: f64 = cell(c)?.parse().map_err(|_| {
+                    format!(
+                        "quality table line {}: {:?} is not a number",
+                        i + 1,
+                        cells[c]
+                    )
+                })?;
+                if v.is_finite() && v >= 0.0 {
+                    Ok(v)
+                } else {
+                    Err(format!("quality table line {}: {v} is out of range", i + 1))
+                }
+            };
+            rows.push(ErrorRow {
+                scene: cell(scene)?.to_owned(),
+                setting: point,
+                gpu_ms: number(gpu_ms)?,
+                rel_mse: number(rel_mse)?,
+            });
+        }
+        if rows.is_empty() {
+            return Err("quality table: no rows of grid settings".into());
+        }
+        Ok(Self { rows })
+    }
+
+    /// The scenes the table holds, sorted.
+    pub fn scenes(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.rows.iter().map(|r| r.scene.clone()).collect();
+        v.sort();
+        v.dedup();
+        v
+    }
+
+    fn row(&self, scene: &str, setting: &QualitySetting) -> Option<&ErrorRow> {
+        self.rows
+            .iter()
+            .find(|r| r.scene == scene && r.setting == *setting)
+    }
+
+    /// GPU ms of `setting` on `scene` where the table was measured.
+    pub fn gpu_ms(&self, scene: &str, setting: &QualitySetting) -> Option<f64> {
+        self.row(scene, setting).map(|r| r.gpu_ms)
+    }
+
+    /// relMSE of `setting` on `scene` as a multiple of the scene's best grid point.
+    pub fn relative_error(&self, scene: &str, setting: &QualitySetting) -> Option<f64> {
+        let best = self
+            .rows
+            .iter()
+            .filter(|r| r.scene == scene)
+            .map(|r| r.rel_mse)
+            .fold(f64::INFINITY, f64::min);
+        let e = self.row(scene, setting)?.rel_mse;
+        Some(if best > 0.0 { e / best } else { 1.0 })
+    }
+
+    /// The expected error of every grid point the table covers, for `scene`: its own relative
+    /// errors when the table holds the scene, else each point's worst relative error over the
+    /// table's scenes (module docs). Points missing for some scene are left out.
+    pub fn expected_errors(&self, scene: Option<&str>) -> Vec<(QualitySetting, f64)> {
+        let own = scene.filter(|s| self.rows.iter().any(|r| r.scene == *s));
+        let scenes = match own {
+            Some(s) => vec![s.to_owned()],
+            None => self.scenes(),
+        };
+        QualitySetting::grid()
+            .into_iter()
+            .filter_map(|g| {
+                let mut worst = 0.0f64;
+                for s in &scenes {
+                    worst = worst.max(self.relative_error(s, &g)?);
+                }
+                Some((g, worst))
+            })
+            .collect()
+    }
+
+    /// Whether the table holds measurements of `scene`.
+    pub fn has_scene(&self, scene: &str) -> bool {
+        self.rows.iter().any(|r| r.scene == scene)
+    }
+}
+
+/// Per-pass GPU times from the start-up probe, in ms at the output size.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct CostModel {
+    /// Pass name → ms with ReSTIR GI, specular GI, DI reuse and the upscaler on.
+    pub full: HashMap<String, f64>,
+    /// ReSTIR DI's passes with reuse off.
+    pub di_no_reuse: f64,
+    /// The GI passes with reuse off (plain path GI).
+    pub gi_path: f64,
+}
+
+impl CostModel {
+    fn ms(&self, pass: &str) -> f64 {
+        self.full.get(pass).copied().unwrap_or(0.0)
+    }
+
+    /// Predicted GPU ms per frame of `setting` (module docs).
+    pub fn predict(&self, setting: &QualitySetting) -> f64 {
+        let constant: f64 = [
+            "light_tiles",
+            "world_cache_decay",
+            "world_cache_compact",
+            "world_cache_update",
+            "world_cache_blend",
+        ]
+        .iter()
+        .map(|p| self.ms(p))
+        .sum();
+        let di = if setting.di_reuse {
+            self.ms("di_initial_temporal") + self.ms("di_spatial_shade")
+        } else {
+            self.di_no_reuse
+        };
+        let gi = match setting.gi {
+            GiMode::WorldCache => CACHE_GI_PER_GBUFFER * self.ms("gbuffer"),
+            GiMode::Restir => self.ms("gi_initial_temporal") + self.ms("gi_spatial_shade"),
+            _ => self.gi_path,
+        };
+        let specular = if setting.specular_gi() {
+            self.ms("specular_gi") + self.ms("gbuffer_override")
+        } else {
+            0.0
+        };
+        let denoise =
+            self.ms("denoise_temporal") + self.ms("denoise_variance") + self.ms("denoise_atrous");
+        let per_pixel = self.ms("gbuffer") + di + gi + specular + denoise;
+        let f = (setting.resolution.scale() as f64).powi(2);
+        let upscale = if setting.resolution.upscaled() {
+            self.ms("temporal_upscale")
+        } else {
+            0.0
+        };
+        constant + per_pixel * (f + FIXED_SHARE * (1.0 - f)) + upscale
+    }
+}
+
+/// What automatic quality chose, and why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AutoChoice {
+    /// The grid point.
+    pub setting: QualitySetting,
+    /// Its predicted GPU ms per frame.
+    pub predicted_ms: f64,
+    /// Its expected error (a multiple of the best measured).
+    pub expected_error: f64,
+    /// Whether it fits the budget (when nothing does, the cheapest point is chosen).
+    pub fits: bool,
+    /// How many grid points were predicted to fit.
+    pub fitting: usize,
+}
+
+/// The point of `errors` with the least expected error among those `model` predicts within
+/// `budget_ms`; ties go to the cheaper. When none fits, the cheapest. `None` for no points.
+pub fn choose(
+    budget_ms: f64,
+    model: &CostModel,
+    errors: &[(QualitySetting, f64)],
+) -> Option<AutoChoice> {
+    let predicted: Vec<(QualitySetting, f64, f64)> = errors
+        .iter()
+        .map(|&(g, e)| (g, model.predict(&g), e))
+        .collect();
+    let fitting: Vec<_> = predicted
+        .iter()
+        .filter(|(_, ms, _)| *ms <= budget_ms)
+        .collect();
+    let pick = |v: &[&(QualitySetting, f64, f64)],
+                key: fn(&(QualitySetting, f64, f64)) -> (f64, f64)| {
+        v.iter()
+            .min_by(|a, b| key(a).partial_cmp(&key(b)).expect("finite"))
+            .map(|c| **c)
+    };
+    let n = fitting.len();
+    let (setting, predicted_ms, expected_error) = if n > 0 {
+        pick(&fitting, |c| (c.2, c.1))?
+    } else {
+        let all: Vec<_> = predicted.iter().collect();
+        pick(&all, |c| (c.1, c.2))?
+    };
+    Some(AutoChoice {
+        setting,
+        predicted_ms,
+        expected_error,
+        fits: n > 0,
+        fitting: n,
+    })
+}
+
+/// Frames the probe renders in each of its three phases (the first of each is not timed).
+pub const PROBE_FRAMES: u32 = 6;
+
+/// Times the passes of `scene` on this adapter at `size` (module docs): one renderer built
+/// from `base` with every costly option on, [`PROBE_FRAMES`] frames in each of three phases.
+/// Errors where the adapter has no timestamp queries (nothing can be predicted then) or the
+/// renderer cannot be built.
+pub fn probe(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    camera: &Camera,
+    size: (u32, u32),
+    base: &RealtimeSettings,
+) -> Result<CostModel, GpuError> {
+    let full = QualitySetting {
+        resolution: Resolution::Antialiased,
+        gi: GiMode::Restir,
+        di_reuse: true,
+    };
+    let mut settings = full.apply(base);
+    settings.timestamps = true;
+    settings.finite_check = crate::realtime::FiniteCheck::Off;
+    let mut renderer =
+        RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, settings)?;
+    let phase = |r: &mut RealtimeRenderer| -> Result<HashMap<String, f64>, GpuError> {
+        let mut sums: HashMap<String, (f64, u32)> = HashMap::new();
+        for frame in 0..PROBE_FRAMES {
+            let report = r.render(gpu, scene, gpu_scene, camera)?;
+            if frame == 0 {
+                continue;
+            }
+            for p in &report.passes {
+                if let (true, Some(ms)) = (p.ran, p.gpu_ms) {
+                    let e = sums.entry(p.name.to_owned()).or_default();
+                    e.0 += ms;
+                    e.1 += 1;
+                }
+            }
+        }
+        Ok(sums
+            .into_iter()
+            .map(|(k, (s, n))| (k, s / n as f64))
+            .collect())
+    };
+    let times = phase(&mut renderer)?;
+    if !times.contains_key("gbuffer") {
+        return Err(GpuError::Validation(
+            "automatic quality needs timestamp queries, which this adapter lacks".into(),
+        ));
+    }
+    let mut di = settings.di;
+    di.temporal = false;
+    di.spatial = false;
+    renderer.set_di_settings(di)?;
+    let no_reuse = phase(&mut renderer)?;
+    let di_no_reuse = ["di_initial_temporal", "di_spatial_shade"]
+        .iter()
+        .map(|p| no_reuse.get(*p).copied().unwrap_or(0.0))
+        .sum();
+    renderer.set_gi_settings(RestirGiSettings {
+        temporal: false,
+        spatial: false,
+        ..settings.restir_gi
+    })?;
+    let path = phase(&mut renderer)?;
+    let gi_path = ["gi_initial_temporal", "gi_spatial_shade"]
+        .iter()
+        .map(|p| path.get(*p).copied().unwrap_or(0.0))
+        .sum();
+    Ok(CostModel {
+        full: times,
+        di_no_reuse,
+        gi_path,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A cost model from the sweep's own per-pass times (interior, 1080p, H100): the
+    /// predictions land within 15% of the measured frame times of all 24 points.
+    #[test]
+    fn predictions_follow_the_measured_sweep() {
+        let full: HashMap<String, f64> = [
+            ("denoise_atrous", 1.713),
+            ("denoise_temporal", 0.132),
+            ("denoise_variance", 0.15),
+            ("di_initial_temporal", 1.521),
+            ("di_spatial_shade", 1.897),
+            ("gbuffer", 0.509),
+            ("gbuffer_override", 0.039),
+            ("gi_initial_temporal", 1.649),
+            ("gi_spatial_shade", 3.95),
+            ("light_tiles", 0.02),
+            ("specular_gi", 0.64),
+            ("temporal_upscale", 0.082),
+            ("world_cache_blend", 0.021),
+            ("world_cache_compact", 0.031),
+            ("world_cache_decay", 0.011),
+            ("world_cache_update", 0.145),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect();
+        let model = CostModel {
+            full,
+            di_no_reuse: 0.826 + 0.539,
+            gi_path: 1.332 + 0.14,
+        };
+        let table = ErrorTable::builtin();
+        for g in QualitySetting::grid() {
+            let measured = table.gpu_ms("interior", &g).expect("measured");
+            let predicted = model.predict(&g);
+            assert!(
+                (predicted / measured - 1.0).abs() < 0.15,
+                "{}: predicted {predicted:.2} ms, measured {measured:.2}",
+                g.name()
+            );
+        }
+    }
+
+    #[test]
+    fn choose_takes_the_least_error_that_fits_else_the_cheapest() {
+        let model = CostModel {
+            full: [("gbuffer", 1.0)].map(|(k, v)| (k.to_owned(), v)).into(),
+            di_no_reuse: 0.5,
+            gi_path: 1.0,
+        };
+        let table = ErrorTable::builtin();
+        let errors = table.expected_errors(Some("interior"));
+        assert_eq!(errors.len(), 24);
+        let generous = choose(1e9, &model, &errors).expect("points");
+        let best = errors.iter().map(|e| e.1).fold(f64::INFINITY, f64::min);
+        assert!(generous.fits && generous.fitting == 24);
+        assert_eq!(generous.expected_error, best);
+        let none = choose(0.0, &model, &errors).expect("points");
+        assert!(!none.fits && none.fitting == 0);
+        let cheapest = errors
+            .iter()
+            .map(|(g, _)| model.predict(g))
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(none.predicted_ms, cheapest);
+        // Every budget gives a point that fits it, with an error no worse than any cheaper fit.
+        for budget in [0.4, 0.8, 1.2, 2.0, 3.0] {
+            let c = choose(budget, &model, &errors).expect("points");
+            if c.fits {
+                assert!(c.predicted_ms <= budget);
+                for (g, e) in &errors {
+                    if model.predict(g) <= budget {
+                        assert!(
+                            c.expected_error <= *e,
+                            "{budget}: {} over {}",
+                            c.setting.name(),
+                            g.name()
+                        );
+                    }
+                }
+            }
+        }
+        assert!(choose(1.0, &model, &[]).is_none());
+    }
+
+    #[test]
+    fn unknown_scenes_get_the_worst_case_over_the_table() {
+        let table = ErrorTable::builtin();
+        let generic = table.expected_errors(Some("not_measured"));
+        assert_eq!(generic, table.expected_errors(None));
+        for (g, e) in &generic {
+            for s in table.scenes() {
+                assert!(*e >= table.relative_error(&s, g).unwrap());
+            }
+        }
+        // The point that was never far off anywhere: native antialiased path GI.
+        let best = generic
+            .iter()
+            .min_by(|a, b| a.1.partial_cmp(&b.1).unwrap())
+            .unwrap();
+        assert_eq!(best.0.name(), "aa-path");
+        assert!(best.1 < 1.1);
+    }
+
+    #[test]
+    fn bad_tables_are_refused_with_the_line_named() {
+        assert!(ErrorTable::parse_csv("").unwrap_err().contains("no header"));
+        assert!(
+            ErrorTable::parse_csv("scene,setting,gpu_ms\nx,100-path,1")
+                .unwrap_err()
+                .contains("rel_mse")
+        );
+        let e =
+            ErrorTable::parse_csv("scene,setting,gpu_ms,rel_mse\nx,100-path,1,abc").unwrap_err();
+        assert!(e.contains("line 2") && e.contains("abc"), "{e}");
+        let e =
+            ErrorTable::parse_csv("scene,setting,gpu_ms,rel_mse\nx,100-path,1,NaN").unwrap_err();
+        assert!(e.contains("out of range"), "{e}");
+        assert!(
+            ErrorTable::parse_csv("scene,setting,gpu_ms,rel_mse\nx,auto8,1,0.1")
+                .unwrap_err()
+                .contains("no rows")
+        );
+        let t = ErrorTable::parse_csv(
+            "# note\nrel_mse,scene,setting,gpu_ms,extra\n0.1,x,aa-path,2,y\n",
+        )
+        .expect("columns in any order");
+        assert_eq!(t.rows.len(), 1);
+        assert_eq!(
+            t.relative_error("x", &QualitySetting::parse("aa-path").unwrap()),
+            Some(1.0)
+        );
+    }
+}
