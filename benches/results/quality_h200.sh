@@ -40,6 +40,9 @@ scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
 cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
 if [[ " $PHASES " == *" time "* ]]; then
+  # Warm-up: the first runs of a phase read 1.8-2x slow on the H100 (clocks ramping?).
+  $BIN render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \
+    --out "$R/x.png" > /dev/null 2>&1
   for s in $SCENES; do
     f=$(scene_file "$s")
     for g in $SETTINGS; do
