@@ -27,6 +27,8 @@ pub struct QualityReport {
     pub fits: bool,
     /// Grid points predicted to fit.
     pub fitting: usize,
+    /// Grid points the table has errors for (all 24 in the shipped table).
+    pub considered: usize,
     /// The table's scene whose measurements were used (`None`: the worst case over the
     /// table's scenes).
     pub table_scene: Option<String>,
@@ -40,7 +42,7 @@ impl QualityReport {
     /// One line for the terminal.
     pub fn line(&self) -> String {
         format!(
-            "quality auto: {} (predicted {:.2} ms of a {:.1} ms budget{}; {} of 24 settings fit; \
+            "quality auto: {} (predicted {:.2} ms of a {:.1} ms budget{}; {} of {} settings fit; \
              expected error {:.2}x the best, from {}), probed in {:.2} s",
             self.chosen,
             self.predicted_ms,
@@ -51,6 +53,7 @@ impl QualityReport {
                 ": nothing fits, the cheapest taken"
             },
             self.fitting,
+            self.considered,
             self.expected_error,
             self.table_scene
                 .as_ref()
@@ -66,7 +69,8 @@ impl QualityReport {
         serde_json::json!({
             "chosen": self.chosen, "predicted_ms": self.predicted_ms,
             "budget_ms": self.budget_ms, "expected_error": self.expected_error,
-            "fits": self.fits, "fitting": self.fitting, "table_scene": self.table_scene,
+            "fits": self.fits, "fitting": self.fitting, "considered": self.considered,
+            "table_scene": self.table_scene,
             "probe_s": self.probe_seconds,
             "predicted_ms_per_setting": self.predicted.iter()
                 .map(|(n, ms)| (n.clone(), serde_json::json!(ms)))
@@ -158,6 +162,7 @@ pub fn resolve(
         expected_error: choice.expected_error,
         fits: choice.fits,
         fitting: choice.fitting,
+        considered: errors.len(),
         table_scene: own,
         probe_seconds,
         predicted: QualitySetting::grid()

@@ -552,6 +552,7 @@ fn quality_auto_chooses_reports_and_refuses_bad_input() {
     let q = &generous["quality"];
     assert_eq!(q["fits"], json!(true), "{q}");
     assert_eq!(q["fitting"], json!(24));
+    assert_eq!(q["considered"], json!(24));
     // The built-in box is the table's cornell_box; with every setting in budget its best
     // measured setting is taken, and the JSON shows the applied knobs.
     assert_eq!(q["table_scene"], json!("cornell_box"));
@@ -574,6 +575,7 @@ fn quality_auto_chooses_reports_and_refuses_bad_input() {
         table.to_str().unwrap(),
     ]);
     assert_eq!(own["quality"]["chosen"], json!("67-cache"));
+    assert_eq!(own["quality"]["considered"], json!(1));
     assert_eq!(own["gi"], json!("WorldCache"));
     std::fs::remove_file(&table).unwrap();
     std::fs::remove_file(d.0.join("a.png")).unwrap();

@@ -61,8 +61,8 @@ impl ErrorTable {
 
     /// Reads CSV with the columns `scene`, `setting`, `gpu_ms` and `rel_mse` (any order, other
     /// columns ignored, `#` lines skipped), as `benches/results/quality_table.py` writes it.
-    /// Rows whose setting is not a grid point (auto picks) are skipped; a bad number or a
-    /// missing column is an error naming the line.
+    /// Rows whose setting is not a grid point are skipped (auto's own rows silently, others
+    /// with a warning); a bad number or a missing column is an error naming the line.
     pub fn parse_csv(text: &str) -> Result<Self, String> {
         let mut lines = text
             .lines()
@@ -91,7 +91,15 @@ impl ErrorTable {
                     .copied()
                     .ok_or_else(|| format!("quality table line {}: too few cells", i + 1))
             };
-            let Some(point) = QualitySetting::parse(cell(setting)?) else {
+            let name = cell(setting)?;
+            let Some(point) = QualitySetting::parse(name) else {
+                // Auto's own rows are expected; anything else is likely a typo.
+                if !name.starts_with("auto") {
+                    log::warn!(
+                        "quality table line {}: {name:?} is not a grid setting",
+                        i + 1
+                    );
+                }
                 continue;
             };
             let number = |c: usize| -> Result<f64, String> {

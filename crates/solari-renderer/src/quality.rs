@@ -19,8 +19,8 @@
 //! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 2.65 / 8.28 / 4.33 / 3.26 | the library defaults |
 //! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 2.75 / 8.39 / 4.44 / 3.36 | within 8% of the best everywhere |
 //!
-//! The sweep's plainest finding: antialiasing (`aa`) costs 0.08–0.11 ms over native and cut
-//! relMSE 1.2–1.8× on every scene; the defaults do not use it yet (`benches/RESULTS.md`,
+//! The sweep's plainest finding: antialiasing (`aa`) costs 0.10–0.11 ms over native and cut
+//! relMSE 1.2–1.7× on every scene; the defaults do not use it yet (`benches/RESULTS.md`,
 //! "Automatic quality").
 
 use crate::realtime::{GiMode, RealtimeSettings};
