@@ -64,6 +64,30 @@ impl Default for UpscaleSettings {
     }
 }
 
+/// Where a render-image position (pixels from the top left) lies in the output image. The
+/// render view has the output's vertical field of view but its own aspect ratio (its size is
+/// rounded up to whole pixels, so `render_w / render_h` differs slightly from the output's),
+/// so horizontally the two images meet in NDC scaled by the aspect ratios, not in plain pixel
+/// ratios: at 0.67 of 960×540 (644×362) the plain ratio put samples up to 0.33 output pixels
+/// off at the image's sides, enough to paint emitter samples into pixels beside the emitter.
+/// WGSL twin: `render_to_output` in `temporal_upscale.wesl`.
+pub fn render_to_output(p: [f32; 2], render: (u32, u32), output: (u32, u32)) -> [f32; 2] {
+    let (rw, rh) = (render.0 as f32, render.1 as f32);
+    let (ow, oh) = (output.0 as f32, output.1 as f32);
+    let k = (rw / rh) / (ow / oh);
+    let ndc_x = p[0] / rw * 2.0 - 1.0;
+    [(ndc_x * k + 1.0) * 0.5 * ow, p[1] / rh * oh]
+}
+
+/// The inverse of [`render_to_output`]. WGSL twin: `output_to_render`.
+pub fn output_to_render(p: [f32; 2], render: (u32, u32), output: (u32, u32)) -> [f32; 2] {
+    let (rw, rh) = (render.0 as f32, render.1 as f32);
+    let (ow, oh) = (output.0 as f32, output.1 as f32);
+    let k = (rw / rh) / (ow / oh);
+    let ndc_x = p[0] / ow * 2.0 - 1.0;
+    [(ndc_x / k + 1.0) * 0.5 * rw, p[1] / oh * rh]
+}
+
 /// The temporal upscaler and its accumulation buffers (see the module docs).
 pub struct TemporalUpscaler {
     settings: UpscaleSettings,
@@ -243,5 +267,80 @@ impl TemporalUpscaler {
     /// GPU memory the upscaler holds, in bytes.
     pub fn memory_bytes(&self) -> u64 {
         self.accum.iter().map(|b| b.size()).sum::<u64>() + self.output.size() + self.params.size()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec2, Vec3};
+    use rand::{Rng, SeedableRng};
+    use solari_scene::gpu_types::GpuView;
+
+    /// Where the output view sees the direction of `view`'s ray through `p`.
+    fn seen_by(output: &GpuView, view: &GpuView, p: [f32; 2]) -> [f32; 2] {
+        let d = view.ray_direction(Vec2::from(p));
+        let z = d.dot(Vec3::from(output.forward));
+        let ndc_x = d.dot(Vec3::from(output.right)) / (z * output.tan_half_fov * output.aspect);
+        let ndc_y = d.dot(Vec3::from(output.up)) / (z * output.tan_half_fov);
+        [
+            (ndc_x + 1.0) * 0.5 * output.width as f32,
+            (1.0 - ndc_y) * 0.5 * output.height as f32,
+        ]
+    }
+
+    /// A render-image position maps to the output pixel position that sees the same
+    /// direction, at the internal scales the renderer uses and odd sizes whose rounded render
+    /// size changes the aspect most; and the inverse inverts it.
+    #[test]
+    fn render_positions_map_to_where_the_output_view_sees_them() {
+        let camera = solari_scene::Camera::look_at(
+            "c",
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-2.0, 0.5, -4.0),
+            Vec3::Y,
+            0.9,
+        );
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(4);
+        let mut plain_worst = 0.0f32;
+        for output in [
+            (960u32, 540u32),
+            (1920, 1080),
+            (97, 31),
+            (31, 97),
+            (1280, 720),
+        ] {
+            for scale in [0.25f32, 0.5, 0.67, 0.75, 1.0] {
+                let render = (
+                    ((output.0 as f32 * scale).ceil() as u32).clamp(1, output.0),
+                    ((output.1 as f32 * scale).ceil() as u32).clamp(1, output.1),
+                );
+                let (rv, ov) = (
+                    GpuView::new(&camera, render.0, render.1),
+                    GpuView::new(&camera, output.0, output.1),
+                );
+                for _ in 0..200 {
+                    let p = [
+                        rng.random_range(0.0..render.0 as f32),
+                        rng.random_range(0.0..render.1 as f32),
+                    ];
+                    let want = seen_by(&ov, &rv, p);
+                    let got = render_to_output(p, render, output);
+                    for a in 0..2 {
+                        assert!(
+                            (got[a] - want[a]).abs() < 2e-3 * output.0.max(output.1) as f32 / 100.0,
+                            "{output:?} at {scale}: {p:?} -> {got:?}, the view sees {want:?}"
+                        );
+                    }
+                    let back = output_to_render(got, render, output);
+                    assert!((back[0] - p[0]).abs() < 1e-3 && (back[1] - p[1]).abs() < 1e-3);
+                    // What the plain pixel ratio would have said.
+                    let plain = p[0] * output.0 as f32 / render.0 as f32;
+                    plain_worst = plain_worst.max((plain - want[0]).abs());
+                }
+            }
+        }
+        // The case this mapping fixes: plain ratios were off by over a third of a pixel.
+        assert!(plain_worst > 0.3, "{plain_worst}");
     }
 }
