@@ -12,7 +12,7 @@
 # path or restir (specular GI on); -nodi: ReSTIR DI without reuse.
 # Carry .gl, .dev/bins.tar.xz (stripped `solari`) and .dev/SOLARI_COMMIT; scenes come from
 # crates/solari-testdata. Usage: PHASES="time error auto" bash benches/results/quality_h200.sh
-# (SCENES, SETTINGS, BUDGETS, SPP override). Results: $OUT/quality_h200.tar.gz and
+# (SCENES, SETTINGS, BUDGETS, SPP, QUALITY_TABLE override). Results: $OUT/quality_h200.tar.gz and
 # $OUT/quality_table.csv (benches/results/quality_table.py).
 set -u
 source benches/results/device_env.sh
@@ -26,6 +26,8 @@ for s in 50 67 100 aa; do for g in cache path restir; do all="$all $s-$g $s-$g-n
 SETTINGS=${SETTINGS:-$all}
 BUDGETS=${BUDGETS:-4 8 16}
 PHASES=${PHASES:-time error auto}
+# QUALITY_TABLE=FILE.csv: auto reads this table instead of the one built into the binary.
+TABLE=${QUALITY_TABLE:+--quality-table $QUALITY_TABLE}
 mkdir -p "$R" "$OUT"
 flags() {
   local parts; IFS=- read -ra parts <<< "$1"
@@ -73,7 +75,7 @@ if [[ " $PHASES " == *" auto "* ]]; then
     f=$(scene_file "$s")
     for b in $BUDGETS; do
       echo "== $s auto $b ms $(date -u +%T)" >&2
-      $BIN render "$f" --mode realtime --quality auto --budget-ms "$b" --denoiser fallback \
+      $BIN render "$f" --mode realtime --quality auto --budget-ms "$b" --denoiser fallback $TABLE \
         --frames 200 --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_auto${b}.json" \
         2> "$R/${s}_auto${b}.log"
     done

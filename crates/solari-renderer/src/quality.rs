@@ -15,7 +15,7 @@
 //! | tier | point | error × best | GPU ms | why |
 //! |---|---|---|---|---|
 //! | low | `50-path-nodi` | 2.1 / 1.6 / 2.1 / 3.5 | 0.97 / 2.22 / 1.51 / 1.29 | a quarter of the pixels; path GI beat cache GI at 0.5 on every scene but many_lights (equal) |
-//! | medium | `100-path-nodi` | 1.8 / 1.2 / 1.9 / 1.8 | 2.33 / 6.23 / 4.11 / 2.90 | native without DI reuse: at most 1.9× the best; 0.67 was 4.3–4.7× on many_lights |
+//! | medium | `100-path-nodi` | 1.8 / 1.2 / 1.9 / 1.8 | 2.33 / 6.23 / 4.11 / 2.90 | native without DI reuse: at most 1.9× the best; the 0.67 points reached 2.0–2.3× (sun_boxes) |
 //! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 2.65 / 8.28 / 4.33 / 3.26 | the library defaults |
 //! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 2.75 / 8.39 / 4.44 / 3.36 | within 8% of the best everywhere |
 //!
