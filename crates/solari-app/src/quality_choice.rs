@@ -143,10 +143,15 @@ pub fn resolve(
         target.camera,
         target.size,
         &settings,
-    ) {
-        Ok(m) => m,
-        Err(e) => {
-            log::warn!("quality auto: {e}; using the high tier");
+    )
+    .map_err(|e| format!("quality auto: the probe failed: {e}"))?
+    {
+        Some(m) => m,
+        None => {
+            log::warn!(
+                "quality auto: this adapter cannot time passes (no timestamp queries); using \
+                 the high tier"
+            );
             return Ok((QualityTier::High.apply(&settings), None));
         }
     };

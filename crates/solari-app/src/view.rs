@@ -377,9 +377,14 @@ impl Viewer {
                 self.frame_times.pop_front();
             }
             self.frame_times.push_back(dt);
-            let mut sorted: Vec<_> = self.frame_times.iter().copied().collect();
-            sorted.sort();
-            self.figures.wall = Some(sorted[sorted.len() / 2]);
+            // On the stack: no allocation per frame.
+            let mut sorted = [Duration::ZERO; 31];
+            let n = self.frame_times.len();
+            for (s, t) in sorted.iter_mut().zip(&self.frame_times) {
+                *s = *t;
+            }
+            sorted[..n].sort_unstable();
+            self.figures.wall = Some(sorted[n / 2]);
             let input = self.move_input();
             self.session
                 .camera
