@@ -621,8 +621,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// What to show. Debug mode: albedo (default), normal, depth or instance. Real-time
-    /// mode: lit (default) or world-cache (each pixel shows its world-cache cell's
-    /// irradiance, tinted per cell).
+    /// mode: lit (default), world-cache (each pixel shows its world-cache cell's
+    /// irradiance, tinted per cell) or a G-buffer channel, written without tone curve:
+    /// gbuffer-base-color, gbuffer-normal, gbuffer-geometric-normal, gbuffer-roughness,
+    /// gbuffer-metallic, gbuffer-emission, gbuffer-depth or gbuffer-motion.
     #[arg(long, value_parser = values::view)]
     pub view: Option<ViewArg>,
     /// Reference mode: paths per pixel.
@@ -697,7 +699,7 @@ impl RenderArgs {
                     format!("{mode:?}").to_lowercase(),
                     match mode {
                         Mode::Debug => "albedo, normal, depth or instance",
-                        Mode::Realtime => "lit or world-cache",
+                        Mode::Realtime => "lit, world-cache or gbuffer-CHANNEL",
                         Mode::Reference => "only the path-traced image (no --view)",
                     }
                 ));

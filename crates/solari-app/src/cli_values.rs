@@ -188,7 +188,8 @@ pub enum ViewArg {
     Frame(FrameView),
 }
 
-/// `albedo`, `normal`, `depth`, `instance` (debug mode) or `lit`, `world-cache` (real time).
+/// `albedo`, `normal`, `depth`, `instance` (debug mode) or `lit`, `world-cache`,
+/// `gbuffer-CHANNEL` (real time).
 pub fn view(s: &str) -> Result<ViewArg, String> {
     if let Some(v) = DebugView::parse(s) {
         return Ok(ViewArg::Debug(v));
@@ -196,7 +197,9 @@ pub fn view(s: &str) -> Result<ViewArg, String> {
     named(
         s,
         FrameView::parse(s).map(ViewArg::Frame),
-        "albedo, normal, depth or instance (debug mode), lit or world-cache (real-time mode)",
+        "albedo, normal, depth or instance (debug mode), lit, world-cache or gbuffer-CHANNEL \
+         with CHANNEL base-color, normal, geometric-normal, roughness, metallic, emission, depth \
+         or motion (real-time mode)",
     )
 }
 
@@ -267,6 +270,21 @@ mod tests {
         assert_eq!(gi("path"), Ok(GiMode::Path));
         assert!(view("bogus").unwrap_err().contains("world-cache"));
         assert_eq!(view("lit"), Ok(ViewArg::Frame(FrameView::Lit)));
+        assert_eq!(
+            view("gbuffer-motion"),
+            Ok(ViewArg::Frame(FrameView::GBuffer(
+                solari_scene::gbuffer_debug::GBufferChannel::Motion
+            )))
+        );
+        for c in solari_scene::gbuffer_debug::GBufferChannel::ALL {
+            let v = FrameView::GBuffer(c);
+            assert_eq!(view(&v.name()), Ok(ViewArg::Frame(v)));
+        }
+        assert!(
+            view("gbuffer-bogus")
+                .unwrap_err()
+                .contains("gbuffer-CHANNEL")
+        );
         assert!(list("1,x", "--candidates", number::<u32>).is_err());
         assert_eq!(list("1, 8", "--candidates", number::<u32>), Ok(vec![1, 8]));
         assert_eq!(quality("ultra"), Ok(QualityArg::Tier(QualityTier::Ultra)));

@@ -3,7 +3,7 @@
 //! writable, the extension is known), and files are written atomically (a temporary file
 //! beside the target, then a rename), so a failure never leaves a corrupt or partial file.
 
-use solari_reference::image_io::{encode_exr, encode_png};
+use solari_reference::image_io::{encode_exr, encode_png, encode_png_rgb8, srgb_encode};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -157,7 +157,8 @@ impl ImageOutputs {
     }
 
     /// Writes linear radiance `pixels` (`width × height`, row-major from the top left) to every
-    /// file: EXR as is, PNG through the tone curve at `exposure_ev`. An image holding
+    /// file: EXR as is, PNG through the tone curve at `exposure_ev`, or with `exposure_ev`
+    /// `None` (display-referred images: the G-buffer views) sRGB-encoded as they are. An image holding
     /// non-finite values is refused (nothing is written): it means a renderer bug, which
     /// `--check-finite` traces to its pass.
     pub fn write(
@@ -165,7 +166,7 @@ impl ImageOutputs {
         width: u32,
         height: u32,
         pixels: &[[f32; 3]],
-        exposure_ev: f32,
+        exposure_ev: Option<f32>,
     ) -> Result<(), String> {
         let bad = pixels
             .iter()
@@ -180,7 +181,10 @@ impl ImageOutputs {
         let mut encoded = Vec::new();
         for (path, format) in &self.files {
             let bytes = match format {
-                ImageFormat::Png => encode_png(width, height, pixels, exposure_ev)?,
+                ImageFormat::Png => match exposure_ev {
+                    Some(ev) => encode_png(width, height, pixels, ev)?,
+                    None => encode_png_rgb8(width, height, &display_rgb8(pixels))?,
+                },
                 ImageFormat::Exr => encode_exr(width, height, pixels)?,
             };
             encoded.push((path, bytes));
@@ -200,6 +204,14 @@ impl ImageOutputs {
             .collect::<Vec<_>>()
             .join(" and ")
     }
+}
+
+// Display-referred values in [0, 1] (clamped) as 8-bit sRGB, without exposure or tone curve.
+fn display_rgb8(pixels: &[[f32; 3]]) -> Vec<u8> {
+    pixels
+        .iter()
+        .flat_map(|p| p.map(|c| (srgb_encode(c.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8))
+        .collect()
 }
 
 #[cfg(test)]
@@ -262,20 +274,37 @@ mod tests {
         let out = ImageOutputs::check(&[png.clone(), exr.clone()]).unwrap();
         let mut px = vec![[0.5f32; 3]; 4];
         px[2][1] = f32::NAN;
-        let e = out.write(2, 2, &px, 0.0).unwrap_err();
+        let e = out.write(2, 2, &px, Some(0.0)).unwrap_err();
         assert!(e.contains("1 non-finite"), "{e}");
         assert_eq!(std::fs::read(&png).unwrap(), b"old");
         assert!(!exr.exists());
         // A size mismatch fails in encoding, before any file is touched.
-        assert!(out.write(3, 2, &[[0.5; 3]; 4], 0.0).is_err());
+        assert!(out.write(3, 2, &[[0.5; 3]; 4], Some(0.0)).is_err());
         assert_eq!(std::fs::read(&png).unwrap(), b"old");
         px[2][1] = 0.25;
-        out.write(2, 2, &px, 0.0).unwrap();
+        out.write(2, 2, &px, Some(0.0)).unwrap();
         let back = image::open(&exr).unwrap().to_rgb32f();
         assert_eq!(back.get_pixel(0, 1).0, [0.5, 0.25, 0.5]);
         assert_eq!(image::open(&png).unwrap().width(), 2);
         // Only the two outputs remain: no temporary files.
         assert_eq!(std::fs::read_dir(&d).unwrap().count(), 2);
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn display_images_are_written_without_the_tone_curve() {
+        let d = tmp_dir("display");
+        let png = d.join("d.png");
+        let out = ImageOutputs::check(std::slice::from_ref(&png)).unwrap();
+        // Linear 0.5 is sRGB 0.735 (188/255); values past 1 clamp instead of tone-mapping.
+        let px = [[0.0, 0.5, 1.0], [4.0, -1.0, 0.5]];
+        out.write(2, 1, &px, None).unwrap();
+        let back = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(back.get_pixel(0, 0).0, [0, 188, 255]);
+        assert_eq!(back.get_pixel(1, 0).0, [255, 0, 188]);
+        // The tone curve darkens 1.0 (ACES maps it to 0.80).
+        out.write(2, 1, &px, Some(0.0)).unwrap();
+        assert!(image::open(&png).unwrap().to_rgb8().get_pixel(0, 0).0[2] < 240);
         std::fs::remove_dir_all(&d).unwrap();
     }
 

@@ -131,7 +131,12 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         sum.iter().map(|s| s.map(|v| (v / n) as f32)).collect()
     };
     let (ow, oh) = renderer.size();
-    plan.outputs.write(ow, oh, &rgb, args.exposure)?;
+    let exposure = renderer
+        .settings()
+        .view
+        .tone_mapped()
+        .then_some(args.exposure);
+    plan.outputs.write(ow, oh, &rgb, exposure)?;
     if let Some(out) = report {
         out.commit()?;
     }

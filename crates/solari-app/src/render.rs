@@ -131,7 +131,8 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         )
         .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
-    plan.outputs.write(w, h, &image.pixels, args.exposure)?;
+    plan.outputs
+        .write(w, h, &image.pixels, Some(args.exposure))?;
     if image.capped_paths > 0 {
         log::warn!(
             "{} paths reached the safety cap of {SAFETY_CAP} bounces",

@@ -645,7 +645,7 @@ impl Viewer {
                 ImageOutputs {
                     files: vec![(path.clone(), ImageFormat::Exr)],
                 }
-                .write(w, h, &rgb, 0.0)?;
+                .write(w, h, &rgb, Some(0.0))?;
             }
             ImageFormat::Png => {
                 let rgb = self.capture((w, h))?;

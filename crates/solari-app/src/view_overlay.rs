@@ -4,6 +4,7 @@
 
 use solari_denoise::DenoiserKind;
 use solari_renderer::{FrameReport, FrameView, GiMode, PASS_NAMES, QualityTier};
+use solari_scene::gbuffer_debug::GBufferChannel;
 use std::time::Duration;
 
 /// What the overlay shows and lets the user change.
@@ -266,13 +267,14 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
                     }
                 });
             egui::ComboBox::from_label("view")
-                .selected_text(match c.view {
-                    FrameView::Lit => "lit",
-                    FrameView::WorldCache => "world cache cells",
-                })
+                .selected_text(view_label(c.view))
                 .show_ui(ui, |ui| {
-                    ui.selectable_value(&mut c.view, FrameView::Lit, "lit");
-                    ui.selectable_value(&mut c.view, FrameView::WorldCache, "world cache cells");
+                    let views = [FrameView::Lit, FrameView::WorldCache]
+                        .into_iter()
+                        .chain(GBufferChannel::ALL.map(FrameView::GBuffer));
+                    for v in views {
+                        ui.selectable_value(&mut c.view, v, view_label(v));
+                    }
                 });
             ui.add(egui::Slider::new(&mut c.exposure, -8.0..=8.0).text("exposure EV"));
             ui.add(
@@ -295,6 +297,15 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
 }
 
 /// The passes that ran and their GPU times, in a window at the top right.
+// The view's name in the overlay.
+fn view_label(v: FrameView) -> String {
+    match v {
+        FrameView::Lit => "lit".into(),
+        FrameView::WorldCache => "world cache cells".into(),
+        FrameView::GBuffer(c) => format!("G-buffer: {}", c.name()),
+    }
+}
+
 fn pass_window(ctx: &egui::Context, report: Option<&FrameReport>) {
     egui::Window::new("GPU ms per pass")
         .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])

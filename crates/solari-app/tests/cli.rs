@@ -264,7 +264,7 @@ fn bad_arguments_are_refused_before_any_work() {
         (&["render", "--view", "bogus"], "world-cache"),
         (
             &["render", "--mode", "realtime", "--view", "albedo"],
-            "lit or world-cache",
+            "lit, world-cache or gbuffer-CHANNEL",
         ),
         (
             &["render", "--tracer", "bogus"],

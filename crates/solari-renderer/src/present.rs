@@ -10,7 +10,8 @@
 //! - other 8- and 10-bit unorm formats: the same tone curve and the sRGB transfer function
 //!   in the shader, so the image matches `solari_reference::image_io::tone_map`.
 //!
-//! Non-finite pixels are written black. A render pass, not a compute pass, so every
+//! Display-referred sources (the G-buffer debug views) skip exposure and the tone curve and
+//! keep the sRGB encoding. Non-finite pixels are written black. A render pass, not a compute pass, so every
 //! renderable format works (sRGB formats cannot be storage textures).
 
 use bytemuck::{Pod, Zeroable};
@@ -28,7 +29,7 @@ pub const PRESENT_WGSL: &str = r#"
 struct PresentParams {
     width: u32,
     height: u32,
-    // 0: linear; 1: tone curve (the target encodes sRGB); 2: tone curve and sRGB here.
+    // Bit 0: the tone curve; bit 1: the sRGB encoding here (not by the target).
     mode: u32,
     scale: f32,
 }
@@ -59,10 +60,10 @@ fn fs_main(@builtin(position) position: vec4<f32>) -> @location(0) vec4<f32> {
     // NaN fails every comparison; infinities fail the bound.
     let finite = all(c == c) && all(abs(c) <= vec3<f32>(3.0e38));
     var out = select(vec3<f32>(0.0), c, finite);
-    if params.mode >= 1u {
+    if (params.mode & 1u) != 0u {
         out = aces(out);
     }
-    if params.mode == 2u {
+    if (params.mode & 2u) != 0u {
         out = srgb_encode(out);
     }
     return vec4<f32>(out, 1.0);
@@ -121,22 +122,25 @@ impl Presenter {
         })
     }
 
-    /// How the shader writes `format`: 0 linear, 1 tone curve (hardware sRGB), 2 tone curve
-    /// and sRGB; `None` for formats it cannot write (depth, integer, compressed).
+    /// How the shader writes radiance to `format`: 0 linear, 1 tone curve (hardware sRGB),
+    /// 3 tone curve and sRGB in the shader (bit 0: tone curve, bit 1: sRGB encoding); `None`
+    /// for formats it cannot write (depth, integer, compressed).
     pub fn mode(format: wgpu::TextureFormat) -> Option<u32> {
         use wgpu::TextureFormat as F;
         match format {
             F::Rgba16Float | F::Rgba32Float | F::Rg11b10Ufloat => Some(0),
             f if f.is_srgb() => Some(1),
-            F::Rgba8Unorm | F::Bgra8Unorm | F::Rgb10a2Unorm | F::Rgba16Unorm => Some(2),
+            F::Rgba8Unorm | F::Bgra8Unorm | F::Rgb10a2Unorm | F::Rgba16Unorm => Some(3),
             _ => None,
         }
     }
 
     /// Records the draw of `source` (`size.0 × size.1` `vec4<f32>`, row by row from the top
-    /// left) into `target`, scaled by 2^`exposure_ev`. Errors, recording nothing, when the
-    /// target's size differs from `size`, it lacks `RENDER_ATTACHMENT`, its format cannot be
-    /// written, or the exposure is not finite.
+    /// left) into `target`: radiance scaled by 2^`exposure_ev` through the tone curve, or
+    /// with `exposure_ev` `None` display-referred values as they are (sRGB-encoded for 8-
+    /// and 10-bit targets). Errors, recording nothing, when the target's size differs from
+    /// `size`, it lacks `RENDER_ATTACHMENT`, its format cannot be written, or the exposure
+    /// is not finite.
     pub fn encode(
         &mut self,
         gpu: &Gpu,
@@ -144,7 +148,7 @@ impl Presenter {
         source: &wgpu::Buffer,
         size: (u32, u32),
         target: &wgpu::TextureView,
-        exposure_ev: f32,
+        exposure_ev: Option<f32>,
     ) -> Result<(), GpuError> {
         let texture = target.texture();
         let format = texture.format();
@@ -167,9 +171,14 @@ impl Presenter {
         let Some(mode) = Self::mode(format) else {
             return refuse(format!("cannot write {format:?} targets"));
         };
-        if !exposure_ev.is_finite() {
-            return refuse(format!("exposure {exposure_ev} EV is not finite"));
-        }
+        let (mode, scale) = match exposure_ev {
+            Some(ev) if !ev.is_finite() => {
+                return refuse(format!("exposure {ev} EV is not finite"));
+            }
+            Some(ev) => (mode, ev.exp2()),
+            // As they are: no tone curve, no exposure.
+            None => (mode & !1, 1.0),
+        };
         if source.size() < size.0 as u64 * size.1 as u64 * 16 {
             return refuse("the source buffer is smaller than the output".into());
         }
@@ -177,7 +186,7 @@ impl Presenter {
             width: size.0,
             height: size.1,
             mode,
-            scale: exposure_ev.exp2(),
+            scale,
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

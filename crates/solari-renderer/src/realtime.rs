@@ -27,6 +27,7 @@ use solari_restir::{
 };
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
+use solari_scene::gbuffer_debug::{GBufferChannel, GBufferDebug};
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::{GpuView, halton_jitter};
@@ -182,16 +183,39 @@ pub enum FrameView {
     Lit,
     /// The world cache's cells: each pixel shows its cell's irradiance, tinted per cell.
     WorldCache,
+    /// One channel of the G-buffer ([`solari_scene::gbuffer_debug`]), display-referred:
+    /// presented and saved without exposure or tone curve ([`FrameView::tone_mapped`]).
+    /// The lighting passes still run, so the frame costs what the lit frame does.
+    GBuffer(GBufferChannel),
 }
 
 impl FrameView {
-    /// Parses `lit` or `world-cache`.
+    /// Parses `lit`, `world-cache` or `gbuffer-CHANNEL` (`gbuffer-normal`,
+    /// `gbuffer-base-color`, …: [`GBufferChannel::name`]).
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "lit" => Some(Self::Lit),
             "world-cache" => Some(Self::WorldCache),
-            _ => None,
+            _ => s
+                .strip_prefix("gbuffer-")
+                .and_then(GBufferChannel::parse)
+                .map(Self::GBuffer),
         }
+    }
+
+    /// The view's name, as [`FrameView::parse`] reads it.
+    pub fn name(self) -> String {
+        match self {
+            Self::Lit => "lit".into(),
+            Self::WorldCache => "world-cache".into(),
+            Self::GBuffer(c) => format!("gbuffer-{}", c.name()),
+        }
+    }
+
+    /// Whether the output is radiance, shown through exposure and the tone curve (false
+    /// for the G-buffer views, whose values are shown as they are, sRGB-encoded).
+    pub fn tone_mapped(self) -> bool {
+        !matches!(self, Self::GBuffer(_))
     }
 }
 
@@ -467,6 +491,9 @@ pub struct RealtimeRenderer {
     last_view: Option<GpuView>,
     // Made on the first `present`.
     presenter: Option<Presenter>,
+    // With a G-buffer view: its pass (writing ReSTIR DI's output after the lighting) and
+    // the scene's bounds, whose farthest corner sets the depth view's range.
+    gbuffer_debug: Option<(GBufferDebug, [[f32; 3]; 2])>,
     frame: u32,
     checker: Option<FiniteChecker>,
     gbuffer_timing: Option<GBufferTiming>,
@@ -696,6 +723,14 @@ impl RealtimeRenderer {
             }
             _ => None,
         };
+        let gbuffer_debug = match settings.view {
+            FrameView::GBuffer(_) => {
+                let (lo, hi) = scene.bounds();
+                let pass = GBufferDebug::new(gpu, di.output(), (width, height))?;
+                Some((pass, [lo.to_array(), hi.to_array()]))
+            }
+            _ => None,
+        };
         let checker = match settings.finite_check {
             FiniteCheck::Off => None,
             _ => Some(FiniteChecker::with_frames_in_flight(
@@ -745,6 +780,7 @@ impl RealtimeRenderer {
             reset_next: false,
             last_view: None,
             presenter: None,
+            gbuffer_debug,
             frame: 0,
             checker,
             gbuffer_timing,
@@ -1242,6 +1278,13 @@ impl RealtimeRenderer {
                 )?;
             }
         }
+        if let (Some((debug, bounds)), FrameView::GBuffer(channel)) =
+            (&mut self.gbuffer_debug, self.settings.view)
+        {
+            debug.prepare(gpu, channel, farthest_corner(context.eye(), bounds));
+            // Not in PASS_NAMES: a debug view's cost is not the frame's.
+            debug.encode(&mut encoder, &context, &self.gbuffer)?;
+        }
         let mut after = Vec::new();
         let reset = std::mem::take(&mut self.reset_next);
         if denoising {
@@ -1403,8 +1446,9 @@ impl RealtimeRenderer {
     /// Draws the last frame into `target`, a texture of the caller's (a window's surface
     /// texture or any render target of [`RealtimeRenderer::size`] with `RENDER_ATTACHMENT`
     /// usage), scaled by 2^`exposure_ev`: linear for float formats, tone-mapped for 8- and
-    /// 10-bit ones ([`crate::present`] states the curve). Submits its own small command
-    /// buffer after the frame's. Errors on a target of another size, usage or format.
+    /// 10-bit ones ([`crate::present`] states the curve); a G-buffer view is drawn as it is,
+    /// without exposure or tone curve. Submits its own small command buffer after the
+    /// frame's. Errors on a target of another size, usage or format.
     pub fn present(
         &mut self,
         gpu: &Gpu,
@@ -1422,7 +1466,8 @@ impl RealtimeRenderer {
         };
         let presenter = self.presenter.as_mut().expect("made above");
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        presenter.encode(gpu, &mut encoder, source, size, target, exposure_ev)?;
+        let exposure = self.settings.view.tone_mapped().then_some(exposure_ev);
+        presenter.encode(gpu, &mut encoder, source, size, target, exposure)?;
         gpu.scoped(|| gpu.queue.submit([encoder.finish()]))?;
         Ok(())
     }
@@ -1499,6 +1544,20 @@ impl CameraRig {
             CameraPath::Orbit => self.start.orbit_about(self.pivot, frame),
         }
     }
+}
+
+// The distance from `eye` to the farthest corner of the box `bounds` (min, max): the depth
+// view's darkest distance. Non-finite for an empty scene, which the pass replaces with 1.
+fn farthest_corner(eye: [f32; 3], bounds: &[[f32; 3]; 2]) -> f32 {
+    (0..3)
+        .map(|a| {
+            let d = (eye[a] - bounds[0][a])
+                .abs()
+                .max((eye[a] - bounds[1][a]).abs());
+            d * d
+        })
+        .sum::<f32>()
+        .sqrt()
 }
 
 #[cfg(test)]

@@ -23,6 +23,7 @@ pub mod environment;
 pub mod error;
 pub mod finite_check;
 pub mod gbuffer;
+pub mod gbuffer_debug;
 pub mod gbuffer_input;
 pub mod gbuffer_override;
 mod gbuffer_raster;

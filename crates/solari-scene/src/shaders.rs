@@ -76,6 +76,10 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
         include_str!("../shaders/gbuffer_override_apply.wesl"),
     ),
     (
+        "gbuffer_debug",
+        include_str!("../shaders/gbuffer_debug.wesl"),
+    ),
+    (
         "finite_check_buffer",
         include_str!("../shaders/finite_check_buffer.wesl"),
     ),

@@ -57,6 +57,7 @@ fn crate_shader_check_refuses_an_unbounded_loop_and_a_wrong_layout() {
 fn bindings_are_bound_by_their_wgsl_names() {
     use solari_scene::bindings::check_groups;
     use solari_scene::gbuffer::{GBUFFER_VIEW_BINDINGS, TRANSFORMS_BINDINGS};
+    use solari_scene::gbuffer_debug::GBUFFER_DEBUG_BINDINGS;
     use solari_scene::trace_pass::TRACE_RAYS_BINDINGS;
     use solari_scene::view_pass::{PRIMARY_BINDINGS, RAY_BENCH_BINDINGS, VIEW_BINDINGS};
     check_groups(
@@ -72,6 +73,7 @@ fn bindings_are_bound_by_their_wgsl_names() {
                 "gbuffer_traced",
                 &[&GBUFFER_VIEW_BINDINGS, &TRANSFORMS_BINDINGS],
             ),
+            ("gbuffer_debug", &[&GBUFFER_DEBUG_BINDINGS]),
         ],
         &[],
     )
