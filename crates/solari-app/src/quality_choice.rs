@@ -179,3 +179,64 @@ pub fn resolve(
     chosen.validate()?;
     Ok((chosen, Some(report)))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+    use solari_renderer::FrameView;
+    use solari_scene::gpu_scene::GpuSceneOptions;
+
+    #[derive(Parser)]
+    struct Wrapper {
+        #[command(flatten)]
+        realtime: RealtimeArgs,
+    }
+
+    fn args(line: &[&str]) -> RealtimeArgs {
+        Wrapper::parse_from(std::iter::once("test").chain(line.iter().copied())).realtime
+    }
+
+    // `--quality auto` on `gpu` for the built-in box at 64×64.
+    fn resolve_on(
+        gpu: &Gpu,
+        line: &[&str],
+    ) -> Result<(RealtimeSettings, Option<QualityReport>), String> {
+        let backend = gpu.backend(Default::default()).expect("backend");
+        let scene = solari_scene::default_scene::cornell_box();
+        let gpu_scene =
+            GpuScene::new(gpu, &scene, backend, &GpuSceneOptions::default()).expect("upload");
+        let camera = scene.camera(None).expect("camera");
+        let args = args(line);
+        let settings = args.settings(FrameView::Lit)?;
+        let target = Target {
+            gpu,
+            backend,
+            scene: &scene,
+            gpu_scene: &gpu_scene,
+            camera: &camera,
+            size: (64, 64),
+            table_name: Some("cornell_box".into()),
+        };
+        resolve(&args, &target, settings)
+    }
+
+    #[test]
+    fn auto_without_timestamps_falls_back_to_the_high_tier() {
+        let Some(full) = solari_scene::gpu::test_gpu() else {
+            return;
+        };
+        // With timestamps the probe runs and reports its choice.
+        let (_, report) = resolve_on(&full, &["--quality", "auto", "--budget-ms", "8"]).unwrap();
+        let report = report.expect("a probed choice");
+        assert!(report.considered > 0 && report.budget_ms == 8.0);
+        drop(full);
+        // Without, the high tier and no report (a warning says why).
+        let gpu = solari_scene::gpu::Gpu::new_without(wgpu::Features::TIMESTAMP_QUERY).unwrap();
+        let line = ["--quality", "auto", "--budget-ms", "8"];
+        let (settings, report) = resolve_on(&gpu, &line).unwrap();
+        assert_eq!(report, None);
+        let plain = args(&line).settings(FrameView::Lit).unwrap();
+        assert_eq!(settings, QualityTier::High.apply(&plain));
+    }
+}

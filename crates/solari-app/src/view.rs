@@ -234,13 +234,8 @@ impl Viewer {
         let surface = instance
             .create_surface(window.clone())
             .map_err(|e| format!("cannot draw into the window: {e}"))?;
-        let adapter = Gpu::pick_adapter(&instance).map_err(|e| e.to_string())?;
-        if !adapter.is_surface_supported(&surface) {
-            return Err(format!(
-                "adapter {} cannot present to this window",
-                adapter.get_info().name
-            ));
-        }
+        let adapter = Gpu::pick_adapter_where(&instance, |a| a.is_surface_supported(&surface))
+            .map_err(|e| e.to_string())?;
         let (device, queue) =
             pollster::block_on(adapter.request_device(&Gpu::device_descriptor(&adapter)))
                 .map_err(|e| format!("cannot open {}: {e}", adapter.get_info().name))?;

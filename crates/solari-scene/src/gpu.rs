@@ -130,6 +130,43 @@ pub struct Gpu {
 /// part of the adapter's name. Unset, the best adapter is taken.
 pub const ADAPTER_ENV: &str = "SOLARI_ADAPTER";
 
+/// As [`choose_adapter`], among the adapters marked in `usable` (one flag per adapter): the
+/// best usable one, or the requested one if it is usable. A request for an unusable adapter
+/// is an error naming it, never a silent switch to another.
+pub fn choose_usable_adapter(
+    adapters: &[wgpu::AdapterInfo],
+    usable: &[bool],
+    request: Option<&str>,
+) -> Result<usize, GpuError> {
+    assert_eq!(adapters.len(), usable.len(), "one flag per adapter");
+    if request.is_some() {
+        let i = choose_adapter(adapters, request)?;
+        if !usable[i] {
+            return Err(GpuError::AdapterRequest(format!(
+                "{ADAPTER_ENV}={}: adapter {i}, {}, cannot be used here (it cannot present \
+                 to the window)",
+                request.unwrap_or_default().trim(),
+                adapters[i].name
+            )));
+        }
+        return Ok(i);
+    }
+    let kept: Vec<usize> = (0..adapters.len()).filter(|&i| usable[i]).collect();
+    if kept.is_empty() {
+        if adapters.is_empty() {
+            return Err(GpuError::NoAdapter("none enumerated".into()));
+        }
+        let names: Vec<&str> = adapters.iter().map(|a| a.name.as_str()).collect();
+        return Err(GpuError::NoAdapter(format!(
+            "none of the {} adapter(s) can be used here (they cannot present to the window): {}",
+            adapters.len(),
+            names.join(", ")
+        )));
+    }
+    let infos: Vec<wgpu::AdapterInfo> = kept.iter().map(|&i| adapters[i].clone()).collect();
+    Ok(kept[choose_adapter(&infos, None)?])
+}
+
 /// Which of `adapters` to use: with `request` (the value of [`ADAPTER_ENV`]) an index or a
 /// case-insensitive part of a name, matched exactly as asked (a request no adapter matches is
 /// an error that lists them, never a silent fallback, so a benchmark meant for the second
@@ -216,6 +253,29 @@ impl Gpu {
         Ok(Self::from_parts(instance, adapter, device, queue))
     }
 
+    /// As [`Gpu::new`], without `features` even where the adapter has them: to run as on an
+    /// adapter that lacks them (tests of fall-backs), or to keep a driver's broken feature
+    /// out. Timestamp queries without [`wgpu::Features::TIMESTAMP_QUERY`] go as a group.
+    pub fn new_without(features: wgpu::Features) -> Result<Self, GpuError> {
+        let mut features = features;
+        if features.contains(wgpu::Features::TIMESTAMP_QUERY) {
+            features |= wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+                | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES;
+        }
+        let instance = wgpu::Instance::new(Self::instance_descriptor());
+        let adapter = Self::pick_adapter(&instance)?;
+        let mut descriptor = Self::device_descriptor(&adapter);
+        descriptor.required_features = descriptor.required_features.difference(features);
+        let (device, queue) =
+            pollster::block_on(adapter.request_device(&descriptor)).map_err(|source| {
+                GpuError::RequestDevice {
+                    adapter: adapter.get_info().name,
+                    source,
+                }
+            })?;
+        Ok(Self::from_parts(instance, adapter, device, queue))
+    }
+
     /// The instance [`Gpu::new`] creates: primary backends unless `WGPU_BACKEND` says
     /// otherwise, flags from the environment. Public so integrations that must create the
     /// instance themselves (DLSS registers Vulkan extensions) start from the same one.
@@ -230,21 +290,30 @@ impl Gpu {
     /// The adapter [`Gpu::new`] uses: the one `SOLARI_ADAPTER` names (see
     /// [`choose_adapter`]), else the best: discrete over integrated over virtual over CPU.
     pub fn pick_adapter(instance: &wgpu::Instance) -> Result<wgpu::Adapter, GpuError> {
+        Self::pick_adapter_where(instance, |_| true)
+    }
+
+    /// As [`Gpu::pick_adapter`], among the adapters `usable` accepts (a window's: those that
+    /// can present to its surface), so a machine whose best GPU cannot present still gets
+    /// the next one ([`choose_usable_adapter`]).
+    pub fn pick_adapter_where(
+        instance: &wgpu::Instance,
+        usable: impl Fn(&wgpu::Adapter) -> bool,
+    ) -> Result<wgpu::Adapter, GpuError> {
         let backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
         let mut adapters = pollster::block_on(instance.enumerate_adapters(backends));
         let infos: Vec<wgpu::AdapterInfo> = adapters.iter().map(|a| a.get_info()).collect();
+        let accepted: Vec<bool> = adapters.iter().map(usable).collect();
         let request = std::env::var(ADAPTER_ENV).ok();
-        let index = choose_adapter(&infos, request.as_deref()).map_err(|e| match e {
-            GpuError::NoAdapter(why) => {
-                GpuError::NoAdapter(format!("{why}; backends {backends:?}"))
-            }
-            other => other,
-        })?;
-        if request.is_some() {
-            log::info!(
-                "{ADAPTER_ENV}: using adapter {index}, {}",
-                infos[index].name
-            );
+        let index =
+            choose_usable_adapter(&infos, &accepted, request.as_deref()).map_err(|e| match e {
+                GpuError::NoAdapter(why) => {
+                    GpuError::NoAdapter(format!("{why}; backends {backends:?}"))
+                }
+                other => other,
+            })?;
+        if request.is_some() || accepted.iter().any(|a| !a) {
+            log::info!("using adapter {index}, {}", infos[index].name);
         }
         Ok(adapters.swap_remove(index))
     }

@@ -1,8 +1,9 @@
 //! `SOLARI_ADAPTER`: choosing one adapter of several, by index or by name, and errors that
-//! list the adapters when the request matches none (CPU only: adapter lists are built here).
+//! list the adapters when the request matches none; the viewer's choice among the adapters
+//! that can present to its window (CPU only: adapter lists are built here).
 
 use solari_scene::GpuError;
-use solari_scene::gpu::choose_adapter;
+use solari_scene::gpu::{choose_adapter, choose_usable_adapter};
 use wgpu::{AdapterInfo, Backend, DeviceType};
 
 fn info(name: &str, device_type: DeviceType) -> AdapterInfo {
@@ -65,4 +66,34 @@ fn no_adapters_is_no_adapter_whatever_was_asked() {
             Err(GpuError::NoAdapter(_))
         ));
     }
+}
+
+#[test]
+fn only_usable_adapters_are_chosen_and_a_request_for_another_is_refused() {
+    // The H200s cannot present (headless); the integrated GPU is the best that can.
+    let usable = [true, false, false, true];
+    assert_eq!(choose_usable_adapter(&machine(), &usable, None).unwrap(), 3);
+    assert_eq!(
+        choose_usable_adapter(&machine(), &[true; 4], None).unwrap(),
+        1
+    );
+    assert_eq!(
+        choose_usable_adapter(&machine(), &usable, Some("llvmpipe")).unwrap(),
+        0
+    );
+    match choose_usable_adapter(&machine(), &usable, Some("h200")) {
+        Err(GpuError::AdapterRequest(msg)) => {
+            assert!(msg.contains("adapter 1, NVIDIA H200"), "{msg}");
+            assert!(msg.contains("cannot present"), "{msg}");
+        }
+        other => panic!("expected a refusal, got {other:?}"),
+    }
+    match choose_usable_adapter(&machine(), &[false; 4], None) {
+        Err(GpuError::NoAdapter(msg)) => assert!(msg.contains("none of the 4"), "{msg}"),
+        other => panic!("expected no adapter, got {other:?}"),
+    }
+    assert!(matches!(
+        choose_usable_adapter(&[], &[], None),
+        Err(GpuError::NoAdapter(_))
+    ));
 }
