@@ -297,3 +297,63 @@ fn moving_object_leaves_no_ghost_trail() {
         );
     }
 }
+
+// Relative MSE against `reference` (squared error over reference² + 0.01 per channel, as
+// `solari_reference::metrics` weighs it).
+fn rel_mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
+    let mut sum = 0.0;
+    for (x, r) in a.iter().zip(reference) {
+        for c in 0..3 {
+            let d = (x[c] - r[c]) as f64;
+            sum += d * d / ((r[c] as f64).powi(2) + 0.01);
+        }
+    }
+    sum / (3 * a.len()) as f64
+}
+
+/// Young history, frames 1–8 at 96×96: where DI is noisy (the Cornell box's area light, 400
+/// lights) every denoised frame is closer to the reference than its input, in RMSE and
+/// relMSE. Printed beside them, sun_boxes: nearly noise-free DI with thin hard shadows, where
+/// the young-history filter is still worse than its input in relMSE (issue 18 item 6, open;
+/// `benches/RESULTS.md`, "Denoiser").
+#[test]
+fn young_history_frames_gain_where_the_input_is_noisy() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let size = 96;
+    let cases = [
+        ("cornell_box", default_scene::cornell_box(), true),
+        (
+            "many_lights",
+            load_gltf(solari_testdata::scene("many_lights")).expect("scene"),
+            true,
+        ),
+        (
+            "sun_boxes",
+            load_gltf(solari_testdata::scene("sun_boxes")).expect("scene"),
+            false,
+        ),
+    ];
+    for (name, scene, noisy) in cases {
+        let reference = reference_direct(&gpu, backend, &scene, size, 512);
+        let mut renderer = fallback(&gpu, backend, &scene, size);
+        let camera = scene.camera(None).expect("camera");
+        for frame in 1..=8 {
+            renderer.render(&gpu, &scene, &camera);
+            let raw = rgb(&renderer.read_noisy(&gpu));
+            let den = rgb(&renderer.read_output(&gpu));
+            let (raw_rmse, den_rmse) = (rmse(&raw, &reference), rmse(&den, &reference));
+            let (raw_rel, den_rel) = (rel_mse(&raw, &reference), rel_mse(&den, &reference));
+            println!(
+                "{name} {size}x{size} frame {frame}: RMSE raw {raw_rmse:.5} denoised \
+                 {den_rmse:.5}; relMSE raw {raw_rel:.5} denoised {den_rel:.5}"
+            );
+            if noisy {
+                assert!(
+                    den_rmse < raw_rmse && den_rel < raw_rel,
+                    "{name} frame {frame}: denoised worse than its input"
+                );
+            }
+        }
+    }
+}
