@@ -434,6 +434,22 @@ pub struct RealtimeArgs {
     /// World-cache cells updated per frame before updates turn stochastic.
     #[arg(long, default_value_t = 40_000)]
     pub cache_budget: u32,
+    /// World-cache distance over which cells double in size, in scene units (`inf`: one
+    /// level everywhere).
+    #[arg(long, default_value_t = WorldCacheSettings::default().lod_distance,
+          value_parser = values::positive_or_inf)]
+    pub cache_lod_distance: f32,
+    /// World cache: a lookup at the end of a ray shorter than its cell uses the finest level
+    /// (less light through corners; on by default, `--cache-leak-rule off` to compare).
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub cache_leak_rule: bool,
+    /// World cache: blend neighbouring levels of detail (a lookup near a level's far edge
+    /// lands one level coarser with probability fract³) instead of switching at a hard
+    /// distance.
+    #[arg(long, default_value = "off", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub cache_soft_lod: bool,
     /// World-cache table slots (a power of two, 1024 to 2097152).
     #[arg(long, default_value_t = WorldCacheSettings::default().capacity)]
     pub cache_capacity: u32,
@@ -504,6 +520,9 @@ impl RealtimeArgs {
             cache: WorldCacheSettings {
                 cell_size: self.cache_cell_size,
                 update_budget: self.cache_budget,
+                lod_distance: self.cache_lod_distance,
+                leak_rule: self.cache_leak_rule,
+                soft_lod: self.cache_soft_lod,
                 capacity: self.cache_capacity,
                 ..Default::default()
             },

@@ -73,6 +73,16 @@ pub fn finite(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A positive number or `inf` (a distance that may be unbounded).
+pub fn positive_or_inf(s: &str) -> Result<f32, String> {
+    let v: f32 = s.trim().parse().map_err(|_| format!("{s}: not a number"))?;
+    if v > 0.0 && v != f32::NEG_INFINITY && !v.is_nan() {
+        Ok(v)
+    } else {
+        Err(format!("{s}: must be above 0 (or inf)"))
+    }
+}
+
 /// A length in metres: finite and not negative.
 pub fn metres(s: &str) -> Result<f32, String> {
     let v = finite(s)?;
@@ -256,6 +266,11 @@ mod tests {
             assert!(exposure(bad).is_err(), "{bad}");
         }
         assert!(exposure("65").is_err());
+        assert_eq!(positive_or_inf("inf"), Ok(f32::INFINITY));
+        assert_eq!(positive_or_inf(" 2.5"), Ok(2.5));
+        for bad in ["0", "-1", "nan", "-inf", "x"] {
+            assert!(positive_or_inf(bad).is_err(), "{bad}");
+        }
         assert_eq!(exposure("-2.5"), Ok(-2.5));
     }
 

@@ -450,6 +450,9 @@ impl WorldCache {
         if s.leak_rule {
             bits |= flags::LEAK_RULE;
         }
+        if s.soft_lod {
+            bits |= flags::SOFT_LOD;
+        }
         let params = GpuCacheParams {
             view_position,
             frame,

@@ -43,11 +43,22 @@ impl CellGrid {
     /// Level of detail of a point `distance` from the camera: `floor(log2(1 + d / lod))`,
     /// at most [`MAX_LEVEL`] (also for non-finite distances).
     pub fn level(&self, distance: f32) -> u32 {
+        self.level_with(distance, 1.0)
+    }
+
+    /// [`CellGrid::level`] with soft transitions ([`crate::WorldCacheSettings::soft_lod`]):
+    /// one level coarser when `lod_u` (uniform in \[0, 1)) is below the cube of the
+    /// fractional part of `log2(1 + d / lod)`; `lod_u` ≥ 1 never steps up.
+    pub fn level_with(&self, distance: f32, lod_u: f32) -> u32 {
         let x = 1.0 + distance * self.inv_lod_distance;
         if x.is_nan() || x >= 65536.0 {
             return MAX_LEVEL;
         }
-        (x.log2().floor() as u32).min(MAX_LEVEL)
+        let l = x.log2();
+        let whole = l.floor();
+        let f = l - whole;
+        let up = u32::from(lod_u < f * f * f);
+        (whole as u32 + up).min(MAX_LEVEL)
     }
 
     /// Edge length of cells at `level`.
@@ -72,13 +83,25 @@ impl CellGrid {
         view: [f32; 3],
         ray_length: f32,
     ) -> Cell {
+        self.cell_with(position, normal, view, ray_length, 1.0)
+    }
+
+    /// [`CellGrid::cell`] at the level [`CellGrid::level_with`] gives for `lod_u`.
+    pub fn cell_with(
+        &self,
+        position: [f32; 3],
+        normal: [f32; 3],
+        view: [f32; 3],
+        ray_length: f32,
+        lod_u: f32,
+    ) -> Cell {
         let d = position
             .iter()
             .zip(view)
             .map(|(p, v)| (p - v) * (p - v))
             .sum::<f32>()
             .sqrt();
-        let mut level = self.level(d);
+        let mut level = self.level_with(d, lod_u);
         if ray_length < self.size_at(level) {
             level = 0;
         }

@@ -61,6 +61,11 @@ pub struct WorldCacheSettings {
     /// (Solari 0.19's light-leak rule; default on): a short ray ends near a corner, where a
     /// coarse cell spans both sides.
     pub leak_rule: bool,
+    /// Blend neighbouring levels of detail instead of switching at a hard distance
+    /// (Solari 0.19's "gentler LOD transitions"; default off): near the top of a level's
+    /// band a lookup lands in the next coarser cell with probability fract(level)³, drawn
+    /// per lookup ([`crate::hash::CellGrid::level_with`]).
+    pub soft_lod: bool,
 }
 
 impl Default for WorldCacheSettings {
@@ -77,6 +82,7 @@ impl Default for WorldCacheSettings {
             max_ray_distance: 50.0,
             jitter: true,
             leak_rule: true,
+            soft_lod: false,
         }
     }
 }
@@ -157,6 +163,7 @@ impl WorldCacheSettings {
 pub(crate) mod flags {
     pub const JITTER: u32 = 1;
     pub const LEAK_RULE: u32 = 2;
+    pub const SOFT_LOD: u32 = 4;
 }
 
 /// The uniform every cache pass reads (WGSL `WorldCacheParams`).
@@ -179,7 +186,7 @@ pub struct GpuCacheParams {
     pub lifetime: u32,
     /// [`WorldCacheSettings::max_search_steps`].
     pub max_search_steps: u32,
-    /// Jitter and leak-rule bits.
+    /// Jitter, leak-rule and soft-LOD bits.
     pub flags: u32,
     /// [`WorldCacheSettings::update_budget`].
     pub update_budget: u32,

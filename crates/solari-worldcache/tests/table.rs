@@ -21,7 +21,8 @@ struct FindCase {
     position: [f32; 3],
     ray_length: f32,
     normal: [f32; 3],
-    _pad: u32,
+    // The address's level draw (≥ 1: hard level boundaries).
+    lod_u: f32,
 }
 
 #[repr(C)]
@@ -120,7 +121,7 @@ fn random_case(rng: &mut Pcg32, extent: f32) -> FindCase {
             rng.random_range(0.01f32..4.0)
         },
         normal: random_unit(rng),
-        _pad: 0,
+        lod_u: 1.0,
     }
 }
 
@@ -158,6 +159,78 @@ fn gpu_addressing_matches_the_rust_twin() {
         if lod.is_finite() {
             assert!(levels.len() >= 3, "the cases should span several levels");
         }
+    }
+}
+
+#[test]
+fn soft_levels_match_the_twin_and_step_up_with_probability_fract_cubed() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut rng = Pcg32::seed_from_u64(17);
+    let s = WorldCacheSettings {
+        capacity: 1 << 16,
+        lod_distance: 2.0,
+        max_search_steps: 64,
+        soft_lod: true,
+        ..Default::default()
+    };
+    let c = cache(&gpu, s);
+    let cases: Vec<FindCase> = (0..8192)
+        .map(|_| FindCase {
+            ray_length: f32::INFINITY,
+            lod_u: rng.random_range(0.0f32..1.0),
+            ..random_case(&mut rng, 60.0)
+        })
+        .collect();
+    let out = find(&gpu, &c, &cases);
+    let g = grid(&s);
+    // Expected and observed step-ups: the sum of fract³ and the count of levels above the
+    // hard one.
+    let (mut expected, mut stepped) = (0.0f64, 0u32);
+    for (case, r) in cases.iter().zip(&out) {
+        let cpu = g.cell_with(
+            case.position,
+            case.normal,
+            VIEW,
+            case.ray_length,
+            case.lod_u,
+        );
+        assert_eq!(
+            (r.key, r.checksum, r.level),
+            (cpu.key, cpu.checksum, cpu.level),
+            "{case:?}"
+        );
+        let d = case
+            .position
+            .iter()
+            .zip(VIEW)
+            .map(|(p, v)| (p - v) * (p - v))
+            .sum::<f32>()
+            .sqrt();
+        let hard = g.level(d);
+        assert!(
+            r.level == hard || r.level == hard + 1,
+            "{case:?}: {}",
+            r.level
+        );
+        stepped += u32::from(r.level > hard);
+        let l = (1.0 + d as f64 / 2.0).log2();
+        expected += (l - l.floor()).powi(3);
+    }
+    // Binomial spread: within four standard deviations.
+    let sd = expected.sqrt().max(1.0);
+    eprintln!("soft levels: {stepped} step-ups, {expected:.0} expected");
+    assert!(
+        (stepped as f64 - expected).abs() < 4.0 * sd,
+        "{stepped} step-ups against {expected:.0} expected"
+    );
+    // The draw is the only difference: u ≥ 1 gives the hard level everywhere.
+    let hard: Vec<FindCase> = cases
+        .iter()
+        .map(|c| FindCase { lod_u: 1.0, ..*c })
+        .collect();
+    for (case, r) in hard.iter().zip(find(&gpu, &c, &hard)) {
+        let cpu = g.cell(case.position, case.normal, VIEW, case.ray_length);
+        assert_eq!(r.level, cpu.level);
     }
 }
 

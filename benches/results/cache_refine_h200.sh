@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# Issue 18 item 5 on the H200 (device tool): Solari 0.19's world-cache refinements, each on
+# its own and together, under plain path GI (the default: cache at the path's end) and
+# cache-only GI.
+#   time:  1920x1080, `render --mode realtime --denoiser fallback --frames 200 --json`;
+#   error: 960x540, frame 136 of a still camera against a full-bounce reference (--spp $SPP).
+# A setting is GI-VARIANT: GI path (--gi path --specular-gi on) or cache (--gi cache
+# --specular-gi off); VARIANT base (cell 0.25 m, leak rule on, hard LOD: the defaults),
+# c015 (finest cell 0.15 m), noleak (leak rule off), soft (blended LOD transitions), s19
+# (0.15 m and blended transitions, the leak rule on: Solari 0.19's set).
+# Carry .gl, .dev/bins.tar.xz (stripped `solari`) and .dev/SOLARI_COMMIT; scenes come from
+# crates/solari-testdata. Usage: PHASES="time error" bash benches/results/cache_refine_h200.sh
+# (SCENES, SETTINGS, SPP override). Results: $OUT/cache_refine_<phases>.tar.gz and
+# $OUT/cache_refine_table.csv (benches/results/quality_table.py).
+set -u
+source benches/results/device_env.sh
+mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+BIN=${SOLARI_BIN:-/root/bins/solari}
+R=${RESULTS:-/root/cache_refine}
+SPP=${SPP:-1024}
+SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
+all=""
+for g in path cache; do for v in base c015 noleak soft s19; do all="$all $g-$v"; done; done
+SETTINGS=${SETTINGS:-$all}
+PHASES=${PHASES:-time error}
+mkdir -p "$R" "$OUT"
+flags() {
+  local parts; IFS=- read -ra parts <<< "$1"
+  case ${parts[0]} in path) echo "--gi path --specular-gi on" ;;
+    cache) echo "--gi cache --specular-gi off" ;; *) echo "bad GI in $1" >&2; exit 2 ;; esac
+  case ${parts[1]} in base) ;; c015) echo "--cache-cell-size 0.15" ;;
+    noleak) echo "--cache-leak-rule off" ;; soft) echo "--cache-soft-lod on" ;;
+    s19) echo "--cache-cell-size 0.15 --cache-soft-lod on" ;; *) echo "bad variant in $1" >&2; exit 2 ;; esac
+}
+scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
+nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
+cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
+if [[ " $PHASES " == *" time "* ]]; then
+  # Warm-up: the first runs of a phase read slow (clocks ramping).
+  $BIN render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \
+    --out "$R/x.png" > /dev/null 2>&1
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    for g in $SETTINGS; do
+      echo "== $s $g time $(date -u +%T)" >&2
+      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
+        --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_time.json" 2> "$R/${s}_${g}_time.log"
+    done
+  done
+fi
+if [[ " $PHASES " == *" error "* ]]; then
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    echo "== $s reference $(date -u +%T)" >&2
+    $BIN render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
+      --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
+    for g in $SETTINGS; do
+      n="${s}_${g}_error"
+      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
+        --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
+      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
+      rm -f "$R/$n.exr"
+    done
+    rm -f "$R/${s}_ref.exr"
+  done
+fi
+rm -f "$R/x.png"
+tar czf "$OUT/cache_refine_${PHASES// /_}.tar.gz" -C "$R" --exclude='*.exr' .
+python3 benches/results/quality_table.py "$R" > "$OUT/cache_refine_table.csv"; cat "$OUT/cache_refine_table.csv"
