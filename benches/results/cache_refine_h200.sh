@@ -7,7 +7,8 @@
 # A setting is GI-VARIANT: GI path (--gi path --specular-gi on) or cache (--gi cache
 # --specular-gi off); VARIANT base (cell 0.25 m, leak rule on, hard LOD: the defaults),
 # c015 (finest cell 0.15 m), noleak (leak rule off), soft (blended LOD transitions), s19
-# (0.15 m and blended transitions, the leak rule on: Solari 0.19's set).
+# (0.15 m and blended transitions, the leak rule on: Solari 0.19's set); an optional third
+# part bN sets the update budget to N thousand cells (default 40).
 # Carry .gl, .dev/bins.tar.xz (stripped `solari`) and .dev/SOLARI_COMMIT; scenes come from
 # crates/solari-testdata. Usage: PHASES="time error" bash benches/results/cache_refine_h200.sh
 # (SCENES, SETTINGS, SPP override). Results: $OUT/cache_refine_<phases>.tar.gz and
@@ -31,6 +32,8 @@ flags() {
   case ${parts[1]} in base) ;; c015) echo "--cache-cell-size 0.15" ;;
     noleak) echo "--cache-leak-rule off" ;; soft) echo "--cache-soft-lod on" ;;
     s19) echo "--cache-cell-size 0.15 --cache-soft-lod on" ;; *) echo "bad variant in $1" >&2; exit 2 ;; esac
+  case ${parts[2]:-} in "") ;; b*) echo "--cache-budget ${parts[2]#b}000" ;;
+    *) echo "bad budget in $1" >&2; exit 2 ;; esac
 }
 scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null

@@ -429,10 +429,11 @@ pub struct RealtimeArgs {
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub psr: bool,
     /// World-cache cell size at the finest level, in scene units.
-    #[arg(long, default_value_t = 0.25, value_parser = values::finite, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = WorldCacheSettings::default().cell_size,
+          value_parser = values::finite, allow_hyphen_values = true)]
     pub cache_cell_size: f32,
     /// World-cache cells updated per frame before updates turn stochastic.
-    #[arg(long, default_value_t = 40_000)]
+    #[arg(long, default_value_t = WorldCacheSettings::default().update_budget)]
     pub cache_budget: u32,
     /// World-cache distance over which cells double in size, in scene units (`inf`: one
     /// level everywhere).
@@ -446,8 +447,8 @@ pub struct RealtimeArgs {
     pub cache_leak_rule: bool,
     /// World cache: blend neighbouring levels of detail (a lookup near a level's far edge
     /// lands one level coarser with probability fract³) instead of switching at a hard
-    /// distance.
-    #[arg(long, default_value = "off", num_args = 0..=1, default_missing_value = "on",
+    /// distance (on by default).
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub cache_soft_lod: bool,
     /// World-cache table slots (a power of two, 1024 to 2097152).
@@ -969,11 +970,11 @@ pub struct BenchCacheArgs {
     /// needs a few hundred frames to gather its bounces).
     #[arg(long, default_value_t = 200)]
     pub warmup: u32,
-    /// Finest cell sizes to sweep (comma separated, scene units).
-    #[arg(long, default_value = "0.25")]
+    /// Finest cell sizes to sweep (comma separated, scene units; default the library's).
+    #[arg(long, default_value = "0.15")]
     pub cell_sizes: String,
-    /// Update budgets to sweep (comma separated, cells per frame).
-    #[arg(long, default_value = "40000")]
+    /// Update budgets to sweep (comma separated, cells per frame; default the library's).
+    #[arg(long, default_value = "200000")]
     pub budgets: String,
     /// Table slots (a power of two).
     #[arg(long, default_value_t = 1 << 20)]

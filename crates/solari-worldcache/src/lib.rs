@@ -19,7 +19,9 @@
 //!
 //! - **Level of detail**: cells are [`WorldCacheSettings::cell_size`] near the camera and
 //!   double in size every [`WorldCacheSettings::lod_distance`] (`level = floor(log2(1 + d /
-//!   lod_distance))`).
+//!   lod_distance))`); with [`WorldCacheSettings::soft_lod`] (default on) a lookup near a
+//!   level's far edge lands one level coarser with probability `fract(level)³`, so the
+//!   levels blend instead of meeting at a hard distance.
 //! - **Descriptor**: integer cell coordinates at that level, the level, and the axis
 //!   direction closest to the geometric normal (six buckets, so a wall and the floor meeting
 //!   it, or the two sides of a thin wall, never share a cell).

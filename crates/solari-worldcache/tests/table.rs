@@ -241,6 +241,8 @@ fn concurrent_insertion_finds_each_cell_once_within_its_probe_run() {
     let s = WorldCacheSettings {
         capacity: 1024,
         max_search_steps: 64,
+        // Hard levels: the probes are checked against the twin's cell for each lookup.
+        soft_lod: false,
         ..Default::default()
     };
     let c = cache(&gpu, s);
@@ -297,6 +299,8 @@ fn a_full_table_returns_nothing_and_leaves_other_cells_alone() {
     let s = WorldCacheSettings {
         capacity: 1024,
         max_search_steps: 4,
+        // Hard levels: the probes are checked against the twin's cell for each lookup.
+        soft_lod: false,
         ..Default::default()
     };
     let c = cache(&gpu, s);
