@@ -16,9 +16,11 @@ pub const MAX_DIRECT_CANDIDATES: u32 = 64;
 /// Every knob of [`crate::WorldCache`]. Lengths are in world units (metres for glTF).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldCacheSettings {
-    /// Table slots, a power of two from 2^10 to 2^21 (default 2^18 = 262,144). Each slot
-    /// costs 92 bytes (24 MiB at the default); more slots mean fewer probing collisions and
-    /// room for larger views. Changing it clears the cache.
+    /// Table slots, a power of two from 2^10 to 2^21 (default 2^19 = 524,288). Each slot
+    /// costs 92 bytes (48 MiB at the default); more slots mean fewer probing collisions and
+    /// room for larger views. Changing it clears the cache. With 0.15 m cells the orbit
+    /// around `interior` keeps 118–145k cells alive: 2^18 slots lost 131,815 lookups in
+    /// 20,000 frames to full probe runs, 2^19 none (`benches/RESULTS.md`).
     pub capacity: u32,
     /// Edge of the finest cells (default 0.15, Solari 0.19's). Smaller cells follow light
     /// more closely (less leaking, sharper variation) but there are more of them to update,
@@ -77,7 +79,7 @@ pub struct WorldCacheSettings {
 impl Default for WorldCacheSettings {
     fn default() -> Self {
         Self {
-            capacity: 1 << 18,
+            capacity: 1 << 19,
             cell_size: 0.15,
             lod_distance: 10.0,
             lifetime: 30,
