@@ -33,6 +33,8 @@ pub struct RestirDi {
     // A translation set for the next frame, and whether the uploaded table is the identity
     // for this many lights (so unchanged lights cost no upload).
     pending_translation: Option<Vec<u32>>,
+    // Whether the uploaded translation carries a bitset of lights new this frame.
+    appeared: bool,
     identity_for: Option<u32>,
     parity: usize,
     frame: u32,
@@ -235,6 +237,7 @@ impl RestirDi {
             translation,
             translation_count: 0,
             pending_translation: None,
+            appeared: false,
             identity_for: None,
             parity: 0,
             frame: 0,
@@ -342,7 +345,14 @@ impl RestirDi {
         self.pending_translation = Some(translation);
     }
 
-    fn upload_translation(&mut self, gpu: &Gpu, table: &[u32]) -> Result<(), GpuError> {
+    // Uploads `table`'s first `entries` words as the translation and the rest (if any) as
+    // the bitset of lights new this frame.
+    fn upload_translation(
+        &mut self,
+        gpu: &Gpu,
+        table: &[u32],
+        entries: usize,
+    ) -> Result<(), GpuError> {
         let needed = (table.len().max(1) * 4) as u64;
         if self.translation.size() < needed {
             self.translation = gpu.storage_buffer(
@@ -363,7 +373,7 @@ impl RestirDi {
             gpu.queue
                 .write_buffer(&self.translation, 0, bytemuck::cast_slice(table));
         }
-        self.translation_count = table.len() as u32;
+        self.translation_count = entries as u32;
         Ok(())
     }
 
@@ -387,13 +397,21 @@ impl RestirDi {
         let frame = frame.index;
         match self.pending_translation.take() {
             Some(table) => {
-                self.upload_translation(gpu, &table)?;
+                let appeared = appeared_lights(&table, light_count);
+                self.appeared = appeared.iter().any(|w| *w != 0);
+                let entries = table.len();
+                let mut words = table;
+                if self.appeared {
+                    words.extend(appeared);
+                }
+                self.upload_translation(gpu, &words, entries)?;
                 self.identity_for = None;
             }
             None if self.identity_for != Some(light_count) => {
                 let table: Vec<u32> = (0..light_count).collect();
-                self.upload_translation(gpu, &table)?;
+                self.upload_translation(gpu, &table, table.len())?;
                 self.identity_for = Some(light_count);
+                self.appeared = false;
             }
             None => {}
         }
@@ -404,6 +422,9 @@ impl RestirDi {
         let mut bits = flags::reuse(s.temporal, s.spatial, s.permutation_sampling, history);
         if s.initial_visibility {
             bits |= flags::INITIAL_VISIBILITY;
+        }
+        if self.appeared {
+            bits |= flags::APPEARED;
         }
         let params = GpuDiParams {
             width: self.size.0,
@@ -505,5 +526,46 @@ impl RestirDi {
     /// Image size in pixels.
     pub fn size(&self) -> (u32, u32) {
         self.size
+    }
+}
+
+/// One bit per light of this frame (`light_count` of them), set where no light of last
+/// frame maps to it through `translation` (last frame's index → this frame's, as
+/// [`solari_lights::LightList::translation_from`] gives): the lights switched on since.
+pub fn appeared_lights(translation: &[u32], light_count: u32) -> Vec<u32> {
+    let mut bits = vec![!0u32; light_count.div_ceil(32) as usize];
+    if let Some(last) = bits.last_mut()
+        && light_count % 32 != 0
+    {
+        *last = (1u32 << (light_count % 32)) - 1;
+    }
+    for &now in translation {
+        if now < light_count {
+            bits[(now / 32) as usize] &= !(1u32 << (now % 32));
+        }
+    }
+    bits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::appeared_lights;
+
+    #[test]
+    fn appeared_lights_are_those_no_old_light_maps_to() {
+        const GONE: u32 = u32::MAX;
+        // Three old lights: the first gone, the others now 0 and 34; lights 0..40 now.
+        let bits = appeared_lights(&[GONE, 0, 34], 40);
+        assert_eq!(bits.len(), 2);
+        assert_eq!(bits[0], !1u32, "all of 1..32 new, 0 old");
+        assert_eq!(
+            bits[1],
+            0xff & !(1 << 2),
+            "32..40 new but 34; nothing past 40"
+        );
+        // The identity: nothing new; out-of-range entries are ignored.
+        assert!(appeared_lights(&[0, 1, 2, 99], 3).iter().all(|w| *w == 0));
+        assert!(appeared_lights(&[], 0).is_empty());
+        assert_eq!(appeared_lights(&[], 32), vec![!0u32]);
     }
 }

@@ -136,6 +136,7 @@ pub(crate) mod flags {
     pub const PERMUTATION: u32 = 4;
     pub const HISTORY: u32 = 8;
     pub const INITIAL_VISIBILITY: u32 = 16;
+    pub const APPEARED: u32 = 32;
 
     /// The reuse bits DI and GI share.
     pub fn reuse(temporal: bool, spatial: bool, permutation: bool, history: bool) -> u32 {
