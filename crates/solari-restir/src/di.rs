@@ -535,7 +535,7 @@ impl RestirDi {
 pub fn appeared_lights(translation: &[u32], light_count: u32) -> Vec<u32> {
     let mut bits = vec![!0u32; light_count.div_ceil(32) as usize];
     if let Some(last) = bits.last_mut()
-        && light_count % 32 != 0
+        && !light_count.is_multiple_of(32)
     {
         *last = (1u32 << (light_count % 32)) - 1;
     }

@@ -29,7 +29,9 @@
 //!    where the surfaces differ (tangent-plane distance over 0.3% of the view distance, or
 //!    normals over 25° apart), with its light translated to this frame's light list (removed
 //!    lights drop the history) and its confidence capped
-//!    ([`RestirDiSettings::confidence_cap`], default 20).
+//!    ([`RestirDiSettings::confidence_cap`], default 20). A light switched on this frame lies
+//!    outside last frame's domain: its samples' target there counts as zero
+//!    ([`di::appeared_lights`]), so it is not faded in over `confidence_cap` frames.
 //! 3. **Spatial reuse**: one neighbour within [`RestirDiSettings::spatial_radius`] (30 px),
 //!    up to [`RestirDiSettings::spatial_tries`] (5) tries, halving the radius after each
 //!    rejected one.

@@ -255,7 +255,8 @@ impl Gpu {
 
     /// As [`Gpu::new`], without `features` even where the adapter has them: to run as on an
     /// adapter that lacks them (tests of fall-backs), or to keep a driver's broken feature
-    /// out. Timestamp queries without [`wgpu::Features::TIMESTAMP_QUERY`] go as a group.
+    /// out. Leaving out [`wgpu::Features::TIMESTAMP_QUERY`] leaves out the timestamp
+    /// features that depend on it too (inside encoders and passes).
     pub fn new_without(features: wgpu::Features) -> Result<Self, GpuError> {
         let mut features = features;
         if features.contains(wgpu::Features::TIMESTAMP_QUERY) {
