@@ -226,13 +226,7 @@ impl DlssTextures {
         lighting: &wgpu::Buffer,
         gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
-        if gbuffer.size() != self.render {
-            return Err(GpuError::Validation(format!(
-                "DLSS-RR: inputs are {:?}, G-buffer is {:?}",
-                self.render,
-                gbuffer.size()
-            )));
-        }
+        solari_scene::gbuffer_input::check_size("DLSS-RR inputs", self.render, gbuffer)?;
         if self.bound.as_ref().map(|(b, _)| b) != Some(lighting) {
             let mut entries = vec![
                 wgpu::BindGroupEntry {

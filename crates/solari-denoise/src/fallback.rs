@@ -305,13 +305,7 @@ impl Denoiser for FallbackDenoiser {
         frame: &FrameContext,
         inputs: &DenoiserInputs,
     ) -> Result<Encoded, GpuError> {
-        if inputs.gbuffer.size() != self.size {
-            return Err(GpuError::Validation(format!(
-                "fallback denoiser: built for {:?}, G-buffer is {:?}",
-                self.size,
-                inputs.gbuffer.size()
-            )));
-        }
+        solari_scene::gbuffer_input::check_size("fallback denoiser", self.size, inputs.gbuffer)?;
         self.bind(gpu, &inputs.lighting);
         self.parity ^= 1;
         let reset = inputs.reset || !self.history || !inputs.gbuffer.history_valid();

@@ -189,13 +189,7 @@ impl TemporalUpscaler {
         input: &wgpu::Buffer,
         reset: bool,
     ) -> Result<Ran, GpuError> {
-        if gbuffer.size() != self.render_size {
-            return Err(GpuError::Validation(format!(
-                "temporal upscaler built for {:?} was given a {:?} G-buffer",
-                self.render_size,
-                gbuffer.size()
-            )));
-        }
+        solari_scene::gbuffer_input::check_size("temporal upscaler", self.render_size, gbuffer)?;
         let pixels = self.render_size.0 as u64 * self.render_size.1 as u64;
         if input.size() < pixels * 16 {
             return Err(GpuError::Validation(format!(

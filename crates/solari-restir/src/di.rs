@@ -465,13 +465,7 @@ impl RestirDi {
         light_count: u32,
     ) -> Result<Ran, GpuError> {
         self.variant.check(scene)?;
-        if gbuffer.size() != self.size {
-            return Err(GpuError::Validation(format!(
-                "ReSTIR DI: built for {:?} pixels, G-buffer is {:?}",
-                self.size,
-                gbuffer.size()
-            )));
-        }
+        solari_scene::gbuffer_input::check_size("ReSTIR DI", self.size, gbuffer)?;
         if frame.size != self.size {
             return Err(GpuError::Validation(format!(
                 "ReSTIR DI: built for {:?} pixels, the frame is {:?}",

@@ -23,7 +23,7 @@
 
 use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
-use crate::gbuffer_input::{GBufferSource, reader_layout};
+use crate::gbuffer_input::{GBufferSource, check_size, reader_layout};
 use crate::gpu::{Gpu, ShaderChecks};
 use crate::pass::{FrameContext, Ran};
 use crate::shaders::{Backend, compose};
@@ -198,13 +198,7 @@ impl GBufferDebug {
         frame: &FrameContext,
         gbuffer: &dyn GBufferSource,
     ) -> Result<Ran, GpuError> {
-        if gbuffer.size() != self.size {
-            return Err(GpuError::Validation(format!(
-                "G-buffer debug view: built for {:?} pixels, G-buffer is {:?}",
-                self.size,
-                gbuffer.size()
-            )));
-        }
+        check_size("G-buffer debug view", self.size, gbuffer)?;
         let reader = gbuffer.bind_group()?;
         let label = GBUFFER_DEBUG_LABELS[0];
         let mut ran = Ran::none();

@@ -53,6 +53,23 @@ pub trait GBufferSource {
     fn history_valid(&self) -> bool;
 }
 
+/// The check every pass that reads a G-buffer makes before recording: `gbuffer` has the
+/// size `pass` was built for. The error names the pass and both sizes.
+pub fn check_size(
+    pass: &str,
+    built_for: (u32, u32),
+    gbuffer: &dyn GBufferSource,
+) -> Result<(), GpuError> {
+    if gbuffer.size() == built_for {
+        return Ok(());
+    }
+    Err(GpuError::Validation(format!(
+        "{pass}: built for {:?} pixels, the G-buffer has {:?}",
+        built_for,
+        gbuffer.size()
+    )))
+}
+
 /// The layout of bind group 1 (see the module docs), for compute passes.
 pub fn reader_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
     let stage = wgpu::ShaderStages::COMPUTE;

@@ -611,13 +611,7 @@ impl WorldCache {
         gbuffer: &dyn GBufferSource,
         target: &wgpu::BindGroup,
     ) -> Result<Ran, GpuError> {
-        if gbuffer.size() != self.size {
-            return Err(GpuError::Validation(format!(
-                "world cache: built for {:?} pixels, G-buffer is {:?}",
-                self.size,
-                gbuffer.size()
-            )));
-        }
+        solari_scene::gbuffer_input::check_size("world cache", self.size, gbuffer)?;
         let groups = [(1, gbuffer.bind_group()?), (2, &self.group), (3, target)];
         let size = Dispatch::Direct(self.size.0.div_ceil(8), self.size.1.div_ceil(8));
         let mut ran = Ran::none();
