@@ -1,72 +1,105 @@
 //! The G-buffer debug views (`FrameView::GBuffer`) show what the G-buffer holds: base colour
 //! and normals agree with the primary-ray debug views of the same camera (an independent
 //! producer: one traced ray per pixel centre, its hit resolved without the G-buffer's
-//! packing), depth follows the documented mapping, a still camera's motion is zero, the
-//! background is black, and `present` draws the views without exposure or tone curve
-//! (GPU: lavapipe).
+//! packing), depth follows the documented mapping, motion matches the G-buffer's motion
+//! texture through its mapping, the background is black, `present` draws the views without
+//! exposure or tone curve, and a wrong-sized G-buffer or output is refused (GPU: lavapipe).
 
 mod common;
 
 use common::{SIZE, settings, upload};
 use solari_renderer::{FrameView, RealtimeRenderer};
-use solari_scene::gbuffer_debug::GBufferChannel;
+use solari_scene::gbuffer_debug::{GBufferChannel, GBufferDebug};
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::GpuView;
+use solari_scene::pass::FrameContext;
 use solari_scene::shaders::Backend;
 use solari_scene::view_pass::{DebugView, ViewPass};
 use solari_scene::{Camera, Scene, default_scene, textured_scene};
 
-// What one channel's view shows at every pixel: the output's sRGB encoding.
-fn view_of(
-    gpu: &Gpu,
+/// A scene on the test GPU with its own camera.
+struct Setup {
+    gpu: Gpu,
     backend: Backend,
-    scene: &Scene,
-    gpu_scene: &GpuScene,
-    camera: &Camera,
-    channel: GBufferChannel,
-) -> (RealtimeRenderer, Vec<[f32; 3]>) {
-    let settings = solari_renderer::RealtimeSettings {
-        view: FrameView::GBuffer(channel),
-        ..settings()
-    };
-    let mut renderer = RealtimeRenderer::new(gpu, backend, scene, gpu_scene, SIZE, SIZE, settings)
-        .expect("renderer");
-    // Two frames: the second has history, so motion vectors are real.
-    for _ in 0..2 {
-        renderer
-            .render(gpu, scene, gpu_scene, camera)
-            .expect("frame");
-    }
-    let out = renderer.read_output(gpu).expect("output");
-    let shown = out
-        .iter()
-        .map(|p| {
-            if channel == GBufferChannel::BaseColor || channel == GBufferChannel::Emission {
-                [p[0], p[1], p[2]]
-            } else {
-                [0, 1, 2].map(|c| GBufferChannel::shown(p[c]))
-            }
-        })
-        .collect();
-    (renderer, shown)
+    scene: Scene,
+    gpu_scene: GpuScene,
+    camera: Camera,
 }
 
-// The primary-ray debug view `view` of `camera`: one vec4 per pixel, w = 1 on a hit.
-fn primary(
-    gpu: &Gpu,
-    backend: Backend,
-    gpu_scene: &GpuScene,
-    camera: &Camera,
-    view: DebugView,
-) -> Vec<[f32; 4]> {
-    let pass = ViewPass::primary(gpu, backend, TraceVariant::for_scene(gpu_scene)).unwrap();
-    let mut v = GpuView::new(camera, SIZE, SIZE);
-    v.view_mode = view as u32;
-    let bytes = pass
-        .run(gpu, gpu_scene, &pass.target(gpu, &v).unwrap())
-        .unwrap();
-    bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec()
+impl Setup {
+    /// `None` where there is no adapter (and CI does not require one).
+    fn new(scene: Scene) -> Option<Self> {
+        let gpu = solari_scene::gpu::test_gpu()?;
+        let backend = gpu.backend(Default::default()).expect("backend");
+        let gpu_scene = upload(&gpu, backend, &scene);
+        let camera = scene.camera(None).expect("camera");
+        Some(Self {
+            gpu,
+            backend,
+            scene,
+            gpu_scene,
+            camera,
+        })
+    }
+
+    /// What one channel's view shows at every pixel (the output's sRGB encoding) after a
+    /// frame from each of `cameras` in turn (the last frame has history: real motion).
+    fn view_from(
+        &self,
+        channel: GBufferChannel,
+        cameras: &[Camera],
+    ) -> (RealtimeRenderer, Vec<[f32; 3]>) {
+        let settings = solari_renderer::RealtimeSettings {
+            view: FrameView::GBuffer(channel),
+            ..settings()
+        };
+        let mut renderer = RealtimeRenderer::new(
+            &self.gpu,
+            self.backend,
+            &self.scene,
+            &self.gpu_scene,
+            SIZE,
+            SIZE,
+            settings,
+        )
+        .expect("renderer");
+        for camera in cameras {
+            renderer
+                .render(&self.gpu, &self.scene, &self.gpu_scene, camera)
+                .expect("frame");
+        }
+        let out = renderer.read_output(&self.gpu).expect("output");
+        let shown = out
+            .iter()
+            .map(|p| {
+                if channel == GBufferChannel::BaseColor || channel == GBufferChannel::Emission {
+                    [p[0], p[1], p[2]]
+                } else {
+                    [0, 1, 2].map(|c| GBufferChannel::shown(p[c]))
+                }
+            })
+            .collect();
+        (renderer, shown)
+    }
+
+    /// [`Setup::view_from`] two frames of the still camera.
+    fn view_of(&self, channel: GBufferChannel) -> (RealtimeRenderer, Vec<[f32; 3]>) {
+        self.view_from(channel, &[self.camera.clone(), self.camera.clone()])
+    }
+
+    /// The primary-ray debug view `view` of the camera: one vec4 per pixel, w = 1 on a hit.
+    fn primary(&self, view: DebugView) -> Vec<[f32; 4]> {
+        let (gpu, gpu_scene) = (&self.gpu, &self.gpu_scene);
+        let pass =
+            ViewPass::primary(gpu, self.backend, TraceVariant::for_scene(gpu_scene)).unwrap();
+        let mut v = GpuView::new(&self.camera, SIZE, SIZE);
+        v.view_mode = view as u32;
+        let bytes = pass
+            .run(gpu, gpu_scene, &pass.target(gpu, &v).unwrap())
+            .unwrap();
+        bytemuck::cast_slice::<u8, [f32; 4]>(&bytes).to_vec()
+    }
 }
 
 // Share of covered pixels (hit in the primary view) where `shown` is within `tolerance`
@@ -88,14 +121,10 @@ fn agreement(shown: &[[f32; 3]], expected: &[[f32; 4]], tolerance: f32) -> (f64,
 
 #[test]
 fn the_views_match_the_primary_ray_views_and_the_materials() {
-    let Some(gpu) = solari_scene::gpu::test_gpu() else {
+    // The untextured box, so both producers see the same values at every pixel centre.
+    let Some(t) = Setup::new(default_scene::cornell_box()) else {
         return;
     };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    // The untextured box, so both producers see the same values at every pixel centre.
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
     // The G-buffer stores the square root of base colour in 8 bits (at most 0.004 off in
     // linear), normals in 16 bits per axis, roughness and metallic in 8 bits.
     let cases = [
@@ -105,8 +134,8 @@ fn the_views_match_the_primary_ray_views_and_the_materials() {
         (GBufferChannel::GeometricNormal, DebugView::Normal, 1e-3),
     ];
     for (channel, debug, tolerance) in cases {
-        let (_, shown) = view_of(&gpu, backend, &scene, &gpu_scene, &camera, channel);
-        let expected = primary(&gpu, backend, &gpu_scene, &camera, debug);
+        let (_, shown) = t.view_of(channel);
+        let expected = t.primary(debug);
         let (close, covered) = agreement(&shown, &expected, tolerance);
         assert!(
             covered > (SIZE * SIZE / 2) as usize,
@@ -121,11 +150,11 @@ fn the_views_match_the_primary_ray_views_and_the_materials() {
     }
     // Roughness, metallic and emission against each pixel's material, found through the
     // primary ray's instance.
-    let instances = primary(&gpu, backend, &gpu_scene, &camera, DebugView::Instance);
+    let instances = t.primary(DebugView::Instance);
     let material_at = |i: usize| {
         let id = instances[i][0].to_bits();
-        let instance = scene.instances.get(id as usize)?;
-        Some(&scene.materials[instance.material as usize])
+        let instance = t.scene.instances.get(id as usize)?;
+        Some(&t.scene.materials[instance.material as usize])
     };
     type Expected = fn(&solari_scene::Material) -> [f32; 3];
     let channels: [(GBufferChannel, Expected, f32); 3] = [
@@ -146,7 +175,7 @@ fn the_views_match_the_primary_ray_views_and_the_materials() {
         ),
     ];
     for (channel, value, tolerance) in channels {
-        let (_, shown) = view_of(&gpu, backend, &scene, &gpu_scene, &camera, channel);
+        let (_, shown) = t.view_of(channel);
         let mut checked = 0;
         let mut wrong = 0;
         for (i, s) in shown.iter().enumerate() {
@@ -167,24 +196,13 @@ fn the_views_match_the_primary_ray_views_and_the_materials() {
 
 #[test]
 fn textured_base_colour_has_the_primary_views_mean() {
-    let Some(gpu) = solari_scene::gpu::test_gpu() else {
-        return;
-    };
-    let backend = gpu.backend(Default::default()).expect("backend");
     // The raster pass filters textures at the pixel's footprint, the primary ray reads mip
     // 0: per pixel they differ (median 0.05 at 64×64), but filtering keeps the mean.
-    let scene = textured_scene::textured_spheres();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
-    let (_, shown) = view_of(
-        &gpu,
-        backend,
-        &scene,
-        &gpu_scene,
-        &camera,
-        GBufferChannel::BaseColor,
-    );
-    let expected = primary(&gpu, backend, &gpu_scene, &camera, DebugView::Albedo);
+    let Some(t) = Setup::new(textured_scene::textured_spheres()) else {
+        return;
+    };
+    let (_, shown) = t.view_of(GBufferChannel::BaseColor);
+    let expected = t.primary(DebugView::Albedo);
     let mut sums = [[0.0f64; 3]; 2];
     let mut n = 0;
     for (s, e) in shown.iter().zip(&expected) {
@@ -210,19 +228,15 @@ fn textured_base_colour_has_the_primary_views_mean() {
 
 #[test]
 fn depth_motion_and_background_follow_their_mappings() {
-    let Some(gpu) = solari_scene::gpu::test_gpu() else {
+    let Some(t) = Setup::new(default_scene::cornell_box()) else {
         return;
     };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    let scene = default_scene::cornell_box();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
-    let hits = primary(&gpu, backend, &gpu_scene, &camera, DebugView::Depth);
+    let hits = t.primary(DebugView::Depth);
 
     // Depth: 1 - 0.9 z / far, with far the distance to the scene's farthest corner. At the
     // centre pixels the view axis and the ray agree to within cos(half a pixel's angle).
-    let (lo, hi) = scene.bounds();
-    let eye = camera.position();
+    let (lo, hi) = t.scene.bounds();
+    let eye = t.camera.position();
     let far = (0..3)
         .map(|a| {
             let d = (eye[a] - lo[a]).abs().max((eye[a] - hi[a]).abs());
@@ -230,14 +244,7 @@ fn depth_motion_and_background_follow_their_mappings() {
         })
         .sum::<f32>()
         .sqrt();
-    let (_, depth) = view_of(
-        &gpu,
-        backend,
-        &scene,
-        &gpu_scene,
-        &camera,
-        GBufferChannel::Depth,
-    );
+    let (_, depth) = t.view_of(GBufferChannel::Depth);
     let mid = SIZE / 2;
     for (x, y) in [
         (mid - 1, mid - 1),
@@ -256,14 +263,7 @@ fn depth_motion_and_background_follow_their_mappings() {
     }
 
     // A still camera: no motion, shown as mid grey in red and green.
-    let (_, motion) = view_of(
-        &gpu,
-        backend,
-        &scene,
-        &gpu_scene,
-        &camera,
-        GBufferChannel::Motion,
-    );
+    let (_, motion) = t.view_of(GBufferChannel::Motion);
     for (i, m) in motion.iter().enumerate() {
         if hits[i][0] > 0.0 {
             assert!(
@@ -272,23 +272,76 @@ fn depth_motion_and_background_follow_their_mappings() {
             );
         }
     }
+
+    // A moving camera: every pixel shows the G-buffer's own motion vector through the
+    // documented mapping, 0.5 + pixels / 32 (clamped) in red and green, 0.5 in blue.
+    let moved = t.camera.orbit(&t.scene, 3);
+    let (renderer, shown) = t.view_from(GBufferChannel::Motion, &[t.camera.clone(), moved]);
+    let texels = renderer.gbuffer().current().read(&t.gpu).expect("G-buffer");
+    let mut moving = 0;
+    for (i, (m, s)) in texels.motion.iter().zip(&shown).enumerate() {
+        if texels.depth[i] <= 0.0 {
+            continue;
+        }
+        let pixels = [m[0].to_f32() * SIZE as f32, m[1].to_f32() * SIZE as f32];
+        moving += usize::from(pixels[0].abs() + pixels[1].abs() > 0.25);
+        let expected = pixels.map(|p| 0.5 + (p / 32.0).clamp(-0.5, 0.5));
+        assert!(
+            (s[0] - expected[0]).abs() < 2e-3
+                && (s[1] - expected[1]).abs() < 2e-3
+                && (s[2] - 0.5).abs() < 2e-3,
+            "pixel {i}: motion {pixels:?} px shows {s:?}, expected {expected:?}"
+        );
+    }
+    assert!(
+        moving > (SIZE * SIZE / 4) as usize,
+        "the orbit should move pixels: {moving}"
+    );
+}
+
+#[test]
+fn wrong_sizes_are_refused_with_the_sizes_named() {
+    let Some(t) = Setup::new(default_scene::cornell_box()) else {
+        return;
+    };
+    let (renderer, _) = t.view_of(GBufferChannel::Normal);
+    let out = t.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("small output"),
+        size: 32 * 32 * 16,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    // An output smaller than the image.
+    let err = GBufferDebug::new(&t.gpu, &out, (64, 64))
+        .err()
+        .expect("refused");
+    assert!(err.to_string().contains("64×64"), "{err}");
+    // A pass built for 32×32 given the renderer's 64×64 G-buffer: nothing is recorded.
+    let pass = GBufferDebug::new(&t.gpu, &out, (32, 32)).expect("pass");
+    let frame = FrameContext::new(0, (32, 32), &t.camera, None);
+    let mut encoder = t.gpu.device.create_command_encoder(&Default::default());
+    let err = pass
+        .encode(&mut encoder, &frame, renderer.gbuffer())
+        .expect_err("refused");
+    let msg = err.to_string();
+    assert!(
+        msg.contains("G-buffer debug view") && msg.contains("(32, 32)") && msg.contains("(64, 64)"),
+        "{msg}"
+    );
 }
 
 #[test]
 fn background_is_black_and_present_shows_the_values_as_they_are() {
-    let Some(gpu) = solari_scene::gpu::test_gpu() else {
+    // Spheres under a sky: background around them.
+    let Some(t) = Setup::new(textured_scene::textured_spheres()) else {
         return;
     };
-    let backend = gpu.backend(Default::default()).expect("backend");
-    // Spheres under a sky: background around them.
-    let scene = textured_scene::textured_spheres();
-    let gpu_scene = upload(&gpu, backend, &scene);
-    let camera = scene.camera(None).expect("camera");
-    let hits = primary(&gpu, backend, &gpu_scene, &camera, DebugView::Depth);
+    let gpu = &t.gpu;
+    let hits = t.primary(DebugView::Depth);
     let misses: Vec<usize> = (0..hits.len()).filter(|&i| hits[i][0] < 0.0).collect();
     assert!(misses.len() > 16, "the test needs background pixels");
     for channel in GBufferChannel::ALL {
-        let (mut renderer, shown) = view_of(&gpu, backend, &scene, &gpu_scene, &camera, channel);
+        let (mut renderer, shown) = t.view_of(channel);
         for &i in &misses {
             // Silhouette pixels may be covered in the G-buffer and not at the ray's centre.
             let near_hit = [
@@ -312,12 +365,12 @@ fn background_is_black_and_present_shows_the_values_as_they_are() {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         renderer
-            .present(&gpu, &texture.create_view(&Default::default()), 3.0)
+            .present(gpu, &texture.create_view(&Default::default()), 3.0)
             .expect("present");
         let bytes = gpu
             .read_texture(&texture, wgpu::TextureAspect::All)
             .expect("read");
-        let linear = renderer.read_output(&gpu).expect("output");
+        let linear = renderer.read_output(gpu).expect("output");
         let mut worst = 0i32;
         for (px, l) in bytes.chunks_exact(4).zip(&linear) {
             for c in 0..3 {
