@@ -9,7 +9,8 @@
 # c015 (finest cell 0.15 m), noleak (leak rule off), soft (blended LOD transitions), s19
 # (0.15 m and blended transitions, the leak rule on: Solari 0.19's set); an optional third
 # part bN sets the update budget to N thousand cells (default 40).
-# Carry .gl, .dev/bins.tar.xz (stripped `solari`) and .dev/SOLARI_COMMIT; scenes come from
+# The time and error phases are sweep_phases.sh's. Carry .gl, .dev/bins.tar.xz (stripped `solari`)
+# and .dev/SOLARI_COMMIT; scenes come from
 # crates/solari-testdata. Usage: PHASES="time error" bash benches/results/cache_refine_h200.sh
 # (SCENES, SETTINGS, SPP override). Results: $OUT/cache_refine_<phases>.tar.gz and
 # $OUT/cache_refine_table.csv (benches/results/quality_table.py).
@@ -35,38 +36,10 @@ flags() {
   case ${parts[2]:-} in "") ;; b*) echo "--cache-budget ${parts[2]#b}000" ;;
     *) echo "bad budget in $1" >&2; exit 2 ;; esac
 }
-scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
-nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
-cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
-if [[ " $PHASES " == *" time "* ]]; then
-  # Warm-up: the first runs of a phase read slow (clocks ramping).
-  $BIN render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \
-    --out "$R/x.png" > /dev/null 2>&1
-  for s in $SCENES; do
-    f=$(scene_file "$s")
-    for g in $SETTINGS; do
-      echo "== $s $g time $(date -u +%T)" >&2
-      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
-        --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_time.json" 2> "$R/${s}_${g}_time.log"
-    done
-  done
-fi
-if [[ " $PHASES " == *" error "* ]]; then
-  for s in $SCENES; do
-    f=$(scene_file "$s")
-    echo "== $s reference $(date -u +%T)" >&2
-    $BIN render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
-      --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
-    for g in $SETTINGS; do
-      n="${s}_${g}_error"
-      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
-        --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
-      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
-      rm -f "$R/$n.exr"
-    done
-    rm -f "$R/${s}_ref.exr"
-  done
-fi
+source benches/results/sweep_phases.sh
+sweep_describe
+[[ " $PHASES " == *" time "* ]] && sweep_time
+[[ " $PHASES " == *" error "* ]] && sweep_error
 rm -f "$R/x.png"
 tar czf "$OUT/cache_refine_${PHASES// /_}.tar.gz" -C "$R" --exclude='*.exr' .
 python3 benches/results/quality_table.py "$R" > "$OUT/cache_refine_table.csv"; cat "$OUT/cache_refine_table.csv"

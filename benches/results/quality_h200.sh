@@ -10,7 +10,8 @@
 # A setting is SCALE-GI[-nodi]: SCALE 50, 67 (internal scale 0.5, 0.67 with the temporal
 # upscaler), 100 (native) or aa (native, jittered + upscaler); GI cache (specular GI off),
 # path or restir (specular GI on); -nodi: ReSTIR DI without reuse.
-# Carry .gl, .dev/bins.tar.xz (stripped `solari`) and .dev/SOLARI_COMMIT; scenes come from
+# The time and error phases are sweep_phases.sh's. Carry .gl, .dev/bins.tar.xz (stripped `solari`)
+# and .dev/SOLARI_COMMIT; scenes come from
 # crates/solari-testdata. Usage: PHASES="time error auto" bash benches/results/quality_h200.sh
 # (SCENES, SETTINGS, BUDGETS, SPP, QUALITY_TABLE override). Results: $OUT/quality_h200.tar.gz and
 # $OUT/quality_table.csv (benches/results/quality_table.py).
@@ -38,38 +39,10 @@ flags() {
   [ "${parts[2]:-}" = nodi ] && echo "--di-reuse none"
   true
 }
-scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
-nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
-cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
-if [[ " $PHASES " == *" time "* ]]; then
-  # Warm-up: the first runs of a phase read 1.8-2x slow on the H100 (clocks ramping?).
-  $BIN render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \
-    --out "$R/x.png" > /dev/null 2>&1
-  for s in $SCENES; do
-    f=$(scene_file "$s")
-    for g in $SETTINGS; do
-      echo "== $s $g time $(date -u +%T)" >&2
-      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
-        --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_time.json" 2> "$R/${s}_${g}_time.log"
-    done
-  done
-fi
-if [[ " $PHASES " == *" error "* ]]; then
-  for s in $SCENES; do
-    f=$(scene_file "$s")
-    echo "== $s reference $(date -u +%T)" >&2
-    $BIN render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
-      --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
-    for g in $SETTINGS; do
-      n="${s}_${g}_error"
-      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
-        --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
-      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
-      rm -f "$R/$n.exr"
-    done
-    rm -f "$R/${s}_ref.exr"
-  done
-fi
+source benches/results/sweep_phases.sh
+sweep_describe
+[[ " $PHASES " == *" time "* ]] && sweep_time
+[[ " $PHASES " == *" error "* ]] && sweep_error
 if [[ " $PHASES " == *" auto "* ]]; then
   for s in $SCENES; do
     f=$(scene_file "$s")

@@ -1,0 +1,49 @@
+# Sourced by the device sweeps (quality_h200.sh, cache_refine_h200.sh): the time and error
+# phases over SCENES × SETTINGS, the same for every sweep. The caller sets BIN (the solari
+# binary), R (the results folder), SCENES, SETTINGS, SPP, and defines `flags SETTING` (the
+# render options of one setting). Files per scene s and setting g, in $R:
+#   time:  ${s}_${g}_time.json/.log: 1920x1080, 200 frames, fallback denoiser, --json;
+#   error: ${s}_ref.json/.log (the --spp $SPP full-bounce reference at 960x540) and
+#          ${s}_${g}_error.json/.log/.compare.json: frame 136 of a still camera against it.
+
+scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
+
+# Records the card and the binary's commit beside the results.
+sweep_describe() {
+  nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
+  cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
+}
+
+sweep_time() {
+  # Warm-up: the first runs of a phase read 1.8-2x slow on the H100 (clocks ramping?).
+  $BIN render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \
+    --out "$R/x.png" > /dev/null 2>&1
+  local s f g
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    for g in $SETTINGS; do
+      echo "== $s $g time $(date -u +%T)" >&2
+      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 200 \
+        --size 1920x1080 --json --out "$R/x.png" > "$R/${s}_${g}_time.json" 2> "$R/${s}_${g}_time.log"
+    done
+  done
+  rm -f "$R/x.png"
+}
+
+sweep_error() {
+  local s f g n
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    echo "== $s reference $(date -u +%T)" >&2
+    $BIN render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
+      --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
+    for g in $SETTINGS; do
+      n="${s}_${g}_error"
+      $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
+        --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
+      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
+      rm -f "$R/$n.exr"
+    done
+    rm -f "$R/${s}_ref.exr"
+  done
+}
