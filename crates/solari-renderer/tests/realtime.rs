@@ -405,16 +405,7 @@ fn point_lights_added_later_are_rendered() {
         "with the bulb {bright}, without {dark}"
     );
     // Built with the bulb from the start: the same light.
-    let mut fresh = RealtimeRenderer::new(
-        &c.gpu,
-        c.backend,
-        &lit,
-        &c.gpu_scene,
-        SIZE,
-        SIZE,
-        settings(),
-    )
-    .expect("renderer");
+    let mut fresh = c.renderer_of(&lit, settings());
     let from_start = mean_of(&mut fresh, &lit);
     eprintln!(
         "without the bulb {dark:.4}, added later {bright:.4}, from the start {from_start:.4}"
@@ -426,8 +417,7 @@ fn point_lights_added_later_are_rendered() {
     // Told to leave point lights out: as dark as without the bulb.
     let mut without = settings();
     without.tiles.point_lights = false;
-    let mut off = RealtimeRenderer::new(&c.gpu, c.backend, &lit, &c.gpu_scene, SIZE, SIZE, without)
-        .expect("renderer");
+    let mut off = c.renderer_of(&lit, without);
     let ignored = mean_of(&mut off, &lit);
     assert!((ignored / dark - 1.0).abs() < 0.05, "{ignored} vs {dark}");
 }
@@ -569,28 +559,10 @@ fn a_light_switched_on_shines_at_full_strength_at_once() {
         pixels.iter().map(|p| p[1] as f64).sum::<f64>() / pixels.len() as f64
     };
     // The converged level with the bulb, from a renderer built with it.
-    let mut fresh = RealtimeRenderer::new(
-        &c.gpu,
-        c.backend,
-        &lit,
-        &c.gpu_scene,
-        SIZE,
-        SIZE,
-        settings(),
-    )
-    .expect("renderer");
+    let mut fresh = c.renderer_of(&lit, settings());
     let converged = (0..32).map(|_| mean(&mut fresh, &lit)).sum::<f64>() / 32.0;
     // A long history without it, then the switch.
-    let mut renderer = RealtimeRenderer::new(
-        &c.gpu,
-        c.backend,
-        &before,
-        &c.gpu_scene,
-        SIZE,
-        SIZE,
-        settings(),
-    )
-    .expect("renderer");
+    let mut renderer = c.renderer_of(&before, settings());
     let dark = (0..32).map(|_| mean(&mut renderer, &before)).sum::<f64>() / 32.0;
     renderer.set_lights(&c.gpu, &lit).expect("lights");
     let after: Vec<f64> = (0..4).map(|_| mean(&mut renderer, &lit)).collect();

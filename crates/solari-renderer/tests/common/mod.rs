@@ -76,10 +76,16 @@ impl Cornell {
 
     /// A `SIZE × SIZE` renderer of the box with `settings`.
     pub fn renderer(&self, settings: RealtimeSettings) -> RealtimeRenderer {
+        self.renderer_of(&self.scene, settings)
+    }
+
+    /// A `SIZE × SIZE` renderer built from `scene`'s lights and materials (the box with
+    /// lights added or removed) over the box's uploaded geometry, with `settings`.
+    pub fn renderer_of(&self, scene: &Scene, settings: RealtimeSettings) -> RealtimeRenderer {
         RealtimeRenderer::new(
             &self.gpu,
             self.backend,
-            &self.scene,
+            scene,
             &self.gpu_scene,
             SIZE,
             SIZE,
