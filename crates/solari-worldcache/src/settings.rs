@@ -50,7 +50,8 @@ pub struct WorldCacheSettings {
     /// Cells updated per frame before updates become stochastic (default 200,000): above it
     /// each active cell updates with probability budget / active, bounding the cost. At
     /// 40,000 the finer cells of `interior` (90–135k) updated too rarely to converge and its
-    /// image lost 3% of its light; the whole upkeep then costs 0.31 ms at 1080p on an H100.
+    /// image lost 2.5–3.5% of its light; updating all of them, the whole upkeep costs 0.31 ms
+    /// at 1080p on an H100 (`benches/RESULTS.md`, "World cache: Solari 0.19's refinements").
     pub update_budget: u32,
     /// Light-tile samples resampled for each cell's direct-light sample (default 8, at most
     /// 64); one shadow ray tests the chosen one.
@@ -72,7 +73,8 @@ pub struct WorldCacheSettings {
     /// (Solari 0.19's "gentler LOD transitions"; default on): near the top of a level's
     /// band a lookup lands in the next coarser cell with probability fract(level)³, drawn
     /// per lookup ([`crate::hash::CellGrid::level_with`]). Measured neutral to slightly
-    /// better (sun_boxes relMSE −5% with 0.15 m cells) for 15–20% more cells.
+    /// better (sun_boxes relMSE −5% with 0.15 m cells) for 14–52% more cells (same
+    /// section of `benches/RESULTS.md`).
     pub soft_lod: bool,
 }
 
