@@ -7,42 +7,30 @@
 
 mod common;
 
-use common::{SIZE, settings, upload};
+use common::{SIZE, settings};
 use solari_renderer::{FrameView, RealtimeRenderer};
 use solari_scene::gbuffer_debug::{GBufferChannel, GBufferDebug};
-use solari_scene::gpu::Gpu;
-use solari_scene::gpu_scene::{GpuScene, TraceVariant};
+use solari_scene::gpu_scene::TraceVariant;
 use solari_scene::gpu_types::GpuView;
 use solari_scene::pass::FrameContext;
-use solari_scene::shaders::Backend;
 use solari_scene::view_pass::{DebugView, ViewPass};
-use solari_scene::{Camera, Scene, default_scene, textured_scene};
+use solari_scene::{Camera, default_scene, textured_scene};
 
-/// A scene on the test GPU with its own camera.
-struct Setup {
-    gpu: Gpu,
-    backend: Backend,
-    scene: Scene,
-    gpu_scene: GpuScene,
-    camera: Camera,
+/// A scene on the test GPU with its own camera (`Setup::with_scene`).
+type Setup = common::Cornell;
+
+/// The views of a [`Setup`]'s scene.
+trait Views {
+    fn view_from(
+        &self,
+        channel: GBufferChannel,
+        cameras: &[Camera],
+    ) -> (RealtimeRenderer, Vec<[f32; 3]>);
+    fn view_of(&self, channel: GBufferChannel) -> (RealtimeRenderer, Vec<[f32; 3]>);
+    fn primary(&self, view: DebugView) -> Vec<[f32; 4]>;
 }
 
-impl Setup {
-    /// `None` where there is no adapter (and CI does not require one).
-    fn new(scene: Scene) -> Option<Self> {
-        let gpu = solari_scene::gpu::test_gpu()?;
-        let backend = gpu.backend(Default::default()).expect("backend");
-        let gpu_scene = upload(&gpu, backend, &scene);
-        let camera = scene.camera(None).expect("camera");
-        Some(Self {
-            gpu,
-            backend,
-            scene,
-            gpu_scene,
-            camera,
-        })
-    }
-
+impl Views for Setup {
     /// What one channel's view shows at every pixel (the output's sRGB encoding) after a
     /// frame from each of `cameras` in turn (the last frame has history: real motion).
     fn view_from(
@@ -54,16 +42,7 @@ impl Setup {
             view: FrameView::GBuffer(channel),
             ..settings()
         };
-        let mut renderer = RealtimeRenderer::new(
-            &self.gpu,
-            self.backend,
-            &self.scene,
-            &self.gpu_scene,
-            SIZE,
-            SIZE,
-            settings,
-        )
-        .expect("renderer");
+        let mut renderer = self.renderer(settings);
         for camera in cameras {
             renderer
                 .render(&self.gpu, &self.scene, &self.gpu_scene, camera)
@@ -122,7 +101,7 @@ fn agreement(shown: &[[f32; 3]], expected: &[[f32; 4]], tolerance: f32) -> (f64,
 #[test]
 fn the_views_match_the_primary_ray_views_and_the_materials() {
     // The untextured box, so both producers see the same values at every pixel centre.
-    let Some(t) = Setup::new(default_scene::cornell_box()) else {
+    let Some(t) = Setup::with_scene(default_scene::cornell_box()) else {
         return;
     };
     // The G-buffer stores the square root of base colour in 8 bits (at most 0.004 off in
@@ -198,7 +177,7 @@ fn the_views_match_the_primary_ray_views_and_the_materials() {
 fn textured_base_colour_has_the_primary_views_mean() {
     // The raster pass filters textures at the pixel's footprint, the primary ray reads mip
     // 0: per pixel they differ (median 0.05 at 64×64), but filtering keeps the mean.
-    let Some(t) = Setup::new(textured_scene::textured_spheres()) else {
+    let Some(t) = Setup::with_scene(textured_scene::textured_spheres()) else {
         return;
     };
     let (_, shown) = t.view_of(GBufferChannel::BaseColor);
@@ -228,7 +207,7 @@ fn textured_base_colour_has_the_primary_views_mean() {
 
 #[test]
 fn depth_motion_and_background_follow_their_mappings() {
-    let Some(t) = Setup::new(default_scene::cornell_box()) else {
+    let Some(t) = Setup::with_scene(default_scene::cornell_box()) else {
         return;
     };
     let hits = t.primary(DebugView::Depth);
@@ -301,7 +280,7 @@ fn depth_motion_and_background_follow_their_mappings() {
 
 #[test]
 fn wrong_sizes_are_refused_with_the_sizes_named() {
-    let Some(t) = Setup::new(default_scene::cornell_box()) else {
+    let Some(t) = Setup::with_scene(default_scene::cornell_box()) else {
         return;
     };
     let (renderer, _) = t.view_of(GBufferChannel::Normal);
@@ -333,7 +312,7 @@ fn wrong_sizes_are_refused_with_the_sizes_named() {
 #[test]
 fn background_is_black_and_present_shows_the_values_as_they_are() {
     // Spheres under a sky: background around them.
-    let Some(t) = Setup::new(textured_scene::textured_spheres()) else {
+    let Some(t) = Setup::with_scene(textured_scene::textured_spheres()) else {
         return;
     };
     let gpu = &t.gpu;

@@ -48,7 +48,8 @@ mod direct;
 #[allow(unused_imports)] // not every test file uses every helper
 pub use direct::{frame_mean, luminance, reference, reference_direct, rgb};
 
-/// The Cornell box on the test GPU: device, backend, scene, upload and camera.
+/// The Cornell box (or another scene, [`Cornell::with_scene`]) on the test GPU: device,
+/// backend, scene, upload and camera.
 pub struct Cornell {
     pub gpu: Gpu,
     pub backend: Backend,
@@ -60,9 +61,13 @@ pub struct Cornell {
 impl Cornell {
     /// `None` where there is no adapter (and CI does not require one: `test_gpu`'s rule).
     pub fn new() -> Option<Self> {
+        Self::with_scene(solari_scene::default_scene::cornell_box())
+    }
+
+    /// The same for another scene (with its own camera), in place of the box.
+    pub fn with_scene(scene: Scene) -> Option<Self> {
         let gpu = solari_scene::gpu::test_gpu()?;
         let backend = gpu.backend(Default::default()).expect("backend");
-        let scene = solari_scene::default_scene::cornell_box();
         let gpu_scene = upload(&gpu, backend, &scene);
         let camera = scene.camera(None).expect("camera");
         Some(Self {
@@ -74,7 +79,7 @@ impl Cornell {
         })
     }
 
-    /// A `SIZE × SIZE` renderer of the box with `settings`.
+    /// A `SIZE × SIZE` renderer of the scene with `settings`.
     pub fn renderer(&self, settings: RealtimeSettings) -> RealtimeRenderer {
         self.renderer_of(&self.scene, settings)
     }
