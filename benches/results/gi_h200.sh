@@ -6,8 +6,9 @@
 #   2. error at 960x540 (a quarter of the pixels, so `solari compare` stays quick): the
 #      last frame and the mean of 16 frames (`--mean-of 16`) after 120, against a full-bounce
 #      reference (`--mode reference --spp $SPP`, default bounces).
-# Needs .gl, .dev/solari (stripped release build of the commit under test) and .dev/scenes
-# carried. Usage: bash benches/results/gi_h200.sh   (SCENES, MODES, SPP, PHASES override). A
+# Needs .gl, .dev/bins.tar.xz (stripped `solari` of the commit under test) and
+# .dev/SOLARI_COMMIT carried; scenes come from crates/solari-testdata (runs before the
+# fifteenth session read .dev/solari and .dev/scenes). Usage: bash benches/results/gi_h200.sh   (SCENES, MODES, SPP, PHASES override). A
 # mode is a GI mode with optional suffixes: +spec adds specular GI (`--specular-gi on`;
 # without it `--specular-gi off`, since specular GI is on by default from 5f47d02), +nodi
 # runs ReSTIR DI without reuse (`--di-reuse none`), +nopsr turns primary surface
@@ -17,7 +18,8 @@
 # Everything lands in $OUT/gi_h200.tar.gz, the table in $OUT/gi_table.csv.
 set -u
 source benches/results/device_env.sh
-BIN=${SOLARI_BIN:-.dev/solari}
+mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+BIN=${SOLARI_BIN:-/root/bins/solari}
 R=${RESULTS:-/root/gi}
 SPP=${SPP:-1024}
 SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
@@ -38,9 +40,16 @@ flags() {
   echo "--specular-gi $spec"
 }
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
+cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
+scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
+if [[ " $PHASES " == *" time "* ]]; then
+  # Warm-up: the first runs read 1.8-2x slow on the H100 (sweep_phases.sh).
+  "$BIN" render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \
+    --out "$R/x.png" > /dev/null 2>&1
+fi
 for s in $SCENES; do
   [[ " $PHASES " == *" time "* ]] || break
-  f=$(ls .dev/scenes/"$s"/*.gltf | head -n 1)
+  f=$(scene_file "$s")
   for g in $MODES; do
     echo "== $s $g timing $(date -u +%T)" >&2
     "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser "$DENOISER" --frames 200 \
@@ -49,7 +58,7 @@ for s in $SCENES; do
 done
 for s in $SCENES; do
   [[ " $PHASES " == *" error "* ]] || break
-  f=$(ls .dev/scenes/"$s"/*.gltf | head -n 1)
+  f=$(scene_file "$s")
   echo "== $s reference $(date -u +%T)" >&2
   "$BIN" render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
     --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
