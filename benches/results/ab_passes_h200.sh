@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# A/B of two solari binaries on the device (H100/H200), interleaved on one warm machine:
+# `solari render SCENE --mode realtime $FLAGS --frames $FRAMES --size 1920x1080 --json` with
+# the base binary and the new one in turn, $REPS times per scene; then the traced G-buffer
+# under each BVH build preset in $PRESETS with the new binary. Carry .gl, .dev/bins.tar.xz
+# (stripped `solari` and `solari_base`) and .dev/SOLARI_COMMIT.
+# Usage: bash benches/results/ab_passes_h200.sh  (SCENES, FLAGS, FRAMES, REPS, BVH_SCENES,
+# PRESETS override). Results: $OUT/ab.tar.gz and $OUT/ab_table.txt
+# (benches/results/ab_passes.py).
+set -u
+source benches/results/device_env.sh
+mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+R=${RESULTS:-/root/ab}
+SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
+FLAGS=${FLAGS:---gi cache --denoiser fallback}
+FRAMES=${FRAMES:-300}
+REPS=${REPS:-2}
+BVH_SCENES=${BVH_SCENES:-interior furnace_sphere metal_rough_spheres}
+PRESETS=${PRESETS:-medium very-slow}
+mkdir -p "$R" "$OUT"
+nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
+cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
+scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
+# Warm-up: the first runs read 1.8-2x slow on the H100 (sweep_phases.sh).
+/root/bins/solari render "$(scene_file cornell_box)" --mode realtime --frames 600 \
+  --size 1920x1080 --out "$R/x.png" > /dev/null 2>&1
+for rep in $(seq 1 "$REPS"); do
+  for s in $SCENES; do
+    for b in solari_base solari; do
+      echo "== $s $b rep $rep $(date -u +%T)" >&2
+      /root/bins/$b render "$(scene_file "$s")" --mode realtime $FLAGS --frames "$FRAMES" \
+        --size 1920x1080 --json --out "$R/x.png" > "$R/ab_${s}_${b}_${rep}.json" 2> "$R/ab_${s}_${b}_${rep}.log"
+    done
+  done
+done
+for s in $BVH_SCENES; do
+  for p in $PRESETS; do
+    echo "== $s bvh $p $(date -u +%T)" >&2
+    /root/bins/solari render "$(scene_file "$s")" --mode realtime $FLAGS --gbuffer traced \
+      --bvh-quality "$p" --frames "$FRAMES" --size 1920x1080 --json --out "$R/x.png" \
+      > "$R/bvh_${s}_${p}.json" 2> "$R/bvh_${s}_${p}.log"
+  done
+done
+rm -f "$R/x.png"
+tar czf "$OUT/ab.tar.gz" -C "$R" .
+python3 benches/results/ab_passes.py "$R" | tee "$OUT/ab_table.txt"
