@@ -65,15 +65,9 @@ pub fn reconnection_jacobian(
     if j > 0.0 && j < 3.4e38 { j } else { 0.0 }
 }
 
-/// Balance-heuristic weight of `f` against `g` (WGSL twin `balance_heuristic` in
-/// `solari-scene`'s `brdf.wesl`), correct for infinite values.
-pub fn balance_heuristic(f: f32, g: f32) -> f32 {
-    if f.is_nan() || f <= 0.0 {
-        return 0.0;
-    }
-    let w = 1.0 / (1.0 + g / f);
-    if w.is_nan() { 0.5 } else { w.clamp(0.0, 1.0) }
-}
+/// Balance-heuristic weight of `f` against `g`, correct for infinite values: `solari-scene`'s
+/// (the WGSL twin of `balance_heuristic` in its `brdf.wesl`), which both merges' twins use.
+pub use solari_scene::brdf::balance_heuristic;
 
 /// One side of a GI merge (WGSL twin `GiMergeSide` in `restir_gi_math.wesl`): a reservoir's confidence and weight, its sample's target
 /// function at both pixels, and the Jacobian moving its sample to the other pixel.

@@ -82,6 +82,10 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/restir_common.wesl"),
     ),
     ("restir_di", include_str!("../shaders/restir_di.wesl")),
+    (
+        "restir_di_math",
+        include_str!("../shaders/restir_di_math.wesl"),
+    ),
     ("restir_gi", include_str!("../shaders/restir_gi.wesl")),
     (
         "restir_gi_math",
