@@ -79,19 +79,15 @@ fn close(a: f32, b: f32, tol: f32) -> bool {
 #[test]
 fn di_merge_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
-    let (empty_layout, empty) = gpu.empty_group();
     let source = include_str!("../shaders/restir_di_test.wesl");
     let modules: Vec<_> = solari_restir::modules()
         .into_iter()
         .chain([("restir_di_test", source)])
         .collect();
     let wgsl = compose("restir_di_test", Backend::Software, &modules).expect("compose");
-    let layouts = [Some(&empty_layout), Some(&empty_layout), None];
-    let kernel = CaseKernel::new(&gpu, "restir_di_test", &wgsl, &layouts, 2).expect("kernel");
     let cases = cases();
-    let results: Vec<[f32; 4]> = kernel
-        .run(&gpu, &[Some(&empty), Some(&empty)], &cases)
-        .expect("dispatch");
+    let results: Vec<[f32; 4]> =
+        CaseKernel::run_pure(&gpu, "restir_di_test", &wgsl, 2, &cases).expect("dispatch");
     let (mut picked, mut none, mut others) = (0, 0, 0);
     for (k, r) in cases.iter().zip(&results) {
         let side = |v: [f32; 4]| DiMergeSide {

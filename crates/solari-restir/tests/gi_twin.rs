@@ -94,19 +94,15 @@ fn close(a: f32, b: f32, tol: f32) -> bool {
 #[test]
 fn gi_reuse_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
-    let (empty_layout, empty) = gpu.empty_group();
     let source = include_str!("../shaders/restir_gi_test.wesl");
     let modules: Vec<_> = solari_restir::gi_modules()
         .into_iter()
         .chain([("restir_gi_test", source)])
         .collect();
     let wgsl = compose("restir_gi_test", Backend::Software, &modules).expect("compose");
-    let layouts = [Some(&empty_layout), Some(&empty_layout), None];
-    let kernel = CaseKernel::new(&gpu, "restir_gi_test", &wgsl, &layouts, 2).expect("kernel");
     let cases = cases();
-    let results: Vec<[f32; 4]> = kernel
-        .run(&gpu, &[Some(&empty), Some(&empty)], &cases)
-        .expect("dispatch");
+    let results: Vec<[f32; 4]> =
+        CaseKernel::run_pure(&gpu, "restir_gi_test", &wgsl, 2, &cases).expect("dispatch");
     let (mut refused, mut merged) = (0, 0);
     for (k, r) in cases.iter().zip(&results) {
         let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];

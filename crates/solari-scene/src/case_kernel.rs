@@ -78,4 +78,20 @@ impl CaseKernel {
         groups[self.io_group] = None;
         gpu.run_cases(&self.label, &self.pipeline, &self.io_layout, &groups, cases)
     }
+
+    /// Builds a kernel whose groups below `io_group` are empty (a shader of pure functions)
+    /// and runs it once on `cases`: the whole set-up of most twin tests.
+    pub fn run_pure<I: bytemuck::Pod, O: bytemuck::Pod>(
+        gpu: &Gpu,
+        label: &str,
+        wgsl: &str,
+        io_group: usize,
+        cases: &[I],
+    ) -> Result<Vec<O>, GpuError> {
+        let (empty_layout, empty) = gpu.empty_group();
+        let mut layouts = vec![Some(&empty_layout); io_group];
+        layouts.push(None);
+        let kernel = Self::new(gpu, label, wgsl, &layouts, io_group)?;
+        kernel.run(gpu, &vec![Some(&empty); io_group], cases)
+    }
 }
