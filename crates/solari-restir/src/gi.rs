@@ -31,7 +31,10 @@
 //!
 //! Two reservoir buffers of 32 bytes per pixel (66 MB each at 1920×1080): the initial pass
 //! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
-//! buffer is needed.
+//! buffer is needed. Built without reuse ([`RestirGiSettings::plain`], the renderer's path
+//! GI), it keeps one: nothing reads a history, and each pixel's shade stores its reservoir
+//! back where its initial pass put it (where specular GI reads it). Such a `RestirGi` refuses
+//! settings that turn reuse on: build a new one with them.
 
 use crate::di::{PassLayouts, check_encode, layout_with_cache, pass_pipeline, record};
 use crate::gi_reservoir::GpuGiReservoir;
@@ -81,6 +84,8 @@ pub struct RestirGi {
     group: Option<wgpu::BindGroup>,
     frame: u32,
     history: bool,
+    // Built without reuse: one reservoir buffer, `buffers.0` a placeholder.
+    in_place: bool,
 }
 
 impl RestirGi {
@@ -121,12 +126,14 @@ impl RestirGi {
             group: None,
             frame: 0,
             history: false,
+            in_place: !settings.reuse(),
         };
         gi.resize(gpu, width, height, cache)?;
         Ok(gi)
     }
 
-    /// GPU memory ReSTIR GI holds, in bytes: two reservoirs per pixel and the parameters.
+    /// GPU memory ReSTIR GI holds, in bytes: two reservoirs per pixel (one when built without
+    /// reuse) and the parameters.
     pub fn memory_bytes(&self) -> u64 {
         let pixels = self
             .buffers
@@ -140,9 +147,18 @@ impl RestirGi {
         self.settings
     }
 
-    /// Changes the settings; history is kept (every knob is valid with any history).
+    /// Changes the settings; history is kept (every knob is valid with any history). A
+    /// `RestirGi` built without reuse holds no history buffer and refuses settings that turn
+    /// reuse on (build a new one with them).
     pub fn set_settings(&mut self, settings: RestirGiSettings) -> Result<(), GpuError> {
         settings.validate()?;
+        if self.in_place && settings.reuse() {
+            return Err(GpuError::Validation(
+                "ReSTIR GI was built without reuse (plain path GI keeps one reservoir buffer): \
+                 build a new RestirGi to turn temporal or spatial reuse on"
+                    .into(),
+            ));
+        }
         self.settings = settings;
         Ok(())
     }
@@ -153,7 +169,7 @@ impl RestirGi {
         self.variant
     }
 
-    /// Reallocates the reservoirs (64 bytes per pixel) and binds them with `cache`'s table
+    /// Reallocates the reservoirs (64 bytes per pixel, 32 without reuse) and binds them with `cache`'s table
     /// (call it too after the cache was rebuilt); history restarts.
     pub fn resize(
         &mut self,
@@ -177,16 +193,24 @@ impl RestirGi {
                 limit,
             });
         }
-        let buffer = |label: &str| {
+        let buffer = |label: &str, size: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: bytes,
+                size,
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             })
         };
-        let history = buffer("solari_restir/gi_history");
-        let initial = buffer("solari_restir/gi_initial");
+        // Without reuse nothing reads a history: one reservoir stands in for the binding.
+        let history = if self.in_place {
+            buffer(
+                "solari_restir/gi_history (none: built without reuse)",
+                size_of::<GpuGiReservoir>() as u64,
+            )
+        } else {
+            buffer("solari_restir/gi_history", bytes)
+        };
+        let initial = buffer("solari_restir/gi_initial", bytes);
         let mut entries = GI_BINDINGS.entries(&[
             ("gi_params", &self.params),
             ("gi_history", &history),
@@ -229,6 +253,9 @@ impl RestirGi {
         let mut bits = reuse(s.temporal, s.spatial, s.permutation_sampling, history);
         if s.unbiased_spatial {
             bits |= flags::UNBIASED_SPATIAL;
+        }
+        if self.in_place {
+            bits |= flags::IN_PLACE;
         }
         let params = GpuGiParams {
             width: self.size.0,
@@ -279,7 +306,8 @@ impl RestirGi {
     /// next frame reuses; layout for the non-finite detector:
     /// [`crate::gi_reservoir::gi_reservoir_check`].
     pub fn reservoirs(&self) -> &wgpu::Buffer {
-        &self.buffers.as_ref().expect("resize allocates").0
+        let (history, initial) = self.buffers.as_ref().expect("resize allocates");
+        if self.in_place { initial } else { history }
     }
 
     /// Image size in pixels.

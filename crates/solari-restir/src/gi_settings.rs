@@ -114,6 +114,9 @@ impl RestirGiSettings {
 /// (`settings::flags::reuse`).
 pub(crate) mod flags {
     pub const UNBIASED_SPATIAL: u32 = 16;
+    /// Plain path GI on one reservoir buffer: the shade pass writes its pixel's reservoir
+    /// back into `gi_initial` (no history buffer is allocated).
+    pub const IN_PLACE: u32 = 32;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.

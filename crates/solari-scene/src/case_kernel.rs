@@ -80,7 +80,8 @@ impl CaseKernel {
     }
 
     /// Builds a kernel whose groups below `io_group` are empty (a shader of pure functions)
-    /// and runs it once on `cases`: the whole set-up of most twin tests.
+    /// and runs it once on `cases`: the whole set-up of a twin test whose shader binds
+    /// nothing but its cases.
     pub fn run_pure<I: bytemuck::Pod, O: bytemuck::Pod>(
         gpu: &Gpu,
         label: &str,
