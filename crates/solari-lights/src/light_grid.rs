@@ -26,9 +26,12 @@
 //!
 //! A light's irradiance bound at distance `d` is `I / max(d, s/2)²`, with `d` measured from
 //! the cell's box to the light's bounding sphere and `s` the cell size; `I` is the luminance
-//! intensity (point and spot: their intensity, the cone ignored; emissive: power / π per
-//! side, i.e. radiance × area). Directional lights and the environment bound every cell by
-//! their irradiance. The bound only orders lights; it never changes what a sample is worth.
+//! intensity (point and spot: their intensity; emissive: power / π per side, i.e. radiance ×
+//! area). A spot bounds by 0, and so is not listed, in cells wholly outside its outer cone:
+//! the box's bounding sphere, widened by the light's own radius, lies more than the outer
+//! half-angle off the axis seen from the light's centre. Directional lights and the
+//! environment bound every cell by their irradiance. The bound only orders lights; it never
+//! changes what a sample is worth.
 //!
 //! ## Cost
 //!
@@ -168,11 +171,13 @@ pub struct LightGrid {
 // Where a light can be and how strong it can be there.
 #[derive(Clone, Copy)]
 enum Reach {
-    // A bounding sphere and a luminance intensity: bound I / d².
+    // A bounding sphere and a luminance intensity: bound I / d². A spot's cone: its axis and
+    // the cosine of its outer half-angle.
     Local {
         centre: Vec3,
         radius: f32,
         intensity: f32,
+        cone: Option<(Vec3, f32)>,
     },
     // The same irradiance everywhere (directional lights, the environment).
     Everywhere(f32),
@@ -199,17 +204,19 @@ fn reach_of(list: &LightList, index: usize) -> Reach {
                 centre: 0.5 * (lo + hi),
                 radius: 0.5 * (hi - lo).length(),
                 intensity: list.power[index] / (std::f32::consts::PI * sides),
+                cone: None,
             }
         }
         Light::Point {
             position,
             radius,
             intensity,
-            ..
+            cone,
         } => Reach::Local {
             centre: position,
             radius,
             intensity: luminance(intensity),
+            cone: cone.cos_outer().map(|c| (cone.axis, c)),
         },
         Light::Directional { irradiance, .. } => Reach::Everywhere(luminance(irradiance)),
         // Irradiance on a surface facing the whole sky: π × the mean radiance.
@@ -232,12 +239,34 @@ fn bound(reach: &Reach, lo: Vec3, hi: Vec3, min_distance: f32) -> f32 {
             centre,
             radius,
             intensity,
+            cone,
         } => {
+            if let Some((axis, cos_outer)) = cone
+                && outside_cone(centre, radius, axis, cos_outer, lo, hi)
+            {
+                return 0.0;
+            }
             let d = ((centre.clamp(lo, hi) - centre).length() - radius).max(min_distance);
             intensity / (d * d)
         }
         Reach::Everywhere(e) => e,
     }
+}
+
+// Whether the box [lo, hi] lies wholly outside the cone of half-angle acos(cos_outer) about
+// `axis` from a light of `radius` at `centre`: the box's bounding sphere, widened by the
+// light's radius, is seen more than that half-angle off the axis. Conservative: false
+// wherever unsure (the sphere reaches the light, or any value is not finite).
+fn outside_cone(centre: Vec3, radius: f32, axis: Vec3, cos_outer: f32, lo: Vec3, hi: Vec3) -> bool {
+    let to_box = 0.5 * (lo + hi) - centre;
+    let distance = to_box.length();
+    let reach = 0.5 * (hi - lo).length() + radius;
+    if !(distance > reach) || !distance.is_finite() {
+        return false;
+    }
+    let off_axis = (axis.dot(to_box) / distance).clamp(-1.0, 1.0).acos();
+    let widening = (reach / distance).asin();
+    off_axis - widening > cos_outer.clamp(-1.0, 1.0).acos()
 }
 
 impl LightGrid {

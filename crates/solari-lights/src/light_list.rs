@@ -80,6 +80,12 @@ impl SpotCone {
         a * a
     }
 
+    /// The cosine of the outer cone's half-angle, beyond which the spot gives no light;
+    /// `None` for a point light (no cone).
+    pub fn cos_outer(&self) -> Option<f32> {
+        (self.scale != 0.0).then(|| -self.offset / self.scale)
+    }
+
     /// The solid angle the spot lights, counting the falloff as full strength out to the
     /// outer cone (for selection by power only).
     pub fn lit_solid_angle(&self) -> f32 {

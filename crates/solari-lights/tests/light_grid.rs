@@ -287,3 +287,82 @@ fn bad_settings_are_refused_with_the_knob_named() {
     }
     const { assert!(MAX_GRID_SHARE < 1.0) };
 }
+
+/// A spot is listed in every cell it lights and left out of cells wholly outside its outer
+/// cone: each cell is probed at a 5 × 5 × 5 lattice, and wherever the cone gives light at a
+/// probe (seen from the light's centre) the cell must list the spot. Spots of radius 0 and
+/// 0.3, shining down and sideways, among point lights; no capacity or cutoff in the way.
+#[test]
+fn spots_are_listed_where_their_cone_reaches_and_nowhere_else() {
+    let mut scene = field(12, 9);
+    let spot = |position: Vec3, direction: Vec3, radius: f32| PunctualLight {
+        name: "spot".into(),
+        kind: PunctualKind::Spot {
+            inner: 0.2,
+            outer: 0.45,
+        },
+        position,
+        direction,
+        intensity: Vec3::splat(50.0),
+        range: None,
+        radius,
+    };
+    scene.punctual_lights.extend([
+        spot(Vec3::new(-4.0, 1.9, -4.0), Vec3::NEG_Y, 0.0),
+        spot(Vec3::new(5.0, 1.9, 3.0), Vec3::NEG_Y, 0.3),
+        spot(Vec3::new(-9.0, 1.0, 6.0), Vec3::X, 0.0),
+    ]);
+    let list = LightList::build(&scene);
+    let spots: Vec<(u32, Vec3, solari_lights::SpotCone)> = list
+        .lights
+        .iter()
+        .enumerate()
+        .filter_map(|(i, l)| match *l {
+            solari_lights::Light::Point { position, cone, .. } if cone.cos_outer().is_some() => {
+                Some((i as u32, position, cone))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(spots.len(), 3);
+    let settings = LightGridSettings {
+        max_cells: 2048,
+        capacity: 64,
+        relative_cutoff: 0.0,
+        ..Default::default()
+    };
+    let grid = LightGrid::build(&list, BOUNDS, &settings).unwrap();
+    for &(light, position, cone) in &spots {
+        let mut left_out = 0;
+        for cell in 0..grid.cells.len() {
+            let c = cell as u32;
+            let index = glam::UVec3::new(
+                c % grid.dims.x,
+                (c / grid.dims.x) % grid.dims.y,
+                c / (grid.dims.x * grid.dims.y),
+            );
+            let lo = grid.origin + index.as_vec3() * grid.cell_size;
+            let lit = (0..125).any(|k| {
+                let f = Vec3::new((k % 5) as f32, ((k / 5) % 5) as f32, (k / 25) as f32) / 4.0;
+                let travel = (lo + f * grid.cell_size - position).normalize_or_zero();
+                cone.attenuation(travel) > 0.0
+            });
+            let listed = grid.lights_in(cell).contains(&light);
+            assert!(
+                listed || !lit,
+                "light {light}: cell {cell} is lit but not listed"
+            );
+            left_out += !listed as usize;
+        }
+        eprintln!(
+            "light {light}: left out of {left_out} of {} cells",
+            grid.cells.len()
+        );
+        // The cones cover a small part of the 20 × 2 × 20 m box.
+        assert!(
+            left_out * 2 > grid.cells.len(),
+            "light {light}: left out of only {left_out} of {} cells",
+            grid.cells.len()
+        );
+    }
+}
