@@ -51,6 +51,10 @@ pub struct EnvironmentMap {
     height: u32,
     texels: Vec<Vec3>,
     repaired: u64,
+    // The texels never change after construction, so their solid-angle mean is taken once:
+    // the light list and the light grid each read it on every rebuild (a 4096 × 2048 map is
+    // 8 M texels).
+    mean: Vec3,
 }
 
 /// The equirectangular coordinates of unit direction `d` (u in [0, 1), v in [0, 1]).
@@ -88,6 +92,7 @@ impl EnvironmentMap {
             height,
             texels,
             repaired: 0,
+            mean: Vec3::ZERO,
         };
         for t in &mut map.texels {
             let fixed = t.to_array().map(|c| {
@@ -102,6 +107,7 @@ impl EnvironmentMap {
                 *t = Vec3::from_array(fixed);
             }
         }
+        map.mean = map.solid_angle_mean();
         Ok(map)
     }
 
@@ -251,8 +257,13 @@ impl EnvironmentMap {
         top.lerp(bottom, ty)
     }
 
-    /// The mean radiance over the sphere (texels weighted by their solid angle).
+    /// The mean radiance over the sphere (texels weighted by their solid angle), computed
+    /// once when the map was made.
     pub fn mean_radiance(&self) -> Vec3 {
+        self.mean
+    }
+
+    fn solid_angle_mean(&self) -> Vec3 {
         let mut sum = glam::DVec3::ZERO;
         let mut weight = 0.0f64;
         for y in 0..self.height {
@@ -292,12 +303,15 @@ impl EnvironmentMap {
                 texels.push(sum / n);
             }
         }
-        Self {
+        let mut map = Self {
             width: w,
             height: h,
             texels,
             repaired: self.repaired,
-        }
+            mean: Vec3::ZERO,
+        };
+        map.mean = map.solid_angle_mean();
+        map
     }
 }
 
