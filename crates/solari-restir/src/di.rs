@@ -44,6 +44,7 @@ pub struct RestirDi {
 // Per-pixel buffers and the two bind groups that swap the final reservoirs by parity.
 struct PixelBuffers {
     output: wgpu::Buffer,
+    shadow: wgpu::Buffer,
     finals: [wgpu::Buffer; 2],
     // Kept for the memory report (the bind groups hold it too).
     initial: wgpu::Buffer,
@@ -61,6 +62,7 @@ pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
         ("reservoirs_final", Buf::ReadWrite),
         ("di_output", Buf::ReadWrite),
         ("light_translation", Buf::Read),
+        ("di_shadow", Buf::ReadWrite),
     ],
 );
 
@@ -182,7 +184,10 @@ impl RestirDi {
     /// final) and image, parameters and the light-id translation table.
     pub fn memory_bytes(&self) -> u64 {
         let pixels = self.buffers.as_ref().map_or(0, |b| {
-            b.output.size() + b.initial.size() + b.finals.iter().map(|f| f.size()).sum::<u64>()
+            b.output.size()
+                + b.shadow.size()
+                + b.initial.size()
+                + b.finals.iter().map(|f| f.size()).sum::<u64>()
         });
         pixels + self.params.size() + self.translation.size()
     }
@@ -301,9 +306,11 @@ impl RestirDi {
         ];
         let initial = buffer("solari_restir/di_reservoirs_initial", reservoir_bytes);
         let output = buffer("solari_restir/di_output", output_bytes);
-        let groups = self.groups_for(gpu, &finals, &initial, &output);
+        let shadow = buffer("solari_restir/di_shadow", pixels * 8);
+        let groups = self.groups_for(gpu, &finals, &initial, &output, &shadow);
         self.buffers = Some(PixelBuffers {
             output,
+            shadow,
             finals,
             initial,
             groups,
@@ -320,6 +327,7 @@ impl RestirDi {
         finals: &[wgpu::Buffer; 2],
         initial: &wgpu::Buffer,
         output: &wgpu::Buffer,
+        shadow: &wgpu::Buffer,
     ) -> [wgpu::BindGroup; 2] {
         [0, 1].map(|p| {
             DI_BINDINGS.bind(
@@ -333,6 +341,7 @@ impl RestirDi {
                     ("reservoirs_final", &finals[p]),
                     ("di_output", output),
                     ("light_translation", &self.translation),
+                    ("di_shadow", shadow),
                 ],
             )
         })
@@ -366,7 +375,7 @@ impl RestirDi {
             // here once left those passes writing to an orphaned buffer on any scene with
             // more than one light (their light was lost, bit for bit).
             if let Some(b) = self.buffers.take() {
-                let groups = self.groups_for(gpu, &b.finals, &b.initial, &b.output);
+                let groups = self.groups_for(gpu, &b.finals, &b.initial, &b.output, &b.shadow);
                 self.buffers = Some(PixelBuffers { groups, ..b });
             }
         } else if !table.is_empty() {
@@ -505,6 +514,19 @@ impl RestirDi {
             .as_ref()
             .expect("resize allocates the buffers")
             .output
+    }
+
+    /// What each pixel's final shadow ray did (`vec2<f32>` per pixel, row by row): the
+    /// luminance of the light it removed (0 where the sample is seen or there is none), and
+    /// the width in world units of the penumbra its blocker casts at the pixel (the blocker's
+    /// distance × the light's apparent diameter; 0 where nothing blocks). A denoiser reads it
+    /// to tell noise from hard shadows (`solari_denoise::DenoiserInputs::shadow`).
+    pub fn shadow(&self) -> &wgpu::Buffer {
+        &self
+            .buffers
+            .as_ref()
+            .expect("resize allocates the buffers")
+            .shadow
     }
 
     /// This frame's final reservoirs ([`crate::GpuReservoir`] per pixel, row by row), which
