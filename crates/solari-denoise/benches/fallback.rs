@@ -47,6 +47,7 @@ fn fallback(c: &mut Criterion) {
                         lighting: Lighting::Combined(direct.di.output()),
                         gbuffer: &direct.gbuffer,
                         hit_distance: None,
+                        shadow: None,
                         reset: false,
                     };
                     ms += timer

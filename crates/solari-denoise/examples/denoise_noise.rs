@@ -68,6 +68,7 @@ pub fn run(_args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             lighting: Lighting::Combined(&lighting),
             gbuffer: &gbuffer,
             hit_distance: None,
+            shadow: None,
             reset: false,
         };
         let encoded = denoiser.encode(&gpu, &mut encoder, &context, &inputs)?;

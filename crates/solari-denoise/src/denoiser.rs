@@ -54,6 +54,13 @@ pub struct DenoiserInputs<'a> {
     /// none), for denoisers that size their filter by it. Pass it only when
     /// [`Requirements::inputs`] asks for [`Inputs::HIT_DISTANCE`].
     pub hit_distance: Option<&'a wgpu::Buffer>,
+    /// Optional: what each pixel's direct-light shadow ray did (`vec2<f32>` per pixel: the
+    /// luminance of the light it removed, and the width in world units of the penumbra its
+    /// blocker casts at the pixel; zeros where nothing blocks), as
+    /// `solari_restir::RestirDi::shadow` writes it. With it the fallback denoiser tells hard
+    /// shadows from noise on young histories (a shadow edge whose penumbra is under a pixel
+    /// is not noise). Pass it only when [`Requirements::inputs`] asks for [`Inputs::SHADOW`].
+    pub shadow: Option<&'a wgpu::Buffer>,
     /// Drop all history (camera cut, teleport, scene switch).
     pub reset: bool,
 }
@@ -71,6 +78,8 @@ impl Inputs {
     pub const GUIDES: Self = Self(4);
     /// [`DenoiserInputs::hit_distance`].
     pub const HIT_DISTANCE: Self = Self(8);
+    /// [`DenoiserInputs::shadow`].
+    pub const SHADOW: Self = Self(16);
 
     /// No inputs.
     pub const fn empty() -> Self {

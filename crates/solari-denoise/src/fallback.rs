@@ -25,6 +25,7 @@ pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
         ("guide", Buf::ReadWrite),
         ("denoised", Buf::ReadWrite),
         ("pass_params", Buf::Uniform),
+        ("shadow", Buf::Read),
     ],
 );
 
@@ -71,7 +72,10 @@ pub struct FallbackDenoiser {
     filters: [wgpu::Buffer; 2],
     guide: wgpu::Buffer,
     output: wgpu::Buffer,
-    // Built on first use for the lighting buffers given, rebuilt when they change.
+    // Bound as `shadow` when the inputs bring none.
+    no_shadow: wgpu::Buffer,
+    // Built on first use for the lighting (and shadow) buffers given, rebuilt when they
+    // change.
     signals: Vec<Signal>,
     bound_to: Vec<wgpu::Buffer>,
     parity: usize,
@@ -136,6 +140,7 @@ impl FallbackDenoiser {
         ];
         let guide = storage("solari_denoise/guide", pixels * 16);
         let output = storage("solari_denoise/output", pixels * 16);
+        let no_shadow = storage("solari_denoise/no_shadow", 16);
         let pass_params = [0u32, 1].map(|slot| {
             (0..settings.atrous_iterations + 2)
                 .map(|dispatch| {
@@ -158,6 +163,7 @@ impl FallbackDenoiser {
             filters,
             guide,
             output,
+            no_shadow,
             signals: Vec::new(),
             bound_to: Vec::new(),
             parity: 0,
@@ -175,14 +181,16 @@ impl FallbackDenoiser {
         self.history = false;
     }
 
-    // (Re)builds per-signal buffers and bind groups for these lighting buffers.
-    fn bind(&mut self, gpu: &Gpu, lighting: &Lighting) {
+    // (Re)builds per-signal buffers and bind groups for these lighting buffers and this
+    // shadow buffer (or the placeholder).
+    fn bind(&mut self, gpu: &Gpu, lighting: &Lighting, shadow: Option<&wgpu::Buffer>) {
         let inputs: Vec<&wgpu::Buffer> = match lighting {
             Lighting::Combined(b) => vec![b],
             Lighting::Split { diffuse, specular } => vec![diffuse, specular],
         };
-        if self.bound_to.len() == inputs.len()
-            && self.bound_to.iter().zip(&inputs).all(|(a, b)| a == *b)
+        let shadow = shadow.unwrap_or(&self.no_shadow).clone();
+        let key: Vec<&wgpu::Buffer> = inputs.iter().copied().chain([&shadow]).collect();
+        if self.bound_to.len() == key.len() && self.bound_to.iter().zip(&key).all(|(a, b)| a == *b)
         {
             return;
         }
@@ -231,6 +239,7 @@ impl FallbackDenoiser {
                                     ("guide", &self.guide),
                                     ("denoised", &self.output),
                                     ("pass_params", params),
+                                    ("shadow", &shadow),
                                 ],
                             )
                         })
@@ -239,7 +248,7 @@ impl FallbackDenoiser {
                 Signal { histories, groups }
             })
             .collect();
-        self.bound_to = inputs.into_iter().cloned().collect();
+        self.bound_to = key.into_iter().cloned().collect();
         self.history = false;
     }
 
@@ -282,7 +291,10 @@ impl Denoiser for FallbackDenoiser {
         Requirements {
             features: wgpu::Features::empty(),
             backend: None,
-            inputs: Inputs::COMBINED_LIGHTING | Inputs::SPLIT_LIGHTING | Inputs::GUIDES,
+            inputs: Inputs::COMBINED_LIGHTING
+                | Inputs::SPLIT_LIGHTING
+                | Inputs::GUIDES
+                | Inputs::SHADOW,
         }
     }
 
@@ -306,11 +318,14 @@ impl Denoiser for FallbackDenoiser {
         inputs: &DenoiserInputs,
     ) -> Result<Encoded, GpuError> {
         solari_scene::gbuffer_input::check_size("fallback denoiser", self.size, inputs.gbuffer)?;
-        self.bind(gpu, &inputs.lighting);
+        self.bind(gpu, &inputs.lighting, inputs.shadow);
         self.parity ^= 1;
         let reset = inputs.reset || !self.history || !inputs.gbuffer.history_valid();
         let (w, h) = self.size;
-        let params = self.settings.gpu(w, h, reset);
+        let params = GpuDenoiseParams {
+            shadow: inputs.shadow.is_some() as u32,
+            ..self.settings.gpu(w, h, reset)
+        };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
         let workgroups = [w.div_ceil(8), h.div_ceil(8)];

@@ -93,7 +93,7 @@
 //! let mut denoiser = FallbackDenoiser::new(&gpu, 64, 64, FallbackSettings::default())?;
 //! let mut encoder = gpu.device.create_command_encoder(&Default::default());
 //! // ... record the G-buffer and the lighting passes that fill `noisy` ...
-//! let inputs = DenoiserInputs { lighting: Lighting::Combined(&noisy), gbuffer: &gbuffer, hit_distance: None, reset: false };
+//! let inputs = DenoiserInputs { lighting: Lighting::Combined(&noisy), gbuffer: &gbuffer, hit_distance: None, shadow: None, reset: false };
 //! # let camera = solari_scene::default_scene::cornell_box().camera(None).unwrap();
 //! let frame = solari_scene::pass::FrameContext::new(0, (64, 64), &camera, None);
 //! let encoded = denoiser.encode(&gpu, &mut encoder, &frame, &inputs)?;

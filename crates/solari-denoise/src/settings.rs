@@ -170,7 +170,7 @@ impl FallbackSettings {
             width,
             height,
             reset: reset as u32,
-            _pad0: 0,
+            shadow: 0,
             max_history: self.max_history,
             phi_luminance: self.phi_luminance,
             phi_normal: self.phi_normal,
@@ -199,8 +199,8 @@ pub struct GpuDenoiseParams {
     pub height: u32,
     /// 1: ignore history this frame.
     pub reset: u32,
-    /// Padding.
-    pub _pad0: u32,
+    /// 1: the `shadow` binding holds [`crate::DenoiserInputs::shadow`] (0: a placeholder).
+    pub shadow: u32,
     /// [`FallbackSettings::max_history`].
     pub max_history: f32,
     /// [`FallbackSettings::phi_luminance`].

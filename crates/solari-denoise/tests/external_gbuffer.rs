@@ -112,6 +112,7 @@ fn the_fallback_denoiser_and_upscaler_read_an_external_gbuffer_exactly_as_their_
                 lighting,
                 gbuffer,
                 hit_distance: None,
+                shadow: None,
                 reset: false,
             };
             let context = FrameContext::new(frame as u32, (SIZE, SIZE), &camera, None);

@@ -47,6 +47,8 @@ impl Denoised {
             lighting: Lighting::Combined(self.direct.di.output()),
             gbuffer: &self.direct.gbuffer,
             hit_distance: None,
+            // As the renderer does: DI's shadow rays tell hard shadows from noise.
+            shadow: Some(self.direct.di.shadow()),
             reset: false,
         };
         let frame = *self.direct.context();
@@ -313,9 +315,13 @@ fn rel_mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
 
 /// Young history, frames 1–8 at 96×96: where DI is noisy (the Cornell box's area light, 400
 /// lights) every denoised frame is closer to the reference than its input, in RMSE and
-/// relMSE. Printed beside them, sun_boxes: nearly noise-free DI with thin hard shadows, where
-/// the young-history filter is still worse than its input in relMSE (issue 18 item 6, open;
-/// `benches/RESULTS.md`, "Denoiser").
+/// relMSE. sun_boxes has nearly noise-free DI with thin hard shadows: with DI's shadow data
+/// (`DenoiserInputs::shadow`) the young-history filter sees that its shadow edges are sharp
+/// and leaves them. Its first frame is the raw one (relMSE was 440× the raw frame's without
+/// the shadow data: 0.0887 against 0.00020), and frames 2–5 stay within 1.2× of their input
+/// (3.8×, 1.7×, 1.4×, 1.5× before; frame 2 reads 1.1×). Frames 6–8, where the pixel's own
+/// temporal variance takes over, are still up to 2.4× their input in relMSE
+/// (`benches/RESULTS.md`, "Denoiser").
 #[test]
 fn young_history_frames_gain_where_the_input_is_noisy() {
     let Some(gpu) = test_gpu() else { return };
@@ -352,6 +358,16 @@ fn young_history_frames_gain_where_the_input_is_noisy() {
                 assert!(
                     den_rmse < raw_rmse && den_rel < raw_rel,
                     "{name} frame {frame}: denoised worse than its input"
+                );
+            } else if frame == 1 {
+                assert!(
+                    den_rmse <= raw_rmse * 1.01 && den_rel <= raw_rel * 1.01,
+                    "{name} frame 1: hard shadows were filtered"
+                );
+            } else if frame <= 5 {
+                assert!(
+                    den_rel <= raw_rel * 1.2,
+                    "{name} frame {frame}: relMSE {den_rel} against {raw_rel} raw"
                 );
             }
         }

@@ -1289,10 +1289,17 @@ impl RealtimeRenderer {
         let reset = std::mem::take(&mut self.reset_next);
         if denoising {
             let denoiser = self.denoiser.as_mut().expect("denoising() checked it");
+            // DI's shadow rays tell the denoiser hard shadows from noise, if it reads them.
+            let shadow = denoiser
+                .requirements()
+                .inputs
+                .contains(solari_denoise::Inputs::SHADOW)
+                .then(|| self.di.shadow());
             let inputs = DenoiserInputs {
                 lighting: Lighting::Combined(self.di.output()),
                 gbuffer: &self.gbuffer,
                 hit_distance: None,
+                shadow,
                 reset,
             };
             let encoded = denoiser.encode(gpu, &mut encoder, &context, &inputs)?;

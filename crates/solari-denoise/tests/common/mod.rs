@@ -147,6 +147,7 @@ impl Harness {
             lighting,
             gbuffer: &self.gbuffer,
             hit_distance: None,
+            shadow: None,
             reset,
         };
         let camera = self.scene.camera(None).expect("camera");
