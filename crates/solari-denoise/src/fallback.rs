@@ -318,6 +318,19 @@ impl Denoiser for FallbackDenoiser {
         inputs: &DenoiserInputs,
     ) -> Result<Encoded, GpuError> {
         solari_scene::gbuffer_input::check_size("fallback denoiser", self.size, inputs.gbuffer)?;
+        let pixels = self.size.0 as u64 * self.size.1 as u64;
+        if let Some(shadow) = inputs.shadow
+            && shadow.size() < pixels * 8
+        {
+            return Err(GpuError::Validation(format!(
+                "fallback denoiser: the shadow input holds {} bytes; {}×{} pixels need {} \
+                 (vec2<f32> each)",
+                shadow.size(),
+                self.size.0,
+                self.size.1,
+                pixels * 8
+            )));
+        }
         self.bind(gpu, &inputs.lighting, inputs.shadow);
         self.parity ^= 1;
         let reset = inputs.reset || !self.history || !inputs.gbuffer.history_valid();

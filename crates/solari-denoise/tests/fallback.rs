@@ -352,3 +352,46 @@ fn explicit_dlss_request_falls_back_with_a_reason() {
     assert_eq!(best.kind, DenoiserKind::Fallback);
     assert!(best.fallback_reason.is_none());
 }
+
+/// A shadow input smaller than the image is refused with the sizes named, before anything is
+/// recorded; the right size is taken.
+#[test]
+fn a_short_shadow_input_is_refused() {
+    use solari_denoise::{Denoiser, DenoiserInputs, Lighting};
+    let Some(mut h) = Harness::new() else { return };
+    let mut denoiser =
+        FallbackDenoiser::new(&h.gpu, SIZE, SIZE, FallbackSettings::default()).expect("denoiser");
+    let shadow = |bytes: u64| {
+        h.gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("test shadow"),
+            size: bytes,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        })
+    };
+    let (short, right) = (shadow(64), shadow((SIZE * SIZE * 8) as u64));
+    let mut encoder = h.gbuffer_encoder();
+    let camera = solari_scene::default_scene::cornell_box()
+        .camera(None)
+        .expect("camera");
+    let frame = solari_scene::pass::FrameContext::new(0, (SIZE, SIZE), &camera, None);
+    for (buffer, ok) in [(&short, false), (&right, true)] {
+        let inputs = DenoiserInputs {
+            lighting: Lighting::Combined(h.lighting()),
+            gbuffer: h.gbuffer(),
+            hit_distance: None,
+            shadow: Some(buffer),
+            reset: false,
+        };
+        match (denoiser.encode(&h.gpu, &mut encoder, &frame, &inputs), ok) {
+            (Ok(_), true) => {}
+            (Err(e), false) => {
+                let e = e.to_string();
+                assert!(e.contains("shadow input holds 64 bytes"), "{e}");
+            }
+            (Ok(_), false) => panic!("a 64-byte shadow input was taken"),
+            (Err(e), true) => panic!("a full-size shadow input was refused: {e}"),
+        }
+    }
+    h.gpu.queue.submit([encoder.finish()]);
+}

@@ -102,6 +102,11 @@ impl Harness {
         &self.gbuffer
     }
 
+    /// The (combined) lighting buffer.
+    pub fn lighting(&self) -> &wgpu::Buffer {
+        &self.lighting
+    }
+
     /// One frame: G-buffer, then `denoiser` on combined lighting `input`; returns the output.
     pub fn frame(
         &mut self,
