@@ -299,8 +299,11 @@ fn pan_errors(gpu: &Gpu, backend: Backend, speed: f32) -> [(f64, f64); 2] {
 
 /// What replacement is for: the denoiser filters and reprojects a mirror's reflection by the
 /// reflected surfaces' guides instead of the flat mirror's. Measured here (96², 12 frames,
-/// 256-path reference): mirror RMSE 0.0259 → 0.0237 with a static camera, 0.0222 → 0.0206
-/// panning 0.05 per frame; the rest of the image within 1%.
+/// 256-path reference) when written: mirror RMSE 0.0259 → 0.0237 with a static camera,
+/// 0.0222 → 0.0206 panning 0.05 per frame. With today's world cache and GI the gain is
+/// smaller: five runs in the fifteenth session read −5.8% to −6.4% static and −5.0% to −5.9%
+/// panning (0.0262 → 0.0246, 0.0228 → 0.0216), and one failed the old 5% bar, so the bar is
+/// 3%. The rest of the image stays within 1%.
 #[test]
 fn replacement_helps_the_denoiser_on_mirrors() {
     let Some(gpu) = test_gpu() else { return };
@@ -311,7 +314,7 @@ fn replacement_helps_the_denoiser_on_mirrors() {
             "pan {speed}: mirror RMSE {mirror_off:.5} -> {mirror_on:.5}, rest {rest_off:.5} -> {rest_on:.5}"
         );
         assert!(
-            mirror_on < 0.95 * mirror_off,
+            mirror_on < 0.97 * mirror_off,
             "pan {speed}: replacement should lower the mirror's error ({mirror_off} -> {mirror_on})"
         );
         assert!(
