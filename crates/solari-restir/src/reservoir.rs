@@ -99,6 +99,26 @@ pub fn di_merge_pick(w: (f32, f32), c_target: f32, o_target: f32, u: f32) -> Opt
     (weight > 0.0 && weight < 3.4e38).then_some((pick, weight))
 }
 
+/// The apparent angular radius of a light from a shading point, for the penumbra a blocker
+/// casts (WGSL twin `light_angular_radius_of` in `restir_di_math.wesl`): `kind` is the light
+/// record's kind (0 emissive: its whole `area` seen with the sample's `g`, cos / d²; 1
+/// directional: `area` is the disk's solid angle; 2 point: `area` = 4π r², over the sample's
+/// `distance`; anything else, the sky: a right angle). 0 for delta lights (`area` 0); at most
+/// π/2.
+pub fn light_angular_radius(kind: u32, area: f32, g: f32, distance: f32) -> f32 {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let solid_angle = match kind {
+        0 => area * g,
+        1 => area,
+        2 => {
+            let r = (area.max(0.0) / (4.0 * PI)).sqrt();
+            return (r / distance.max(r)).clamp(0.0, 1.0).asin();
+        }
+        _ => return FRAC_PI_2,
+    };
+    (solid_angle.max(0.0) / PI).sqrt().min(FRAC_PI_2)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,13 +1,15 @@
-//! ReSTIR DI's merge arithmetic on the GPU (`restir_di_math.wesl`, run by
-//! `restir_di_test.wesl`) against its Rust twins (`solari_restir::reservoir`): the resampling
-//! weights and the pick, on random reservoirs and adversarial ones (empty sides, zero, tiny
+//! ReSTIR DI's merge arithmetic and the lights' angular radius (for the shadow report's
+//! penumbra) on the GPU (`restir_di_math.wesl`, run by `restir_di_test.wesl`) against their
+//! Rust twins (`solari_restir::reservoir`): the resampling weights and the pick, on random reservoirs and adversarial ones (empty sides, zero, tiny
 //! and huge targets, weights whose products overflow, zero confidences, a sample outside the
 //! other domain, random numbers at the ends of [0, 1)).
 
 use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_restir::reservoir::{DiMergeSide, DiPick, di_merge_pick, di_merge_weights};
+use solari_restir::reservoir::{
+    DiMergeSide, DiPick, di_merge_pick, di_merge_weights, light_angular_radius,
+};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
 use solari_scene::shaders::{Backend, compose};
@@ -19,6 +21,25 @@ struct Case {
     c: [f32; 4],
     o: [f32; 4],
     u: [f32; 4],
+    light: [f32; 4],
+}
+
+/// A light for the angular radius: kind (0–3, as a float), area (0 for delta lights, tiny,
+/// ordinary, huge), g (cos / d², 0 to large) and a positive distance (0 with a delta point
+/// light divides 0 by 0, outside what the twin promises, as for NaN targets below).
+fn light(rng: &mut Pcg32) -> [f32; 4] {
+    let area = match rng.random_range(0..8) {
+        0 => 0.0,
+        1 => 1e-6,
+        2 => 1e6,
+        _ => rng.random_range(0.0..4.0),
+    };
+    [
+        rng.random_range(0..4) as f32,
+        area,
+        rng.random_range(0.0..50.0),
+        rng.random_range(1e-3..100.0),
+    ]
 }
 
 /// A target value: mostly ordinary, sometimes zero, tiny or huge. Never infinite or NaN:
@@ -67,6 +88,7 @@ fn cases() -> Vec<Case> {
                 c: side(&mut rng),
                 o: side(&mut rng),
                 u: [u, 0.0, 0.0, 0.0],
+                light: light(&mut rng),
             }
         })
         .collect()
@@ -86,10 +108,23 @@ fn di_merge_math_matches_its_rust_twin() {
         .collect();
     let wgsl = compose("restir_di_test", Backend::Software, &modules).expect("compose");
     let cases = cases();
-    let results: Vec<[f32; 4]> =
+    let results: Vec<[[f32; 4]; 2]> =
         CaseKernel::run_pure(&gpu, "restir_di_test", &wgsl, 2, &cases).expect("dispatch");
     let (mut picked, mut none, mut others) = (0, 0, 0);
-    for (k, r) in cases.iter().zip(&results) {
+    for (k, [r, radius]) in cases.iter().zip(&results) {
+        let l = k.light;
+        let twin = light_angular_radius(l[0] as u32, l[1], l[2], l[3]);
+        // WGSL lets asin be approximate: lavapipe's is off by up to 3e-4 relative (a
+        // penumbra 0.03% wider or narrower, for a gate at one pixel).
+        assert!(
+            (radius[0] - twin).abs() <= 1e-3 * twin.max(1e-3),
+            "angular radius: GPU {} CPU {twin} for {l:?}",
+            radius[0]
+        );
+        assert!(
+            (0.0..=std::f32::consts::FRAC_PI_2).contains(&twin),
+            "{twin} for {l:?}"
+        );
         let side = |v: [f32; 4]| DiMergeSide {
             confidence: v[0],
             weight: v[1],
