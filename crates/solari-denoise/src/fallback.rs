@@ -184,16 +184,24 @@ impl FallbackDenoiser {
     // (Re)builds per-signal buffers and bind groups for these lighting buffers and this
     // shadow buffer (or the placeholder).
     fn bind(&mut self, gpu: &Gpu, lighting: &Lighting, shadow: Option<&wgpu::Buffer>) {
-        let inputs: Vec<&wgpu::Buffer> = match lighting {
-            Lighting::Combined(b) => vec![b],
-            Lighting::Split { diffuse, specular } => vec![diffuse, specular],
+        let pair;
+        let inputs: &[&wgpu::Buffer] = match lighting {
+            Lighting::Combined(b) => std::slice::from_ref(b),
+            Lighting::Split { diffuse, specular } => {
+                pair = [*diffuse, *specular];
+                &pair
+            }
         };
-        let shadow = shadow.unwrap_or(&self.no_shadow).clone();
-        let key: Vec<&wgpu::Buffer> = inputs.iter().copied().chain([&shadow]).collect();
-        if self.bound_to.len() == key.len() && self.bound_to.iter().zip(&key).all(|(a, b)| a == *b)
+        let shadow = shadow.unwrap_or(&self.no_shadow);
+        // Checked every frame: compare in place, allocate only to rebind.
+        let mut key = inputs.iter().copied().chain([shadow]);
+        if self.bound_to.len() == inputs.len() + 1
+            && self.bound_to.iter().all(|a| key.next() == Some(a))
         {
             return;
         }
+        let shadow = shadow.clone();
+        let key: Vec<&wgpu::Buffer> = inputs.iter().copied().chain([&shadow]).collect();
         let pixels = self.size.0 as u64 * self.size.1 as u64;
         let split = inputs.len() == 2;
         for slot in 0..2u32 {

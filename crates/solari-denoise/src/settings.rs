@@ -71,7 +71,9 @@ pub struct FallbackSettings {
     /// the pixel's own temporal estimate at twice this length. A hard switch made the image
     /// pop when it happened (RMS frame-to-frame change doubled that frame); an arithmetic
     /// blend let the spatial estimate, which also holds the image's own contrast, dominate
-    /// to the end (`solari bench-denoise`).
+    /// to the end (`solari bench-denoise`). With [`crate::DenoiserInputs::shadow`], a window
+    /// whose shadows all have penumbrae under a pixel is estimated over the shadow-free
+    /// signal instead, so its hard shadow edges do not count as noise.
     pub spatial_variance_frames: f32,
 }
 

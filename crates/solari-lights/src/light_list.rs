@@ -89,11 +89,10 @@ impl SpotCone {
     /// The solid angle the spot lights, counting the falloff as full strength out to the
     /// outer cone (for selection by power only).
     pub fn lit_solid_angle(&self) -> f32 {
-        if self.scale == 0.0 {
-            return 4.0 * std::f32::consts::PI;
-        }
-        let cos_outer = -self.offset / self.scale;
-        2.0 * std::f32::consts::PI * (1.0 - cos_outer)
+        self.cos_outer()
+            .map_or(4.0 * std::f32::consts::PI, |cos_outer| {
+                2.0 * std::f32::consts::PI * (1.0 - cos_outer)
+            })
     }
 }
 

@@ -303,7 +303,8 @@ impl RestirGi {
     }
 
     /// This frame's final reservoirs ([`GpuGiReservoir`] per pixel, row by row), which the
-    /// next frame reuses; layout for the non-finite detector:
+    /// next frame reuses (built without reuse: the one reservoir buffer, where each pixel's
+    /// shade stored its sample back); layout for the non-finite detector:
     /// [`crate::gi_reservoir::gi_reservoir_check`].
     pub fn reservoirs(&self) -> &wgpu::Buffer {
         let (history, initial) = self.buffers.as_ref().expect("resize allocates");
