@@ -9,7 +9,7 @@
 # (benches/results/ab_passes.py).
 set -u
 source benches/results/device_env.sh
-mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+unpack_bins
 R=${RESULTS:-/root/ab}
 SCENES=${SCENES:-cornell_box sun_boxes many_lights interior}
 FLAGS=${FLAGS:---gi cache --denoiser fallback}
@@ -20,7 +20,6 @@ PRESETS=${PRESETS:-medium very-slow}
 mkdir -p "$R" "$OUT"
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
 cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
-scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
 # Warm-up: the first runs read 1.8-2x slow on the H100 (sweep_phases.sh).
 /root/bins/solari render "$(scene_file cornell_box)" --mode realtime --frames 600 \
   --size 1920x1080 --out "$R/x.png" > /dev/null 2>&1

@@ -18,7 +18,7 @@
 # $OUT/cache_refine_table.csv (benches/results/quality_table.py).
 set -u
 source benches/results/device_env.sh
-mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+unpack_bins
 BIN=${SOLARI_BIN:-/root/bins/solari}
 R=${RESULTS:-/root/cache_refine}
 SPP=${SPP:-1024}

@@ -7,3 +7,10 @@ if [ -d /usr/local/nvidia ]; then
   export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
   export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
 fi
+
+# The carried binaries (`.dev/bins.tar.xz`, stripped builds of the commit under test) go to
+# /root/bins; scripts name /root/bins/solari (or SOLARI_BIN).
+unpack_bins() { mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins; }
+
+# The glTF file of shared scene $1 (in the repository, so nothing else needs carrying).
+scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }

@@ -18,7 +18,7 @@
 # Everything lands in $OUT/gi_h200.tar.gz, the table in $OUT/gi_table.csv.
 set -u
 source benches/results/device_env.sh
-mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+unpack_bins
 BIN=${SOLARI_BIN:-/root/bins/solari}
 R=${RESULTS:-/root/gi}
 SPP=${SPP:-1024}
@@ -41,7 +41,6 @@ flags() {
 }
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
 cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
-scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
 if [[ " $PHASES " == *" time "* ]]; then
   # Warm-up: the first runs read 1.8-2x slow on the H100 (sweep_phases.sh).
   "$BIN" render "$(scene_file cornell_box)" --mode realtime --frames 600 --size 1920x1080 \

@@ -17,7 +17,7 @@
 # $OUT/quality_table.csv (benches/results/quality_table.py).
 set -u
 source benches/results/device_env.sh
-mkdir -p /root/bins && tar xJf .dev/bins.tar.xz -C /root/bins
+unpack_bins
 BIN=${SOLARI_BIN:-/root/bins/solari}
 R=${RESULTS:-/root/quality}
 SPP=${SPP:-1024}

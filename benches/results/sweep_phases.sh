@@ -6,7 +6,7 @@
 #   error: ${s}_ref.json/.log (the --spp $SPP full-bounce reference at 960x540) and
 #          ${s}_${g}_error.json/.log/.compare.json: frame 136 of a still camera against it.
 
-scene_file() { ls crates/solari-testdata/scenes/"$1"/*.gltf | head -n 1; }
+# scene_file comes from device_env.sh, which every device script sources first.
 
 # Records the card and the binary's commit beside the results.
 sweep_describe() {
