@@ -306,8 +306,8 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 + 4 bytes per pixel each) and the raster depth buffer (4) to within its
-/// uniforms (the box has no mirror, so no override buffer: `tests/psr.rs` has one), and
-/// every other component something.
+/// uniforms (the box has no mirror, so no override buffer: `tests/psr.rs` has one), ReSTIR
+/// DI's 64 bytes per pixel, and every other component something.
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
@@ -326,6 +326,13 @@ fn memory_report_counts_each_component() {
     assert!(
         (68 * pixels..68 * pixels + 4096).contains(&gbuffer),
         "G-buffer {gbuffer} bytes for {pixels} pixels"
+    );
+    // ReSTIR DI: initial and final reservoirs (20 each; one final buffer serves as history),
+    // the image (16) and the shadow report (8), to within its uniforms and light table.
+    let di = memory[3].1;
+    assert!(
+        (64 * pixels..64 * pixels + 4096).contains(&di),
+        "ReSTIR DI {di} bytes for {pixels} pixels"
     );
     for (name, bytes) in memory {
         assert!(bytes > 0, "{name} reports no memory");

@@ -36,19 +36,20 @@ pub struct RestirDi {
     // Whether the uploaded translation carries a bitset of lights new this frame.
     appeared: bool,
     identity_for: Option<u32>,
-    parity: usize,
     frame: u32,
     history: bool,
 }
 
-// Per-pixel buffers and the two bind groups that swap the final reservoirs by parity.
+// Per-pixel buffers and their bind group. One final-reservoir buffer is history and result
+// at once: the initial pass reads last frame's finals and the spatial pass, a later
+// dispatch, overwrites them (a second buffer swapped by parity cost 20 B per pixel).
 struct PixelBuffers {
     output: wgpu::Buffer,
     shadow: wgpu::Buffer,
-    finals: [wgpu::Buffer; 2],
-    // Kept for the memory report (the bind groups hold it too).
+    finals: wgpu::Buffer,
+    // Kept for the memory report (the bind group holds it too).
     initial: wgpu::Buffer,
-    groups: [wgpu::BindGroup; 2],
+    group: wgpu::BindGroup,
 }
 
 /// Bind group 2 of the DI shaders (`restir_di.wesl`), by WGSL name.
@@ -57,7 +58,6 @@ pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
     0,
     &[
         ("params", Buf::Uniform),
-        ("reservoirs_previous", Buf::Read),
         ("reservoirs_initial", Buf::ReadWrite),
         ("reservoirs_final", Buf::ReadWrite),
         ("di_output", Buf::ReadWrite),
@@ -180,14 +180,11 @@ pub(crate) fn record(
 }
 
 impl RestirDi {
-    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs (initial and two
-    /// final) and image, parameters and the light-id translation table.
+    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs (initial and final),
+    /// image and shadow data, parameters and the light-id translation table.
     pub fn memory_bytes(&self) -> u64 {
         let pixels = self.buffers.as_ref().map_or(0, |b| {
-            b.output.size()
-                + b.shadow.size()
-                + b.initial.size()
-                + b.finals.iter().map(|f| f.size()).sum::<u64>()
+            b.output.size() + b.shadow.size() + b.initial.size() + b.finals.size()
         });
         pixels + self.params.size() + self.translation.size()
     }
@@ -244,7 +241,6 @@ impl RestirDi {
             pending_translation: None,
             appeared: false,
             identity_for: None,
-            parity: 0,
             frame: 0,
             history: false,
         };
@@ -270,8 +266,8 @@ impl RestirDi {
         Ok(())
     }
 
-    /// Reallocates the per-pixel buffers (20 + 20 × 2 bytes of reservoirs and 16 bytes of
-    /// output per pixel); history restarts.
+    /// Reallocates the per-pixel buffers (two 20-byte reservoirs, 16 bytes of output and 8
+    /// of shadow data per pixel); history restarts.
     pub fn resize(&mut self, gpu: &Gpu, width: u32, height: u32) -> Result<(), GpuError> {
         if (width, height) == self.size && self.buffers.is_some() {
             return Ok(());
@@ -300,51 +296,44 @@ impl RestirDi {
                 mapped_at_creation: false,
             })
         };
-        let finals = [
-            buffer("solari_restir/di_reservoirs_0", reservoir_bytes),
-            buffer("solari_restir/di_reservoirs_1", reservoir_bytes),
-        ];
+        let finals = buffer("solari_restir/di_reservoirs", reservoir_bytes);
         let initial = buffer("solari_restir/di_reservoirs_initial", reservoir_bytes);
         let output = buffer("solari_restir/di_output", output_bytes);
         let shadow = buffer("solari_restir/di_shadow", pixels * 8);
-        let groups = self.groups_for(gpu, &finals, &initial, &output, &shadow);
+        let group = self.group_for(gpu, &finals, &initial, &output, &shadow);
         self.buffers = Some(PixelBuffers {
             output,
             shadow,
             finals,
             initial,
-            groups,
+            group,
         });
         self.size = (width, height);
         self.history = false;
         Ok(())
     }
 
-    // Group p writes final[p] and reads final[1 - p], last frame's.
-    fn groups_for(
+    fn group_for(
         &self,
         gpu: &Gpu,
-        finals: &[wgpu::Buffer; 2],
+        finals: &wgpu::Buffer,
         initial: &wgpu::Buffer,
         output: &wgpu::Buffer,
         shadow: &wgpu::Buffer,
-    ) -> [wgpu::BindGroup; 2] {
-        [0, 1].map(|p| {
-            DI_BINDINGS.bind(
-                gpu,
-                "solari_restir/di",
-                &self.own_layout,
-                &[
-                    ("params", &self.params),
-                    ("reservoirs_previous", &finals[p ^ 1]),
-                    ("reservoirs_initial", initial),
-                    ("reservoirs_final", &finals[p]),
-                    ("di_output", output),
-                    ("light_translation", &self.translation),
-                    ("di_shadow", shadow),
-                ],
-            )
-        })
+    ) -> wgpu::BindGroup {
+        DI_BINDINGS.bind(
+            gpu,
+            "solari_restir/di",
+            &self.own_layout,
+            &[
+                ("params", &self.params),
+                ("reservoirs_initial", initial),
+                ("reservoirs_final", finals),
+                ("di_output", output),
+                ("light_translation", &self.translation),
+                ("di_shadow", shadow),
+            ],
+        )
     }
 
     /// Sets the map from last frame's light indices to this frame's
@@ -375,8 +364,8 @@ impl RestirDi {
             // here once left those passes writing to an orphaned buffer on any scene with
             // more than one light (their light was lost, bit for bit).
             if let Some(b) = self.buffers.take() {
-                let groups = self.groups_for(gpu, &b.finals, &b.initial, &b.output, &b.shadow);
-                self.buffers = Some(PixelBuffers { groups, ..b });
+                let group = self.group_for(gpu, &b.finals, &b.initial, &b.output, &b.shadow);
+                self.buffers = Some(PixelBuffers { group, ..b });
             }
         } else if !table.is_empty() {
             gpu.queue
@@ -391,8 +380,7 @@ impl RestirDi {
         self.history = false;
     }
 
-    /// Starts `frame` for a scene with `light_count` lights: swaps the reservoir buffers,
-    /// uploads the light translation (the identity unless [`RestirDi::set_light_translation`]
+    /// Starts `frame` for a scene with `light_count` lights: uploads the light translation (the identity unless [`RestirDi::set_light_translation`]
     /// gave one) and writes the parameters. `gbuffer` is the G-buffer this frame reads (its
     /// history decides whether temporal reuse may run).
     pub fn prepare(
@@ -424,7 +412,6 @@ impl RestirDi {
             }
             None => {}
         }
-        self.parity ^= 1;
         self.frame = frame;
         let s = self.settings;
         let history = self.history && gbuffer_history;
@@ -485,7 +472,7 @@ impl RestirDi {
         let groups = [
             scene.bind_group(),
             gbuffer.bind_group()?,
-            &buffers.groups[self.parity],
+            &buffers.group,
             lights,
         ];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
@@ -536,7 +523,7 @@ impl RestirDi {
             .buffers
             .as_ref()
             .expect("resize allocates the buffers")
-            .finals[self.parity]
+            .finals
     }
 
     /// Image size in pixels.
