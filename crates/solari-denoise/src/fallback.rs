@@ -69,11 +69,17 @@ pub struct FallbackDenoiser {
     params: wgpu::Buffer,
     // Per signal slot (0 combined/diffuse, 1 specular) and dispatch.
     pass_params: [Vec<wgpu::Buffer>; 2],
+    // The à-trous ping-pong. With one signal the last iteration writes the output into its
+    // target, so that filter buffer is the output (a separate one cost 16 B per pixel).
     filters: [wgpu::Buffer; 2],
     guide: wgpu::Buffer,
-    output: wgpu::Buffer,
-    // Bound as `shadow` when the inputs bring none.
+    // The output of split lighting (made when split lighting is first bound), whose second
+    // signal adds to the first after both have used the filter buffers.
+    split_output: Option<wgpu::Buffer>,
+    // Bound as `shadow` when the inputs bring none, and as `denoised` when the output goes
+    // to a filter buffer.
     no_shadow: wgpu::Buffer,
+    no_output: wgpu::Buffer,
     // Built on first use for the lighting (and shadow) buffers given, rebuilt when they
     // change.
     signals: Vec<Signal>,
@@ -83,8 +89,8 @@ pub struct FallbackDenoiser {
 }
 
 impl FallbackDenoiser {
-    /// Builds the passes and allocates `width × height` buffers (160 bytes per pixel: 316 MiB
-    /// at 1920×1080 for combined lighting, 96 bytes more per pixel for split).
+    /// Builds the passes and allocates `width × height` buffers (144 bytes per pixel: 285 MiB
+    /// at 1920×1080 for combined lighting, 112 bytes more per pixel for split).
     pub fn new(
         gpu: &Gpu,
         width: u32,
@@ -139,8 +145,8 @@ impl FallbackDenoiser {
             storage("solari_denoise/filter_b", pixels * 16),
         ];
         let guide = storage("solari_denoise/guide", pixels * 16);
-        let output = storage("solari_denoise/output", pixels * 16);
         let no_shadow = storage("solari_denoise/no_shadow", 16);
+        let no_output = storage("solari_denoise/no_output", 16);
         let pass_params = [0u32, 1].map(|slot| {
             (0..settings.atrous_iterations + 2)
                 .map(|dispatch| {
@@ -162,8 +168,9 @@ impl FallbackDenoiser {
             pass_params,
             filters,
             guide,
-            output,
+            split_output: None,
             no_shadow,
+            no_output,
             signals: Vec::new(),
             bound_to: Vec::new(),
             parity: 0,
@@ -204,6 +211,18 @@ impl FallbackDenoiser {
         let key: Vec<&wgpu::Buffer> = inputs.iter().copied().chain([&shadow]).collect();
         let pixels = self.size.0 as u64 * self.size.1 as u64;
         let split = inputs.len() == 2;
+        if split && self.split_output.is_none() {
+            self.split_output = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("solari_denoise/output"),
+                size: pixels * 16,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            }));
+        }
+        let denoised = match &self.split_output {
+            Some(b) if split => b,
+            _ => &self.no_output,
+        };
         for slot in 0..2u32 {
             for (dispatch, buffer) in self.pass_params[slot as usize].iter().enumerate() {
                 let p = pass_params(&self.settings, slot, dispatch as u32, split);
@@ -245,7 +264,7 @@ impl FallbackDenoiser {
                                     ("filter_in", from),
                                     ("filter_out", to),
                                     ("guide", &self.guide),
-                                    ("denoised", &self.output),
+                                    ("denoised", denoised),
                                     ("pass_params", params),
                                     ("shadow", &shadow),
                                 ],
@@ -286,7 +305,8 @@ fn pass_params(
         last: (atrous && iteration + 1 == settings.atrous_iterations) as u32,
         signal: if split { slot + 1 } else { 0 },
         accumulate: (slot == 1) as u32,
-        _pad: [0; 3],
+        output_in_filter: !split as u32,
+        _pad: [0; 2],
     }
 }
 
@@ -383,8 +403,13 @@ impl Denoiser for FallbackDenoiser {
         })
     }
 
+    /// With split lighting its own buffer; with combined lighting the filter buffer the last
+    /// à-trous iteration writes (so the buffer changes if the lighting's kind does).
     fn output(&self) -> &wgpu::Buffer {
-        &self.output
+        match (&self.split_output, self.signals.len()) {
+            (Some(b), 2) => b,
+            _ => &self.filters[self.settings.atrous_iterations as usize % 2],
+        }
     }
 
     fn memory_bytes(&self) -> u64 {
@@ -392,7 +417,8 @@ impl Denoiser for FallbackDenoiser {
         let buffers: u64 = self
             .filters
             .iter()
-            .chain([&self.guide, &self.output, &self.params])
+            .chain([&self.guide, &self.params])
+            .chain(&self.split_output)
             .chain(self.pass_params.iter().flatten())
             .map(|b| b.size())
             .sum();

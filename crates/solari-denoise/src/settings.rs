@@ -249,8 +249,11 @@ pub struct GpuPassParams {
     pub signal: u32,
     /// 1: add to the output instead of overwriting it (the second of split signals).
     pub accumulate: u32,
+    /// 1: the last iteration writes the output over its own filter result (one signal: the
+    /// filter buffer is the output, so the denoiser keeps no separate one).
+    pub output_in_filter: u32,
     /// Padding.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 const _: () = assert!(size_of::<GpuPassParams>() == 32);

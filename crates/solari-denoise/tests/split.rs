@@ -44,6 +44,61 @@ fn constant_split_signals_come_back_summed() {
     }
 }
 
+// Surfaces must come back at `want` (w = 1); background passes the input's 0.25 through.
+fn assert_uniform(out: &[[f32; 4]], want: f32, what: &str) {
+    for (i, p) in out.iter().enumerate() {
+        let want = if p[3] == 1.0 { want } else { 0.25 };
+        assert!(
+            p[..3].iter().all(|c| (c - want).abs() < 1e-4),
+            "{what}, pixel {i}: {p:?}, want {want}"
+        );
+    }
+}
+
+/// With combined lighting the output is the filter buffer the last à-trous iteration writes,
+/// which depends on the iteration count; split lighting has a buffer of its own. One
+/// denoiser switched between the two, at every count that picks either filter buffer, gives
+/// each frame its own right answer, and combined lighting holds no output buffer.
+#[test]
+fn the_output_follows_the_lighting_kind_and_the_iteration_count() {
+    let Some(mut h) = Harness::new() else { return };
+    let pixels = N as u64;
+    for iterations in 1..=4 {
+        let settings = FallbackSettings {
+            atrous_iterations: iterations,
+            ..FallbackSettings::default()
+        };
+        let mut d = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
+        let what = |kind: &str, frame: usize| format!("{iterations} iterations, {kind} {frame}");
+        for frame in 0..2 {
+            assert_uniform(
+                &h.frame(&mut d, &uniform(0.25), false),
+                0.25,
+                &what("combined", frame),
+            );
+        }
+        // Two 16-byte filter buffers, the guide and two 48-byte histories; no output.
+        let combined = d.memory_bytes();
+        assert!(
+            (144 * pixels..144 * pixels + 4096).contains(&combined),
+            "{iterations} iterations: combined lighting holds {combined} bytes"
+        );
+        for frame in 0..2 {
+            let out = h.frame_split(&mut d, &uniform(0.25), &uniform(0.02));
+            assert_uniform(&out, 0.27, &what("split", frame));
+        }
+        // Split adds the second signal's histories and its own output.
+        assert_eq!(d.memory_bytes(), combined + pixels * (96 + 16));
+        for frame in 0..2 {
+            assert_uniform(
+                &h.frame(&mut d, &uniform(0.25), false),
+                0.25,
+                &what("combined again", frame),
+            );
+        }
+    }
+}
+
 // Mean absolute luminance error, over surface pixels within 3 columns of the middle, of
 // `out` against 0.25 + `specular(x)`.
 fn step_error(out: &[[f32; 4]], specular: impl Fn(usize) -> f32) -> f64 {
