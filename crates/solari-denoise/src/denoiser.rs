@@ -166,8 +166,23 @@ pub trait Denoiser {
     /// input), row by row from the top left.
     fn output(&self) -> &wgpu::Buffer;
 
-    /// GPU memory it holds, in bytes.
+    /// GPU memory it holds, in bytes (a shared scratch buffer is its owner's).
     fn memory_bytes(&self) -> u64;
+
+    /// Bytes of per-frame buffers it can keep in a scratch buffer shared with other passes
+    /// ([`solari_scene::scratch`]); 0 (the default) takes none.
+    fn scratch_bytes(&self) -> u64 {
+        0
+    }
+
+    /// Keeps its per-frame buffers in `scratch` (at least [`Denoiser::scratch_bytes`], a
+    /// storage buffer) and frees its own; history restarts. Other passes may use `scratch`
+    /// before [`Denoiser::encode`]'s work and after it (the output never lives there). The
+    /// default takes nothing and succeeds.
+    fn use_scratch(&mut self, gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
+        let _ = (gpu, scratch);
+        Ok(())
+    }
 }
 
 /// What [`Denoiser::encode`] recorded.

@@ -20,7 +20,9 @@ pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
         ("noisy", Buf::Read),
         ("history_before", Buf::Read),
         ("history_now", Buf::ReadWrite),
-        ("filter_in", Buf::Read),
+        // Read-write though only read: it may share a scratch buffer with `guide`, and wgpu
+        // refuses one buffer bound read-only and read-write in the same dispatch.
+        ("filter_in", Buf::ReadWrite),
         ("filter_out", Buf::ReadWrite),
         ("guide", Buf::ReadWrite),
         ("denoised", Buf::ReadWrite),
@@ -51,6 +53,31 @@ const _: () = assert!(size_of::<GpuHistory>() == 48);
 
 const HISTORY_BYTES: u64 = size_of::<GpuHistory>() as u64;
 
+// A per-pixel buffer of 16 bytes a pixel: its own, or a range of a shared scratch buffer.
+struct Region {
+    buffer: wgpu::Buffer,
+    offset: u64,
+    shared: bool,
+}
+
+impl Region {
+    fn own(buffer: wgpu::Buffer) -> Self {
+        Self {
+            buffer,
+            offset: 0,
+            shared: false,
+        }
+    }
+
+    fn binding(&self, pixels: u64) -> wgpu::BufferBinding<'_> {
+        wgpu::BufferBinding {
+            buffer: &self.buffer,
+            offset: self.offset,
+            size: wgpu::BufferSize::new(pixels * 16),
+        }
+    }
+}
+
 // One signal's buffers and bind groups (combined lighting has one signal, split two).
 struct Signal {
     histories: [wgpu::Buffer; 2],
@@ -70,9 +97,11 @@ pub struct FallbackDenoiser {
     // Per signal slot (0 combined/diffuse, 1 specular) and dispatch.
     pass_params: [Vec<wgpu::Buffer>; 2],
     // The à-trous ping-pong. With one signal the last iteration writes the output into its
-    // target, so that filter buffer is the output (a separate one cost 16 B per pixel).
-    filters: [wgpu::Buffer; 2],
-    guide: wgpu::Buffer,
+    // target, so that filter buffer is the output (a separate one cost 16 B per pixel); it
+    // is always an own buffer. The other and the guide live only within `encode`, so they
+    // may be ranges of a shared scratch buffer (`use_scratch`).
+    filters: [Region; 2],
+    guide: Region,
     // The output of split lighting (made when split lighting is first bound), whose second
     // signal adds to the first after both have used the filter buffers.
     split_output: Option<wgpu::Buffer>,
@@ -80,6 +109,9 @@ pub struct FallbackDenoiser {
     // to a filter buffer.
     no_shadow: wgpu::Buffer,
     no_output: wgpu::Buffer,
+    // Where the filter range starts in a scratch buffer (`use_scratch`): after the guide, at
+    // the device's storage offset alignment.
+    scratch_filter_offset: u64,
     // Built on first use for the lighting (and shadow) buffers given, rebuilt when they
     // change.
     signals: Vec<Signal>,
@@ -90,7 +122,8 @@ pub struct FallbackDenoiser {
 
 impl FallbackDenoiser {
     /// Builds the passes and allocates `width × height` buffers (144 bytes per pixel: 285 MiB
-    /// at 1920×1080 for combined lighting, 112 bytes more per pixel for split).
+    /// at 1920×1080 for combined lighting, 112 bytes more per pixel for split; 32 fewer when
+    /// the guide and a filter buffer move to shared scratch, [`Denoiser::use_scratch`]).
     pub fn new(
         gpu: &Gpu,
         width: u32,
@@ -141,10 +174,10 @@ impl FallbackDenoiser {
             })
         };
         let filters = [
-            storage("solari_denoise/filter_a", pixels * 16),
-            storage("solari_denoise/filter_b", pixels * 16),
+            Region::own(storage("solari_denoise/filter_a", pixels * 16)),
+            Region::own(storage("solari_denoise/filter_b", pixels * 16)),
         ];
-        let guide = storage("solari_denoise/guide", pixels * 16);
+        let guide = Region::own(storage("solari_denoise/guide", pixels * 16));
         let no_shadow = storage("solari_denoise/no_shadow", 16);
         let no_output = storage("solari_denoise/no_output", 16);
         let pass_params = [0u32, 1].map(|slot| {
@@ -171,6 +204,7 @@ impl FallbackDenoiser {
             split_output: None,
             no_shadow,
             no_output,
+            scratch_filter_offset: solari_scene::scratch::aligned(gpu, pixels * 16),
             signals: Vec::new(),
             bound_to: Vec::new(),
             parity: 0,
@@ -181,6 +215,12 @@ impl FallbackDenoiser {
     /// The settings in use.
     pub fn settings(&self) -> FallbackSettings {
         self.settings
+    }
+
+    // Which filter buffer the last à-trous iteration writes (dispatch d ≥ 2 writes filter
+    // (d + 1) % 2, and the last is d = iterations + 1).
+    fn output_filter(&self) -> usize {
+        self.settings.atrous_iterations as usize % 2
     }
 
     /// Drops all history: the next frame starts afresh (as `DenoiserInputs::reset` does).
@@ -252,23 +292,24 @@ impl FallbackDenoiser {
                                 d => (&self.filters[d % 2], &self.filters[(d + 1) % 2]),
                             };
                             let params = &self.pass_params[slot][dispatch];
-                            FALLBACK_BINDINGS.bind(
-                                gpu,
-                                "solari_denoise/fallback",
-                                &self.layout,
-                                &[
-                                    ("params", &self.params),
-                                    ("noisy", input),
-                                    ("history_before", before),
-                                    ("history_now", now),
-                                    ("filter_in", from),
-                                    ("filter_out", to),
-                                    ("guide", &self.guide),
-                                    ("denoised", denoised),
-                                    ("pass_params", params),
-                                    ("shadow", &shadow),
-                                ],
-                            )
+                            let whole = wgpu::Buffer::as_entire_buffer_binding;
+                            let entries = FALLBACK_BINDINGS.range_entries(&[
+                                ("params", whole(&self.params)),
+                                ("noisy", whole(input)),
+                                ("history_before", whole(before)),
+                                ("history_now", whole(now)),
+                                ("filter_in", from.binding(pixels)),
+                                ("filter_out", to.binding(pixels)),
+                                ("guide", self.guide.binding(pixels)),
+                                ("denoised", whole(denoised)),
+                                ("pass_params", whole(params)),
+                                ("shadow", whole(&shadow)),
+                            ]);
+                            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                                label: Some("solari_denoise/fallback"),
+                                layout: &self.layout,
+                                entries: &entries,
+                            })
                         })
                         .collect()
                 });
@@ -408,20 +449,51 @@ impl Denoiser for FallbackDenoiser {
     fn output(&self) -> &wgpu::Buffer {
         match (&self.split_output, self.signals.len()) {
             (Some(b), 2) => b,
-            _ => &self.filters[self.settings.atrous_iterations as usize % 2],
+            _ => &self.filters[self.output_filter()].buffer,
         }
+    }
+
+    /// The guide and the filter buffer that is not the output: 16 bytes per pixel each, the
+    /// filter at the device's offset alignment after the guide.
+    fn scratch_bytes(&self) -> u64 {
+        self.scratch_filter_offset + self.size.0 as u64 * self.size.1 as u64 * 16
+    }
+
+    fn use_scratch(&mut self, _gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
+        if self.guide.shared && self.guide.buffer == *scratch {
+            // Already there: keep the bind groups and the history.
+            return Ok(());
+        }
+        let offset = self.scratch_filter_offset;
+        solari_scene::scratch::check("fallback denoiser", scratch, self.scratch_bytes())?;
+        let shared = |offset| Region {
+            buffer: scratch.clone(),
+            offset,
+            shared: true,
+        };
+        self.guide = shared(0);
+        self.filters[1 - self.output_filter()] = shared(offset);
+        // Rebind on the next frame (which restarts history).
+        self.bound_to.clear();
+        Ok(())
     }
 
     fn memory_bytes(&self) -> u64 {
         let pixels = self.size.0 as u64 * self.size.1 as u64;
-        let buffers: u64 = self
+        let regions: u64 = self
             .filters
             .iter()
-            .chain([&self.guide, &self.params])
-            .chain(&self.split_output)
-            .chain(self.pass_params.iter().flatten())
-            .map(|b| b.size())
+            .chain([&self.guide])
+            .filter(|r| !r.shared)
+            .map(|r| r.buffer.size())
             .sum();
+        let buffers: u64 = regions
+            + [&self.params]
+                .into_iter()
+                .chain(&self.split_output)
+                .chain(self.pass_params.iter().flatten())
+                .map(|b| b.size())
+                .sum::<u64>();
         // Histories are made on the first frame, one pair per signal: count at least one.
         let signals = self.signals.len().max(1) as u64;
         buffers + signals * pixels * 2 * HISTORY_BYTES

@@ -502,6 +502,9 @@ pub struct RealtimeRenderer {
     cache_readbacks: Vec<wgpu::Buffer>,
     next_cache_readback: usize,
     upscaler: Option<TemporalUpscaler>,
+    // One buffer for the per-frame buffers of ReSTIR DI, GI and the fallback denoiser, which
+    // run one after another (`solari_scene::scratch`).
+    scratch: Option<wgpu::Buffer>,
 }
 
 // The light grid for `list` when one is asked for and there are lights; its summary (with
@@ -757,7 +760,7 @@ impl RealtimeRenderer {
         } else {
             None
         };
-        Ok(Self {
+        Self {
             settings,
             tiles_built,
             backend,
@@ -788,7 +791,44 @@ impl RealtimeRenderer {
             cache_readbacks,
             next_cache_readback: 0,
             upscaler,
-        })
+            scratch: None,
+        }
+        .with_shared_scratch(gpu)
+    }
+
+    // Moves ReSTIR DI's and GI's initial reservoirs and the denoiser's per-frame buffers
+    // into one scratch buffer (their lifetimes within a frame do not overlap; GI's ends with
+    // specular GI, which is bound again here), allocated on first use at the largest size
+    // asked.
+    fn share_scratch(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        let bytes = [
+            Some(self.di.scratch_bytes()),
+            self.gi.as_ref().map(|(g, _)| g.scratch_bytes()),
+            self.denoiser.as_ref().map(|d| d.scratch_bytes()),
+        ]
+        .into_iter()
+        .flatten()
+        .max()
+        .unwrap_or(0);
+        if self.scratch.as_ref().is_none_or(|s| s.size() < bytes) {
+            self.scratch = Some(solari_scene::scratch::allocate(gpu, bytes)?);
+        }
+        let scratch = self.scratch.as_ref().expect("allocated above");
+        self.di.use_scratch(gpu, scratch)?;
+        if let (Some((gi, _)), Some((cache, _))) = (&mut self.gi, &self.cache) {
+            gi.use_scratch(gpu, scratch, cache)?;
+        }
+        if let Some(d) = &mut self.denoiser
+            && d.scratch_bytes() > 0
+        {
+            d.use_scratch(gpu, scratch)?;
+        }
+        self.bind_specular(gpu)
+    }
+
+    fn with_shared_scratch(mut self, gpu: &Gpu) -> Result<Self, GpuError> {
+        self.share_scratch(gpu)?;
+        Ok(self)
     }
 
     /// What [`GBufferChoice::Auto`] measured when the renderer was built (`None` for a fixed
@@ -815,10 +855,12 @@ impl RealtimeRenderer {
     /// GPU memory per component, in bytes, in frame order: `gbuffer`, `light_tiles` (the
     /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `restir_gi`
     /// (ReSTIR GI's or path GI's reservoirs; 0 without), `specular_gi` (0 without),
-    /// `denoiser` (with the temporal upscaler's accumulation, when it runs). The
-    /// scene's own memory is the caller's ([`GpuScene::memory_bytes`]); the profiler's and the
-    /// detector's few kilobytes are left out.
-    pub fn memory(&self) -> [(&'static str, u64); 7] {
+    /// `denoiser` (with the temporal upscaler's accumulation, when it runs), `scratch` (the
+    /// buffer DI, GI and the denoiser share for what lives only within their own passes; see
+    /// [`solari_scene::scratch`]). The scene's own memory is the caller's
+    /// ([`GpuScene::memory_bytes`]); the profiler's and the detector's few kilobytes are left
+    /// out.
+    pub fn memory(&self) -> [(&'static str, u64); 8] {
         [
             ("gbuffer", self.gbuffer.memory_bytes()),
             (
@@ -843,6 +885,7 @@ impl RealtimeRenderer {
                 self.denoiser_memory_bytes()
                     + self.upscaler.as_ref().map_or(0, |u| u.memory_bytes()),
             ),
+            ("scratch", self.scratch.as_ref().map_or(0, |s| s.size())),
         ]
     }
 
@@ -923,7 +966,7 @@ impl RealtimeRenderer {
                 *specular = SpecularGi::new(gpu, backend, variant, w, h, settings, tiles)?;
             }
         }
-        self.bind_specular(gpu)
+        self.share_scratch(gpu)
     }
 
     // Binds specular GI (if built) to its inputs, with the G-buffer's overrides and

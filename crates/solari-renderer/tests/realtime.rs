@@ -307,7 +307,7 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 + 4 bytes per pixel each) and the raster depth buffer (4) to within its
 /// uniforms (the box has no mirror, so no override buffer: `tests/psr.rs` has one), ReSTIR
-/// DI's 64 bytes per pixel, and every other component something.
+/// DI's 44 bytes per pixel, the shared scratch's 32, and every other component something.
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
@@ -327,12 +327,20 @@ fn memory_report_counts_each_component() {
         (68 * pixels..68 * pixels + 4096).contains(&gbuffer),
         "G-buffer {gbuffer} bytes for {pixels} pixels"
     );
-    // ReSTIR DI: initial and final reservoirs (20 each; one final buffer serves as history),
-    // the image (16) and the shadow report (8), to within its uniforms and light table.
+    // ReSTIR DI: the final reservoirs (20; one buffer serves as history), the image (16)
+    // and the shadow report (8), to within its uniforms and light table; its initial
+    // reservoirs live in the shared scratch, with ReSTIR GI's (32) and the denoiser's guide
+    // and second filter buffer (16 each, the filter at the offset alignment).
     let di = memory[3].1;
     assert!(
-        (64 * pixels..64 * pixels + 4096).contains(&di),
+        (44 * pixels..44 * pixels + 4096).contains(&di),
         "ReSTIR DI {di} bytes for {pixels} pixels"
+    );
+    let (name, scratch) = memory[7];
+    assert_eq!(name, "scratch");
+    assert!(
+        (32 * pixels..32 * pixels + 256).contains(&scratch),
+        "scratch {scratch} bytes for {pixels} pixels"
     );
     for (name, bytes) in memory {
         assert!(bytes > 0, "{name} reports no memory");

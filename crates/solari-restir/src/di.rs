@@ -47,8 +47,10 @@ struct PixelBuffers {
     output: wgpu::Buffer,
     shadow: wgpu::Buffer,
     finals: wgpu::Buffer,
-    // Kept for the memory report (the bind group holds it too).
+    // Kept for the memory report and rebinding (the bind group holds it too); `shared`: a
+    // scratch buffer given by `use_scratch`, counted by its owner.
     initial: wgpu::Buffer,
+    shared: bool,
     group: wgpu::BindGroup,
 }
 
@@ -180,11 +182,13 @@ pub(crate) fn record(
 }
 
 impl RestirDi {
-    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs (initial and final),
-    /// image and shadow data, parameters and the light-id translation table.
+    /// GPU memory ReSTIR DI holds, in bytes: the per-pixel reservoirs (initial, unless they
+    /// live in a shared scratch buffer, and final), image and shadow data, parameters and
+    /// the light-id translation table.
     pub fn memory_bytes(&self) -> u64 {
         let pixels = self.buffers.as_ref().map_or(0, |b| {
-            b.output.size() + b.shadow.size() + b.initial.size() + b.finals.size()
+            let initial = if b.shared { 0 } else { b.initial.size() };
+            b.output.size() + b.shadow.size() + initial + b.finals.size()
         });
         pixels + self.params.size() + self.translation.size()
     }
@@ -306,10 +310,34 @@ impl RestirDi {
             shadow,
             finals,
             initial,
+            shared: false,
             group,
         });
         self.size = (width, height);
         self.history = false;
+        Ok(())
+    }
+
+    /// Bytes of scratch [`RestirDi::use_scratch`] needs: the initial reservoirs, which live
+    /// from the first dispatch of a frame to the second (20 bytes per pixel).
+    pub fn scratch_bytes(&self) -> u64 {
+        self.size.0 as u64 * self.size.1 as u64 * size_of::<GpuReservoir>() as u64
+    }
+
+    /// Keeps the initial reservoirs in `scratch` (at least [`RestirDi::scratch_bytes`], a
+    /// storage buffer) instead of a buffer of its own, which is freed: other passes may use
+    /// `scratch` outside DI's dispatches (see [`solari_scene::scratch`]). History is kept:
+    /// it lives in the final reservoirs. [`RestirDi::resize`] allocates an own buffer again.
+    pub fn use_scratch(&mut self, gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
+        solari_scene::scratch::check("ReSTIR DI", scratch, self.scratch_bytes())?;
+        let b = self.buffers.take().expect("resize allocates the buffers");
+        let group = self.group_for(gpu, &b.finals, scratch, &b.output, &b.shadow);
+        self.buffers = Some(PixelBuffers {
+            initial: scratch.clone(),
+            shared: true,
+            group,
+            ..b
+        });
         Ok(())
     }
 

@@ -80,7 +80,11 @@ pub struct RestirGi {
     layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
+    // (history, initial).
     buffers: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    // The initial reservoirs are a scratch buffer given by `use_scratch`, counted by its
+    // owner.
+    initial_shared: bool,
     group: Option<wgpu::BindGroup>,
     frame: u32,
     history: bool,
@@ -123,6 +127,7 @@ impl RestirGi {
             target_layout,
             params,
             buffers: None,
+            initial_shared: false,
             group: None,
             frame: 0,
             history: false,
@@ -133,13 +138,57 @@ impl RestirGi {
     }
 
     /// GPU memory ReSTIR GI holds, in bytes: two reservoirs per pixel (one when built without
-    /// reuse) and the parameters.
+    /// reuse; one less when the initial reservoirs live in a shared scratch buffer) and the
+    /// parameters.
     pub fn memory_bytes(&self) -> u64 {
-        let pixels = self
-            .buffers
-            .as_ref()
-            .map_or(0, |(a, b)| a.size() + b.size());
+        let pixels = self.buffers.as_ref().map_or(0, |(a, b)| {
+            a.size() + if self.initial_shared { 0 } else { b.size() }
+        });
         pixels + self.params.size()
+    }
+
+    /// Bytes of scratch [`RestirGi::use_scratch`] needs: the initial reservoirs (32 bytes per
+    /// pixel), which live from the first dispatch of a frame to the last reader of
+    /// [`RestirGi::reservoirs`] when built without reuse (specular GI), and to the second
+    /// dispatch with reuse.
+    pub fn scratch_bytes(&self) -> u64 {
+        self.size.0 as u64 * self.size.1 as u64 * size_of::<GpuGiReservoir>() as u64
+    }
+
+    /// Keeps the initial reservoirs in `scratch` (at least [`RestirGi::scratch_bytes`], a
+    /// storage buffer) instead of a buffer of its own, which is freed, bound again with
+    /// `cache`'s table. Built without reuse, [`RestirGi::reservoirs`] is then `scratch`:
+    /// bind readers of it (specular GI) after this call, and let nothing else write
+    /// `scratch` between GI's dispatches and theirs (see [`solari_scene::scratch`]).
+    /// [`RestirGi::resize`] allocates an own buffer again.
+    pub fn use_scratch(
+        &mut self,
+        gpu: &Gpu,
+        scratch: &wgpu::Buffer,
+        cache: &WorldCache,
+    ) -> Result<(), GpuError> {
+        solari_scene::scratch::check("ReSTIR GI", scratch, self.scratch_bytes())?;
+        let (history, _) = self.buffers.take().expect("resize allocates");
+        self.buffers = Some((history, scratch.clone()));
+        self.initial_shared = true;
+        self.bind(gpu, cache);
+        Ok(())
+    }
+
+    // Builds the pass's group over `buffers` and `cache`'s table.
+    fn bind(&mut self, gpu: &Gpu, cache: &WorldCache) {
+        let (history, initial) = self.buffers.as_ref().expect("resize allocates");
+        let mut entries = GI_BINDINGS.entries(&[
+            ("gi_params", &self.params),
+            ("gi_history", history),
+            ("gi_initial", initial),
+        ]);
+        entries.extend(cache.bind_group_entries());
+        self.group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_restir/gi"),
+            layout: &self.layout,
+            entries: &entries,
+        }));
     }
 
     /// The settings in use.
@@ -211,18 +260,9 @@ impl RestirGi {
             buffer("solari_restir/gi_history", bytes)
         };
         let initial = buffer("solari_restir/gi_initial", bytes);
-        let mut entries = GI_BINDINGS.entries(&[
-            ("gi_params", &self.params),
-            ("gi_history", &history),
-            ("gi_initial", &initial),
-        ]);
-        entries.extend(cache.bind_group_entries());
-        self.group = Some(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_restir/gi"),
-            layout: &self.layout,
-            entries: &entries,
-        }));
         self.buffers = Some((history, initial));
+        self.initial_shared = false;
+        self.bind(gpu, cache);
         self.size = (width, height);
         self.history = false;
         Ok(())

@@ -90,15 +90,28 @@ impl BufferGroup {
         &self,
         buffers: &[(&str, &'a wgpu::Buffer)],
     ) -> Vec<wgpu::BindGroupEntry<'a>> {
+        let ranges: Vec<_> = buffers
+            .iter()
+            .map(|(n, b)| (*n, b.as_entire_buffer_binding()))
+            .collect();
+        self.range_entries(&ranges)
+    }
+
+    /// As [`BufferGroup::entries`], each name bound to a range of a buffer (passes that
+    /// share one scratch buffer between several bindings).
+    pub fn range_entries<'a>(
+        &self,
+        buffers: &[(&str, wgpu::BufferBinding<'a>)],
+    ) -> Vec<wgpu::BindGroupEntry<'a>> {
         let given: Vec<&str> = buffers.iter().map(|(n, _)| *n).collect();
         let declared: Vec<&str> = self.bindings.iter().map(|(n, _)| *n).collect();
         assert_eq!(given, declared, "buffers bound out of the declared order");
         buffers
             .iter()
             .zip(self.first..)
-            .map(|((_, buffer), binding)| wgpu::BindGroupEntry {
+            .map(|((_, range), binding)| wgpu::BindGroupEntry {
                 binding,
-                resource: buffer.as_entire_binding(),
+                resource: wgpu::BindingResource::Buffer(range.clone()),
             })
             .collect()
     }

@@ -42,6 +42,7 @@ pub mod pass;
 pub mod ray_differentials;
 pub mod render_setup;
 pub mod rng;
+pub mod scratch;
 pub mod shaders;
 pub mod texture;
 pub mod textured_scene;
