@@ -20,9 +20,7 @@ pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
         ("noisy", Buf::Read),
         ("history_before", Buf::Read),
         ("history_now", Buf::ReadWrite),
-        // Read-write though only read: it may share a scratch buffer with `guide`, and wgpu
-        // refuses one buffer bound read-only and read-write in the same dispatch.
-        ("filter_in", Buf::ReadWrite),
+        ("filter_in", Buf::Read),
         ("filter_out", Buf::ReadWrite),
         ("guide", Buf::ReadWrite),
         ("denoised", Buf::ReadWrite),
@@ -53,10 +51,9 @@ const _: () = assert!(size_of::<GpuHistory>() == 48);
 
 const HISTORY_BYTES: u64 = size_of::<GpuHistory>() as u64;
 
-// A per-pixel buffer of 16 bytes a pixel: its own, or a range of a shared scratch buffer.
+// A buffer of 16 bytes a pixel: its own, or the start of a shared scratch buffer.
 struct Region {
     buffer: wgpu::Buffer,
-    offset: u64,
     shared: bool,
 }
 
@@ -64,7 +61,6 @@ impl Region {
     fn own(buffer: wgpu::Buffer) -> Self {
         Self {
             buffer,
-            offset: 0,
             shared: false,
         }
     }
@@ -72,7 +68,7 @@ impl Region {
     fn binding(&self, pixels: u64) -> wgpu::BufferBinding<'_> {
         wgpu::BufferBinding {
             buffer: &self.buffer,
-            offset: self.offset,
+            offset: 0,
             size: wgpu::BufferSize::new(pixels * 16),
         }
     }
@@ -98,10 +94,12 @@ pub struct FallbackDenoiser {
     pass_params: [Vec<wgpu::Buffer>; 2],
     // The à-trous ping-pong. With one signal the last iteration writes the output into its
     // target, so that filter buffer is the output (a separate one cost 16 B per pixel); it
-    // is always an own buffer. The other and the guide live only within `encode`, so they
-    // may be ranges of a shared scratch buffer (`use_scratch`).
+    // is always an own buffer. The other lives only within `encode`, so it may be a shared
+    // scratch buffer (`use_scratch`). The guide does too, but sharing it as well put one
+    // buffer both read-only and read-write in the à-trous dispatches, which wgpu refuses;
+    // binding `filter_in` read-write instead cost the à-trous 4% on the H100.
     filters: [Region; 2],
-    guide: Region,
+    guide: wgpu::Buffer,
     // The output of split lighting (made when split lighting is first bound), whose second
     // signal adds to the first after both have used the filter buffers.
     split_output: Option<wgpu::Buffer>,
@@ -109,9 +107,6 @@ pub struct FallbackDenoiser {
     // to a filter buffer.
     no_shadow: wgpu::Buffer,
     no_output: wgpu::Buffer,
-    // Where the filter range starts in a scratch buffer (`use_scratch`): after the guide, at
-    // the device's storage offset alignment.
-    scratch_filter_offset: u64,
     // Built on first use for the lighting (and shadow) buffers given, rebuilt when they
     // change.
     signals: Vec<Signal>,
@@ -122,8 +117,8 @@ pub struct FallbackDenoiser {
 
 impl FallbackDenoiser {
     /// Builds the passes and allocates `width × height` buffers (144 bytes per pixel: 285 MiB
-    /// at 1920×1080 for combined lighting, 112 bytes more per pixel for split; 32 fewer when
-    /// the guide and a filter buffer move to shared scratch, [`Denoiser::use_scratch`]).
+    /// at 1920×1080 for combined lighting, 112 bytes more per pixel for split; 16 fewer when
+    /// a filter buffer moves to shared scratch, [`Denoiser::use_scratch`]).
     pub fn new(
         gpu: &Gpu,
         width: u32,
@@ -177,7 +172,7 @@ impl FallbackDenoiser {
             Region::own(storage("solari_denoise/filter_a", pixels * 16)),
             Region::own(storage("solari_denoise/filter_b", pixels * 16)),
         ];
-        let guide = Region::own(storage("solari_denoise/guide", pixels * 16));
+        let guide = storage("solari_denoise/guide", pixels * 16);
         let no_shadow = storage("solari_denoise/no_shadow", 16);
         let no_output = storage("solari_denoise/no_output", 16);
         let pass_params = [0u32, 1].map(|slot| {
@@ -204,7 +199,6 @@ impl FallbackDenoiser {
             split_output: None,
             no_shadow,
             no_output,
-            scratch_filter_offset: solari_scene::scratch::aligned(gpu, pixels * 16),
             signals: Vec::new(),
             bound_to: Vec::new(),
             parity: 0,
@@ -300,7 +294,7 @@ impl FallbackDenoiser {
                                 ("history_now", whole(now)),
                                 ("filter_in", from.binding(pixels)),
                                 ("filter_out", to.binding(pixels)),
-                                ("guide", self.guide.binding(pixels)),
+                                ("guide", whole(&self.guide)),
                                 ("denoised", whole(denoised)),
                                 ("pass_params", whole(params)),
                                 ("shadow", whole(&shadow)),
@@ -453,26 +447,22 @@ impl Denoiser for FallbackDenoiser {
         }
     }
 
-    /// The guide and the filter buffer that is not the output: 16 bytes per pixel each, the
-    /// filter at the device's offset alignment after the guide.
+    /// The filter buffer that is not the output: 16 bytes per pixel.
     fn scratch_bytes(&self) -> u64 {
-        self.scratch_filter_offset + self.size.0 as u64 * self.size.1 as u64 * 16
+        self.size.0 as u64 * self.size.1 as u64 * 16
     }
 
     fn use_scratch(&mut self, _gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
-        if self.guide.shared && self.guide.buffer == *scratch {
+        let slot = 1 - self.output_filter();
+        if self.filters[slot].shared && self.filters[slot].buffer == *scratch {
             // Already there: keep the bind groups and the history.
             return Ok(());
         }
-        let offset = self.scratch_filter_offset;
         solari_scene::scratch::check("fallback denoiser", scratch, self.scratch_bytes())?;
-        let shared = |offset| Region {
+        self.filters[slot] = Region {
             buffer: scratch.clone(),
-            offset,
             shared: true,
         };
-        self.guide = shared(0);
-        self.filters[1 - self.output_filter()] = shared(offset);
         // Rebind on the next frame (which restarts history).
         self.bound_to.clear();
         Ok(())
@@ -483,12 +473,11 @@ impl Denoiser for FallbackDenoiser {
         let regions: u64 = self
             .filters
             .iter()
-            .chain([&self.guide])
             .filter(|r| !r.shared)
             .map(|r| r.buffer.size())
             .sum();
         let buffers: u64 = regions
-            + [&self.params]
+            + [&self.guide, &self.params]
                 .into_iter()
                 .chain(&self.split_output)
                 .chain(self.pass_params.iter().flatten())

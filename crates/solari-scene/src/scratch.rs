@@ -1,30 +1,19 @@
 //! Per-frame scratch memory that several passes share.
 //!
 //! Some per-pixel buffers live only inside one component's frame: ReSTIR DI's initial
-//! reservoirs (written by its first dispatch, read by its second), ReSTIR GI's, the fallback
-//! denoiser's guide and one of its filter buffers. Passes run one after another, so one
+//! reservoirs (written by its first dispatch, read by its second), ReSTIR GI's, one of the
+//! fallback denoiser's filter buffers. Passes run one after another, so one
 //! buffer can hold each in turn. A renderer asks each component how much it needs
 //! (`scratch_bytes`), allocates the largest with [`allocate`], and hands it to each
 //! (`use_scratch`). The contract for a component that takes scratch: it reads only what its
 //! own dispatches of the same frame wrote there, so whatever ran before may have left
 //! anything in it.
 //!
-//! At 1920×1080 this saves 52 bytes per pixel (103 MiB) in the real-time renderer; see
+//! At 1920×1080 this saves 36 bytes per pixel (71 MiB) in the real-time renderer; see
 //! `benches/RESULTS.md`, "GPU memory per component".
 
 use crate::error::GpuError;
 use crate::gpu::Gpu;
-
-/// The offset of a second range in one scratch buffer after a first of `bytes`: `bytes`
-/// rounded up to the device's storage-buffer offset alignment.
-pub fn aligned(gpu: &Gpu, bytes: u64) -> u64 {
-    let align = gpu
-        .device
-        .limits()
-        .min_storage_buffer_offset_alignment
-        .max(4) as u64;
-    bytes.div_ceil(align) * align
-}
 
 /// Allocates a scratch buffer of `bytes` (at least 16) for passes to share (storage; copies
 /// in and out for tests and tools).
