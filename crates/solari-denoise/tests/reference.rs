@@ -313,15 +313,14 @@ fn rel_mse(a: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
     sum / (3 * a.len()) as f64
 }
 
-/// Young history, frames 1–8 at 96×96: where DI is noisy (the Cornell box's area light, 400
-/// lights) every denoised frame is closer to the reference than its input, in RMSE and
-/// relMSE. sun_boxes has nearly noise-free DI with thin hard shadows: with DI's shadow data
-/// (`DenoiserInputs::shadow`) the young-history filter sees that its shadow edges are sharp
-/// and leaves them. Its first frame is the raw one (relMSE was 440× the raw frame's without
-/// the shadow data: 0.0887 against 0.00020), and frames 2–5 stay within 1.2× of their input
-/// (3.8×, 1.7×, 1.4×, 1.5× before; frame 2 reads 1.1×). Frames 6–8, where the pixel's own
-/// temporal variance takes over, are still up to 2.4× their input in relMSE
-/// (`benches/RESULTS.md`, "Denoiser").
+/// Young and older history, frames 1–16 at 96×96: where DI is noisy (the Cornell box's area
+/// light, 400 lights) every denoised frame is closer to the reference than its input, in RMSE
+/// and relMSE. sun_boxes has nearly noise-free DI with thin hard shadows: with DI's shadow
+/// data (`DenoiserInputs::shadow`) the filter sees that its shadow edges are sharp and leaves
+/// them. Its first frame is the raw one (relMSE was 440× the raw frame's without the shadow
+/// data: 0.0887 against 0.00020), and no frame's relMSE may exceed its input's by more than
+/// 5% (frame 2 reads 1.0×, frames 3–16 0.42–0.95×). Before the shadow-free cap also held past
+/// the young window, frames 6–8 read 1.1×, 1.3× and 2.4× (sixteenth session).
 #[test]
 fn young_history_frames_gain_where_the_input_is_noisy() {
     let Some(gpu) = test_gpu() else { return };
@@ -344,7 +343,7 @@ fn young_history_frames_gain_where_the_input_is_noisy() {
         let reference = reference_direct(&gpu, backend, &scene, size, 512);
         let mut renderer = fallback(&gpu, backend, &scene, size);
         let camera = scene.camera(None).expect("camera");
-        for frame in 1..=8 {
+        for frame in 1..=16 {
             renderer.render(&gpu, &scene, &camera);
             let raw = rgb(&renderer.read_noisy(&gpu));
             let den = rgb(&renderer.read_output(&gpu));
@@ -364,9 +363,9 @@ fn young_history_frames_gain_where_the_input_is_noisy() {
                     den_rmse <= raw_rmse * 1.01 && den_rel <= raw_rel * 1.01,
                     "{name} frame 1: hard shadows were filtered"
                 );
-            } else if frame <= 5 {
+            } else {
                 assert!(
-                    den_rel <= raw_rel * 1.2,
+                    den_rel <= raw_rel * 1.05,
                     "{name} frame {frame}: relMSE {den_rel} against {raw_rel} raw"
                 );
             }
