@@ -279,10 +279,12 @@ impl FallbackDenoiser {
                     let (before, now) = (&histories[parity ^ 1], &histories[parity]);
                     (0..self.settings.atrous_iterations as usize + 2)
                         .map(|dispatch| {
-                            // Temporal writes history; variance writes filter A; iteration k
-                            // reads filter (k % 2) and writes the other.
+                            // Temporal writes history and the variance pass's window data
+                            // to filter B; variance reads them and writes filter A; iteration
+                            // k reads filter (k % 2) and writes the other.
                             let (from, to) = match dispatch {
-                                0 | 1 => (&self.filters[1], &self.filters[0]),
+                                0 => (&self.filters[0], &self.filters[1]),
+                                1 => (&self.filters[1], &self.filters[0]),
                                 d => (&self.filters[d % 2], &self.filters[(d + 1) % 2]),
                             };
                             let params = &self.pass_params[slot][dispatch];
