@@ -854,7 +854,8 @@ impl RealtimeRenderer {
 
     /// GPU memory per component, in bytes, in frame order: `gbuffer`, `light_tiles` (the
     /// tiles and the light list), `world_cache` (0 without it), `restir_di`, `restir_gi`
-    /// (ReSTIR GI's or path GI's reservoirs; 0 without), `specular_gi` (0 without),
+    /// (ReSTIR GI's history reservoirs; path GI's only reservoirs are in `scratch`; 0
+    /// without GI), `specular_gi` (0 without),
     /// `denoiser` (with the temporal upscaler's accumulation, when it runs), `scratch` (the
     /// buffer DI, GI and the denoiser share for what lives only within their own passes; see
     /// [`solari_scene::scratch`]). The scene's own memory is the caller's
