@@ -112,6 +112,7 @@ pub mod fallback;
 pub mod select;
 pub mod settings;
 pub mod upscale;
+pub mod variance;
 
 pub use denoiser::{
     Denoiser, DenoiserInputs, DenoiserKind, Encoded, Inputs, Lighting, Requirements,
@@ -122,10 +123,16 @@ pub use settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
 pub use upscale::{TemporalUpscaler, UpscaleSettings};
 
 /// The crate's importable WGSL modules, by module name.
-pub const MODULES: &[(&str, &str)] = &[(
-    "denoise_common",
-    include_str!("../shaders/denoise_common.wesl"),
-)];
+pub const MODULES: &[(&str, &str)] = &[
+    (
+        "denoise_common",
+        include_str!("../shaders/denoise_common.wesl"),
+    ),
+    (
+        "denoise_variance_math",
+        include_str!("../shaders/denoise_variance_math.wesl"),
+    ),
+];
 
 /// The crate's entry-point shaders, by module name.
 pub const ENTRY_POINTS: &[(&str, &str)] = &[
