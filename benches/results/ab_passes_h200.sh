@@ -20,9 +20,13 @@ PRESETS=${PRESETS:-medium very-slow}
 mkdir -p "$R" "$OUT"
 nvidia-smi --query-gpu=name,driver_version --format=csv > "$R/gpu.csv" 2>/dev/null
 cp .dev/SOLARI_COMMIT "$R/" 2>/dev/null
-# Warm-up: the first runs read 1.8-2x slow on the H100 (sweep_phases.sh).
-/root/bins/solari render "$(scene_file cornell_box)" --mode realtime --frames 600 \
-  --size 1920x1080 --out "$R/x.png" > /dev/null 2>&1
+# Warm-up: the first runs read 1.8-2x slow on the H100 (sweep_phases.sh), and with one
+# warm-up run the first measured run still read 16% slow in its denoiser passes: one per
+# binary, with the measured flags.
+for b in solari_base solari; do
+  /root/bins/$b render "$(scene_file cornell_box)" --mode realtime $FLAGS --frames 600 \
+    --size 1920x1080 --out "$R/x.png" > /dev/null 2>&1
+done
 for rep in $(seq 1 "$REPS"); do
   # Alternate which binary runs first: with the base always first, the first scene of each
   # round read 4-9% faster with the new binary in every pass, unchanged ones included.
