@@ -123,6 +123,30 @@ pub struct Gpu {
     /// wgpu errors raised outside any error scope, recorded instead of panicking (wgpu's
     /// default); [`Gpu::check_errors`] turns them into an error.
     uncaptured: Arc<Mutex<Vec<String>>>,
+    // Set by `test_gpu`: dropping the device with wgpu errors that nobody checked panics, so
+    // a test whose GPU work was refused cannot pass on the data it never wrote.
+    strict: bool,
+}
+
+impl Drop for Gpu {
+    fn drop(&mut self) {
+        if !self.strict || std::thread::panicking() {
+            return;
+        }
+        let errors = self
+            .uncaptured
+            .lock()
+            .map(|v| v.clone())
+            .unwrap_or_default();
+        if !errors.is_empty() {
+            panic!(
+                "{} wgpu error(s) nobody checked (Gpu::check_errors) during this test; the \
+                 first: {}",
+                errors.len(),
+                errors[0]
+            );
+        }
+    }
 }
 
 /// Environment variable that chooses the adapter on a machine with several: an index into
@@ -369,6 +393,7 @@ impl Gpu {
             info,
             features,
             uncaptured,
+            strict: false,
         }
     }
 
@@ -841,10 +866,16 @@ pub fn in_scope<R>(
 
 /// A device for a GPU test, or `None` (test skipped with a note) when no adapter exists and
 /// `SOLARI_REQUIRE_GPU` is not `1`. With `SOLARI_REQUIRE_GPU=1` a missing adapter panics, so
-/// CI can never pass with its GPU tests silently skipped.
+/// CI can never pass with its GPU tests silently skipped. Dropping the device panics if wgpu
+/// raised errors that no [`Gpu::check_errors`] call collected: a test whose GPU work was
+/// refused (a bad binding, a copy into a buffer without `COPY_DST`) fails instead of reading
+/// whatever the buffers held.
 pub fn test_gpu() -> Option<Gpu> {
     match Gpu::new() {
-        Ok(gpu) => Some(gpu),
+        Ok(mut gpu) => {
+            gpu.strict = true;
+            Some(gpu)
+        }
         Err(e) if std::env::var("SOLARI_REQUIRE_GPU").as_deref() == Ok("1") => {
             panic!("SOLARI_REQUIRE_GPU=1 but no GPU device: {e}")
         }

@@ -72,3 +72,33 @@ fn textures_over_the_size_limit_are_resampled_and_images_refused() {
     assert!(GBuffer::new(&gpu, Backend::Software, 65, 8).is_err());
     gpu.check_errors().unwrap();
 }
+
+/// A test device (`test_gpu`) that wgpu refused work on, with nobody checking, fails the test
+/// when it is dropped: a copy into a buffer without `COPY_DST` is refused and logged, and a
+/// test that went on would read the buffer's old contents. Checked errors are cleared and
+/// the drop passes.
+#[test]
+fn unchecked_wgpu_errors_fail_the_test_at_drop() {
+    let refused_copy = |gpu: &Gpu| {
+        let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("no copies in"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        gpu.queue.write_buffer(&buffer, 0, &[0u8; 16]);
+    };
+    let Some(gpu) = test_gpu() else { return };
+    refused_copy(&gpu);
+    let dropped = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| drop(gpu)));
+    let message = dropped.expect_err("the drop must panic");
+    let text = message
+        .downcast_ref::<String>()
+        .cloned()
+        .unwrap_or_default();
+    assert!(text.contains("nobody checked"), "{text}");
+    let gpu = test_gpu().expect("a second device");
+    refused_copy(&gpu);
+    assert!(gpu.check_errors().is_err(), "the refused copy is reported");
+    drop(gpu);
+}
