@@ -103,8 +103,8 @@ pub struct FallbackDenoiser {
     // The output of split lighting (made when split lighting is first bound), whose second
     // signal adds to the first after both have used the filter buffers.
     split_output: Option<wgpu::Buffer>,
-    // Bound as `shadow` when the inputs bring none, and as `denoised` when the output goes
-    // to a filter buffer.
+    // Placeholders: bound as `shadow` when the inputs bring none, and as `denoised` when
+    // the output goes to a filter buffer.
     no_shadow: wgpu::Buffer,
     no_output: wgpu::Buffer,
     // Built on first use for the lighting (and shadow) buffers given, rebuilt when they

@@ -502,8 +502,8 @@ pub struct RealtimeRenderer {
     cache_readbacks: Vec<wgpu::Buffer>,
     next_cache_readback: usize,
     upscaler: Option<TemporalUpscaler>,
-    // One buffer for the per-frame buffers of ReSTIR DI, GI and the fallback denoiser, which
-    // run one after another (`solari_scene::scratch`).
+    // One buffer for what lives only within the passes of ReSTIR DI, GI and the fallback
+    // denoiser, which run one after another (`solari_scene::scratch`).
     scratch: Option<wgpu::Buffer>,
 }
 
@@ -796,10 +796,10 @@ impl RealtimeRenderer {
         .with_shared_scratch(gpu)
     }
 
-    // Moves ReSTIR DI's and GI's initial reservoirs and the denoiser's per-frame buffers
+    // Moves ReSTIR DI's and GI's initial reservoirs and the denoiser's second filter buffer
     // into one scratch buffer (their lifetimes within a frame do not overlap; GI's ends with
     // specular GI, which is bound again here), allocated on first use at the largest size
-    // asked.
+    // asked. Called again when the light readers are rebuilt.
     fn share_scratch(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
         let bytes = [
             Some(self.di.scratch_bytes()),
