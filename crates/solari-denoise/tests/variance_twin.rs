@@ -11,7 +11,6 @@ use rand_pcg::Pcg32;
 use solari_denoise::variance::{WindowSums, pixel_variance};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
-use solari_scene::shaders::{Backend, compose};
 
 /// WGSL twin: `Case` in `shaders/denoise_variance_test.wesl`.
 #[repr(C)]
@@ -90,14 +89,16 @@ fn cases() -> Vec<Case> {
 fn variance_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
     let source = include_str!("../shaders/denoise_variance_test.wesl");
-    let modules: Vec<_> = solari_denoise::modules()
-        .into_iter()
-        .chain([("denoise_variance_test", source)])
-        .collect();
-    let wgsl = compose("denoise_variance_test", Backend::Software, &modules).expect("compose");
     let cases = cases();
-    let results: Vec<[f32; 4]> =
-        CaseKernel::run_pure(&gpu, "denoise_variance_test", &wgsl, 0, &cases).expect("dispatch");
+    let results: Vec<[f32; 4]> = CaseKernel::run_test_module(
+        &gpu,
+        solari_denoise::modules(),
+        "denoise_variance_test",
+        source,
+        0,
+        &cases,
+    )
+    .expect("dispatch");
     let (mut capped, mut mixed) = (0, 0);
     for (c, r) in cases.iter().zip(&results) {
         let (temporal, length, frames) = (c.more[3], c.history[0], c.history[1]);

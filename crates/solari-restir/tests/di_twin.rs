@@ -12,7 +12,6 @@ use solari_restir::reservoir::{
 };
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
-use solari_scene::shaders::{Backend, compose};
 
 /// WGSL twin: `Case` in `restir_di_test.wesl`.
 #[repr(C)]
@@ -102,14 +101,16 @@ fn close(a: f32, b: f32, tol: f32) -> bool {
 fn di_merge_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
     let source = include_str!("../shaders/restir_di_test.wesl");
-    let modules: Vec<_> = solari_restir::modules()
-        .into_iter()
-        .chain([("restir_di_test", source)])
-        .collect();
-    let wgsl = compose("restir_di_test", Backend::Software, &modules).expect("compose");
     let cases = cases();
-    let results: Vec<[[f32; 4]; 2]> =
-        CaseKernel::run_pure(&gpu, "restir_di_test", &wgsl, 2, &cases).expect("dispatch");
+    let results: Vec<[[f32; 4]; 2]> = CaseKernel::run_test_module(
+        &gpu,
+        solari_restir::modules(),
+        "restir_di_test",
+        source,
+        2,
+        &cases,
+    )
+    .expect("dispatch");
     let (mut picked, mut none, mut others) = (0, 0, 0);
     for (k, [r, radius]) in cases.iter().zip(&results) {
         let l = k.light;

@@ -9,7 +9,6 @@ use rand_pcg::Pcg32;
 use solari_restir::gi_reservoir::{MergeSide, merge_weights, reconnection_jacobian};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
-use solari_scene::shaders::{Backend, compose};
 
 /// WGSL twin: `Case` in `restir_gi_test.wesl`.
 #[repr(C)]
@@ -95,14 +94,16 @@ fn close(a: f32, b: f32, tol: f32) -> bool {
 fn gi_reuse_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
     let source = include_str!("../shaders/restir_gi_test.wesl");
-    let modules: Vec<_> = solari_restir::gi_modules()
-        .into_iter()
-        .chain([("restir_gi_test", source)])
-        .collect();
-    let wgsl = compose("restir_gi_test", Backend::Software, &modules).expect("compose");
     let cases = cases();
-    let results: Vec<[f32; 4]> =
-        CaseKernel::run_pure(&gpu, "restir_gi_test", &wgsl, 2, &cases).expect("dispatch");
+    let results: Vec<[f32; 4]> = CaseKernel::run_test_module(
+        &gpu,
+        solari_restir::gi_modules(),
+        "restir_gi_test",
+        source,
+        2,
+        &cases,
+    )
+    .expect("dispatch");
     let (mut refused, mut merged) = (0, 0);
     for (k, r) in cases.iter().zip(&results) {
         let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];

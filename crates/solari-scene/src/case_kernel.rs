@@ -95,4 +95,19 @@ impl CaseKernel {
         let kernel = Self::new(gpu, label, wgsl, &layouts, io_group)?;
         kernel.run(gpu, &vec![Some(&empty); io_group], cases)
     }
+
+    /// [`CaseKernel::run_pure`] on a test shader: `source` composed as module `name` (its
+    /// entry point `main`) with a crate's `modules`, the set-up every twin test shares.
+    pub fn run_test_module<I: bytemuck::Pod, O: bytemuck::Pod>(
+        gpu: &Gpu,
+        modules: Vec<(&'static str, &'static str)>,
+        name: &'static str,
+        source: &'static str,
+        io_group: usize,
+        cases: &[I],
+    ) -> Result<Vec<O>, GpuError> {
+        let modules: Vec<_> = modules.into_iter().chain([(name, source)]).collect();
+        let wgsl = crate::shaders::compose(name, crate::shaders::Backend::Software, &modules)?;
+        Self::run_pure(gpu, name, &wgsl, io_group, cases)
+    }
 }
