@@ -460,9 +460,10 @@ fn scribble(gpu: &Gpu, scratch: &wgpu::Buffer, plausible: &[u8], record: usize, 
 /// reservoirs and random bytes, the scratch changes nothing: DI alone, whose frames are
 /// deterministic, gives the same images bit for bit over 6 frames of temporal and spatial
 /// reuse; with GI, frame 0 (before the world cache's later, racing updates) gives the same
-/// image and reservoirs bit for bit, with reuse and without. (Random bytes alone proved a
-/// weak test: the passes' validity checks drop most of them.) Each pass counts only its own
-/// buffers, and a scratch too small is refused with both sizes named.
+/// image and reservoirs bit for bit, with reuse and without. (Real reservoirs pass the
+/// passes' validity checks, which random bytes may not; a DI initial pass made to skip every
+/// fifth column fails the test either way.) Each pass counts only its own buffers, and a
+/// scratch too small is refused with both sizes named.
 #[test]
 fn a_shared_scratch_full_of_garbage_changes_nothing() {
     use solari_restir::GpuReservoir;
