@@ -58,8 +58,9 @@ pub struct DenoiserInputs<'a> {
     /// luminance of the light it removed, and the width in world units of the penumbra its
     /// blocker casts at the pixel; zeros where nothing blocks), as
     /// `solari_restir::RestirDi::shadow` writes it. With it the fallback denoiser tells hard
-    /// shadows from noise on young histories (a shadow edge whose penumbra is under a pixel
-    /// is not noise). Pass it only when [`Requirements::inputs`] asks for [`Inputs::SHADOW`].
+    /// shadows from noise (a shadow edge whose penumbra is under a pixel is not noise), on
+    /// young histories and where a flickering penumbra would open its filter across the
+    /// edge. Pass it only when [`Requirements::inputs`] asks for [`Inputs::SHADOW`].
     pub shadow: Option<&'a wgpu::Buffer>,
     /// Drop all history (camera cut, teleport, scene switch).
     pub reset: bool,

@@ -47,7 +47,12 @@
 //! 6. **Variance**: from the temporal luminance moments, blended in (geometrically) from a
 //!    5×5 neighbourhood estimate over the first 2 ×
 //!    [`FallbackSettings::spatial_variance_frames`] frames of a history (SVGF switches at 4
-//!    frames; the switch made the image pop). Tried and dropped: the calmest of the window's
+//!    frames; the switch made the image pop). With [`DenoiserInputs::shadow`], where every
+//!    penumbra in the window is under a pixel, the window's estimate is taken over the
+//!    shadow-free signal and, at any history length, caps the temporal variance, so a
+//!    flickering sub-pixel penumbra does not open the filter across a hard shadow edge
+//!    (the window's per-pixel data comes from the temporal pass; the arithmetic has a Rust
+//!    twin, [`variance::pixel_variance`]). Tried and dropped: the calmest of the window's
 //!    four 3×3 corners, meant to keep hard shadow edges; at 1080p on the H200 it made the
 //!    first frame worse in the Cornell box (RMSE 0.00073 → 0.00094) and in many_lights
 //!    (0.071 → 0.110, energy −5% → −10%) for a small gain on sun_boxes (0.026 → 0.020).
@@ -71,9 +76,10 @@
 //! - The first frame after a disocclusion gets the spatial filter alone, with its luminance
 //!   guide loosened by the raised young-history variance. The Cornell box's frame 1 at
 //!   128 px: RMSE 0.0040 against 0.0075 raw; at 64 px, where the default footprint (±62 px)
-//!   spans the whole image, 0.0075 against 0.0077. Hard, noise-free sun shadows lose a few
-//!   pixels of sharpness on young histories (sun_boxes at 1080p is closer to the reference
-//!   raw than denoised for the first frames: see `benches/RESULTS.md`).
+//!   spans the whole image, 0.0075 against 0.0077. Without the shadow input, hard,
+//!   noise-free sun shadows lose a few pixels of sharpness on young histories (sun_boxes at
+//!   1080p is closer to the reference raw than denoised for the first frames); with it, no
+//!   frame of sun_boxes' first 16 is worse than its input (96×96, `benches/RESULTS.md`).
 //! - Moving objects: the same-surface test compares world positions, so a moving surface
 //!   loses its history every frame and shows the spatial filter's result alone (noisier, but
 //!   no ghost trail).

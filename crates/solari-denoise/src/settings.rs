@@ -73,7 +73,8 @@ pub struct FallbackSettings {
     /// blend let the spatial estimate, which also holds the image's own contrast, dominate
     /// to the end (`solari bench-denoise`). With [`crate::DenoiserInputs::shadow`], a window
     /// whose shadows all have penumbrae under a pixel is estimated over the shadow-free
-    /// signal instead, so its hard shadow edges do not count as noise.
+    /// signal instead, so its hard shadow edges do not count as noise, and that estimate
+    /// caps the temporal variance at any history length.
     pub spatial_variance_frames: f32,
 }
 

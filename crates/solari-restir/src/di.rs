@@ -408,9 +408,10 @@ impl RestirDi {
         self.history = false;
     }
 
-    /// Starts `frame` for a scene with `light_count` lights: uploads the light translation (the identity unless [`RestirDi::set_light_translation`]
-    /// gave one) and writes the parameters. `gbuffer` is the G-buffer this frame reads (its
-    /// history decides whether temporal reuse may run).
+    /// Starts `frame` for a scene with `light_count` lights: uploads the light translation
+    /// (the identity unless [`RestirDi::set_light_translation`] gave one) and writes the
+    /// parameters. `gbuffer` is the G-buffer this frame reads (its history decides whether
+    /// temporal reuse may run).
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
