@@ -131,14 +131,7 @@ impl TemporalUpscaler {
             )));
         }
         let bytes = output_size.0 as u64 * output_size.1 as u64 * 16;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if bytes > limit {
-            return Err(GpuError::OverLimit {
-                what: "temporal upscaler output".into(),
-                needed: bytes,
-                limit,
-            });
-        }
+        gpu.check_storage_binding("temporal upscaler output", bytes)?;
         let layout = UPSCALE_BINDINGS.layout(gpu, "solari_denoise/upscale");
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let wgsl = compose("temporal_upscale", Backend::Software, &crate::modules())?;

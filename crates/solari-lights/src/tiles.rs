@@ -278,13 +278,7 @@ impl LightTiles {
             });
         }
         let bytes = count * size_of::<PackedLightSample>() as u64;
-        if bytes > limits.max_storage_buffer_binding_size {
-            return Err(GpuError::OverLimit {
-                what: "light tile samples (bytes)".into(),
-                needed: bytes,
-                limit: limits.max_storage_buffer_binding_size,
-            });
-        }
+        gpu.check_storage_binding("light tile samples (bytes)", bytes)?;
         let storage = |label: &str, size: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),

@@ -147,14 +147,7 @@ impl ReferenceRenderer {
     ) -> Result<ReferenceAccumulation, GpuError> {
         let gpu_lights = GpuLights::new(gpu, lights, settings.selection)?;
         let accum_bytes = width as u64 * height as u64 * 16;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if accum_bytes > limit {
-            return Err(GpuError::OverLimit {
-                what: "reference accumulation buffer".into(),
-                needed: accum_bytes,
-                limit,
-            });
-        }
+        gpu.check_storage_binding("reference accumulation buffer", accum_bytes)?;
         let storage = wgpu::BufferUsages::STORAGE
             | wgpu::BufferUsages::COPY_SRC
             | wgpu::BufferUsages::COPY_DST;

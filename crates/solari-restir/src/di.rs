@@ -282,16 +282,12 @@ impl RestirDi {
                 "ReSTIR DI image size {width}×{height} is empty"
             )));
         }
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
         let output_bytes = pixels * 16;
-        if output_bytes > limit {
-            return Err(GpuError::OverLimit {
-                what: "ReSTIR DI output".into(),
-                needed: output_bytes,
-                limit,
-            });
-        }
         let reservoir_bytes = pixels * size_of::<GpuReservoir>() as u64;
+        gpu.check_storage_binding("ReSTIR DI output", output_bytes)?;
+        // The reservoirs are the larger: checking the output alone let a size through whose
+        // reservoir buffers could not be bound.
+        gpu.check_storage_binding("ReSTIR DI reservoirs", reservoir_bytes)?;
         let buffer = |label: &str, size: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),

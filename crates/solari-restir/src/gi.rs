@@ -234,14 +234,7 @@ impl RestirGi {
             )));
         }
         let bytes = pixels * size_of::<GpuGiReservoir>() as u64;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if bytes > limit {
-            return Err(GpuError::OverLimit {
-                what: "ReSTIR GI reservoirs".into(),
-                needed: bytes,
-                limit,
-            });
-        }
+        gpu.check_storage_binding("ReSTIR GI reservoirs", bytes)?;
         let buffer = |label: &str, size: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),

@@ -542,3 +542,46 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
     // A failed copy into the scratch would leave it clean and the test toothless.
     gpu.check_errors().expect("no wgpu error");
 }
+
+/// On a device whose storage bindings stop at 64 KiB: ReSTIR DI at 60×60 fits its image
+/// (57,600 bytes) but not its reservoirs (72,000), and says so instead of failing at bind
+/// time; a scratch buffer over the limit is refused too (every pass binds it whole).
+#[test]
+fn buffers_over_the_binding_limit_are_refused_by_name() {
+    use solari_restir::RestirDi;
+    use solari_scene::GpuError;
+    use solari_scene::shaders::Backend;
+    let Some(gpu) = test_gpu() else { return };
+    let mut desc = Gpu::device_descriptor(&gpu.adapter);
+    desc.required_limits = wgpu::Limits {
+        max_storage_buffer_binding_size: 1 << 16,
+        ..gpu.adapter.limits()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).expect("device");
+    let small = Gpu::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue);
+    let di = RestirDi::new(
+        &small,
+        Backend::Software,
+        TraceVariant::General,
+        60,
+        60,
+        di_settings(),
+        tile_settings(),
+    );
+    match di {
+        Err(GpuError::OverLimit { what, needed, .. }) => {
+            assert!(
+                what.contains("reservoirs") && needed == 72_000,
+                "{what}: {needed}"
+            );
+        }
+        other => panic!("expected OverLimit, got {:?}", other.err()),
+    }
+    match solari_scene::scratch::allocate(&small, 1 << 17) {
+        Err(GpuError::OverLimit { what, .. }) => assert!(what.contains("scratch"), "{what}"),
+        other => panic!("expected OverLimit, got {:?}", other.err()),
+    }
+    small
+        .check_errors()
+        .expect("refused before wgpu saw anything");
+}

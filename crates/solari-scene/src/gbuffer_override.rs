@@ -74,14 +74,7 @@ impl OverridePass {
         size: (u32, u32),
     ) -> Result<Self, GpuError> {
         let bytes = size.0 as u64 * size.1 as u64 * OVERRIDE_BYTES;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if bytes > limit {
-            return Err(GpuError::OverLimit {
-                what: "G-buffer override buffer".into(),
-                needed: bytes,
-                limit,
-            });
-        }
+        gpu.check_storage_binding("G-buffer override buffer", bytes)?;
         // Zero-initialised by wgpu: no pixel has an override.
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("solari_scene/gbuffer_overrides"),

@@ -438,6 +438,21 @@ impl Gpu {
         }
     }
 
+    /// Refuses `needed` bytes for `what` ([`GpuError::OverLimit`], both sizes named) when a
+    /// storage binding that large is over the device's limit: call it before allocating a
+    /// buffer that is bound whole.
+    pub fn check_storage_binding(&self, what: &str, needed: u64) -> Result<(), GpuError> {
+        let limit = self.device.limits().max_storage_buffer_binding_size;
+        if needed > limit {
+            return Err(GpuError::OverLimit {
+                what: what.to_string(),
+                needed,
+                limit,
+            });
+        }
+        Ok(())
+    }
+
     /// A storage buffer holding `data` (at least 16 bytes, so empty arrays still bind),
     /// checked against the device's binding limit.
     pub fn storage_buffer(
@@ -446,14 +461,7 @@ impl Gpu {
         data: &[u8],
         extra: wgpu::BufferUsages,
     ) -> Result<wgpu::Buffer, GpuError> {
-        let limit = self.device.limits().max_storage_buffer_binding_size;
-        if data.len() as u64 > limit {
-            return Err(GpuError::OverLimit {
-                what: label.to_string(),
-                needed: data.len() as u64,
-                limit,
-            });
-        }
+        self.check_storage_binding(label, data.len() as u64)?;
         let size = (data.len() as u64).max(16).next_multiple_of(4);
         let buffer = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
@@ -735,14 +743,7 @@ impl Gpu {
             wgpu::BufferUsages::empty(),
         )?;
         let out_bytes = (cases.len() * size_of::<O>()) as u64;
-        let limit = self.device.limits().max_storage_buffer_binding_size;
-        if out_bytes > limit {
-            return Err(GpuError::OverLimit {
-                what: format!("{label} results"),
-                needed: out_bytes,
-                limit,
-            });
-        }
+        self.check_storage_binding(&format!("{label} results"), out_bytes)?;
         let output = self.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
             size: out_bytes,

@@ -16,16 +16,10 @@ use crate::error::GpuError;
 use crate::gpu::Gpu;
 
 /// Allocates a scratch buffer of `bytes` (at least 16) for passes to share (storage; copies
-/// in and out for tests and tools).
+/// in and out for tests and tools). Each pass binds it whole, so it must fit the device's
+/// storage binding limit.
 pub fn allocate(gpu: &Gpu, bytes: u64) -> Result<wgpu::Buffer, GpuError> {
-    let limit = gpu.device.limits().max_buffer_size;
-    if bytes > limit {
-        return Err(GpuError::OverLimit {
-            what: "shared scratch buffer".into(),
-            needed: bytes,
-            limit,
-        });
-    }
+    gpu.check_storage_binding("shared scratch buffer", bytes)?;
     Ok(gpu.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("solari/shared_scratch"),
         size: bytes.max(16),

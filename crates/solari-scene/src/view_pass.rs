@@ -139,14 +139,7 @@ impl ViewPass {
     pub fn target(&self, gpu: &Gpu, view: &GpuView) -> Result<ViewTarget, GpuError> {
         let pixels = view.width as u64 * view.height as u64;
         let size = pixels * self.element_size;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if size > limit {
-            return Err(GpuError::OverLimit {
-                what: format!("{} output", self.label),
-                needed: size,
-                limit,
-            });
-        }
+        gpu.check_storage_binding(&format!("{} output", self.label), size)?;
         let uniform = gpu.uniform_buffer("solari_scene/view", view);
         let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(self.label),

@@ -121,15 +121,8 @@ struct Table {
 
 fn table(gpu: &Gpu, capacity: u32) -> Result<Table, GpuError> {
     let slots = capacity as u64;
-    let limit = gpu.device.limits().max_storage_buffer_binding_size;
     let buffer = |label: &str, size: u64| -> Result<wgpu::Buffer, GpuError> {
-        if size > limit {
-            return Err(GpuError::OverLimit {
-                what: format!("world cache {label} ({capacity} slots)"),
-                needed: size,
-                limit,
-            });
-        }
+        gpu.check_storage_binding(&format!("world cache {label} ({capacity} slots)"), size)?;
         // Created zeroed: every slot empty, no life, no light.
         Ok(gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some(label),
