@@ -9,7 +9,8 @@
 //! (`shaders/gbuffer_write.wesl`), so they differ only in how they find the hit.
 //!
 //! Two sets of targets alternate by frame parity: after [`GBuffer::prepare`], the targets
-//! written last frame are [`GBuffer::previous`] for reprojection, and nothing is copied.
+//! written last frame are [`GBuffer::previous`] for reprojection, and nothing is copied. The
+//! motion target is one texture that both sets share, because no pass reads last frame's.
 //!
 //! | target | format | contents |
 //! |---|---|---|
@@ -181,7 +182,8 @@ pub struct GBufferTargets {
     pub gbuffer: wgpu::Texture,
     /// Emitted radiance and f90.
     pub emission: wgpu::Texture,
-    /// Motion vectors.
+    /// Motion vectors: one texture that both sets share (no pass reads last frame's), so
+    /// [`GBuffer::previous`]'s holds this frame's.
     pub motion: wgpu::Texture,
     /// Reversed-Z depth ([`DEPTH_FORMAT`]).
     pub depth: wgpu::Texture,
@@ -190,43 +192,34 @@ pub struct GBufferTargets {
 }
 
 impl GBufferTargets {
-    fn new(
-        gpu: &Gpu,
-        (width, height): (u32, u32),
-        parity: usize,
-        producer: GBufferProducer,
-        storage: bool,
-    ) -> Self {
-        // Written as render attachments by the raster producer, as storage by the traced one
-        // and by the override pass (`storage`).
-        let written = match producer {
-            GBufferProducer::Raster if storage => {
-                wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::STORAGE_BINDING
+    // Both sets: motion is one texture that both share, since no pass reads last frame's
+    // motion (4 bytes a pixel saved).
+    fn pair(gpu: &Gpu, size: (u32, u32), producer: GBufferProducer, storage: bool) -> [Self; 2] {
+        let motion = target(gpu, "motion", size, MOTION_FORMAT, producer, storage);
+        [0, 1].map(|parity| {
+            let make = |name: &str, format| {
+                target(
+                    gpu,
+                    &format!("{name}_{parity}"),
+                    size,
+                    format,
+                    producer,
+                    storage,
+                )
+            };
+            let gbuffer = make("gbuffer", GBUFFER_FORMAT);
+            let emission = make("emission", EMISSION_FORMAT);
+            let depth = make("depth", DEPTH_FORMAT);
+            let views =
+                [&gbuffer, &emission, &motion, &depth].map(|t| t.create_view(&Default::default()));
+            Self {
+                gbuffer,
+                emission,
+                motion: motion.clone(),
+                depth,
+                views,
             }
-            GBufferProducer::Raster => wgpu::TextureUsages::RENDER_ATTACHMENT,
-            GBufferProducer::Traced => wgpu::TextureUsages::STORAGE_BINDING,
-        };
-        let make = |name: &str, format| {
-            gpu.texture_2d(
-                &format!("solari_scene/gbuffer_{name}_{parity}"),
-                (width, height),
-                format,
-                written | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-            )
-        };
-        let gbuffer = make("gbuffer", GBUFFER_FORMAT);
-        let emission = make("emission", EMISSION_FORMAT);
-        let motion = make("motion", MOTION_FORMAT);
-        let depth = make("depth", DEPTH_FORMAT);
-        let views =
-            [&gbuffer, &emission, &motion, &depth].map(|t| t.create_view(&Default::default()));
-        Self {
-            gbuffer,
-            emission,
-            motion,
-            depth,
-            views,
-        }
+        })
     }
 
     fn reader_views(&self) -> GBufferViews<'_> {
@@ -238,6 +231,31 @@ impl GBufferTargets {
             depth,
         }
     }
+}
+
+// One target texture, written as a render attachment by the raster producer and as storage
+// by the traced one and by the override pass (`storage`).
+fn target(
+    gpu: &Gpu,
+    name: &str,
+    size: (u32, u32),
+    format: wgpu::TextureFormat,
+    producer: GBufferProducer,
+    storage: bool,
+) -> wgpu::Texture {
+    let written = match producer {
+        GBufferProducer::Raster if storage => {
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::STORAGE_BINDING
+        }
+        GBufferProducer::Raster => wgpu::TextureUsages::RENDER_ATTACHMENT,
+        GBufferProducer::Traced => wgpu::TextureUsages::STORAGE_BINDING,
+    };
+    gpu.texture_2d(
+        &format!("solari_scene/gbuffer_{name}"),
+        size,
+        format,
+        written | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+    )
 }
 
 /// One target set read back to the CPU ([`GBufferTargets::read`]), row-major, one entry per
@@ -375,8 +393,7 @@ impl GBuffer {
         let view_layout = producer_layout(gpu, "solari_scene/gbuffer_view", &GBUFFER_VIEW_BINDINGS);
         let transforms_layout =
             producer_layout(gpu, "solari_scene/gbuffer_transforms", &TRANSFORMS_BINDINGS);
-        let targets =
-            [0, 1].map(|parity| GBufferTargets::new(gpu, (width, height), parity, producer, false));
+        let targets = GBufferTargets::pair(gpu, (width, height), producer, false);
         let layouts = [&view_layout, &transforms_layout];
         let made = match producer {
             GBufferProducer::Raster => {
@@ -485,8 +502,7 @@ impl GBuffer {
     // New target sets (size or usage changed): every group over them is rebuilt and history
     // restarts.
     fn rebuild_targets(&mut self, gpu: &Gpu, size: (u32, u32), storage: bool) {
-        self.targets =
-            [0, 1].map(|parity| GBufferTargets::new(gpu, size, parity, self.kind, storage));
+        self.targets = GBufferTargets::pair(gpu, size, self.kind, storage);
         match &mut self.producer {
             Producer::Raster(p) => p.resize(gpu, size),
             Producer::Traced(p) => p.retarget(gpu, &self.targets),
@@ -500,13 +516,15 @@ impl GBuffer {
             reader_groups(gpu, &self.reader_layout, &self.frame_views, &self.targets);
     }
 
-    /// GPU memory the G-buffer holds, in bytes: both target sets, the raster producer's depth
-    /// buffer, the uniforms and last frame's transforms.
+    /// GPU memory the G-buffer holds, in bytes: both target sets (their shared motion
+    /// texture once), the raster producer's depth buffer, the uniforms and last frame's
+    /// transforms.
     pub fn memory_bytes(&self) -> u64 {
         let targets: u64 = self
             .targets
             .iter()
-            .flat_map(|t| [&t.gbuffer, &t.emission, &t.motion, &t.depth])
+            .flat_map(|t| [&t.gbuffer, &t.emission, &t.depth])
+            .chain([&self.targets[0].motion])
             .map(crate::gpu::texture_bytes)
             .sum();
         let producer = match &self.producer {
