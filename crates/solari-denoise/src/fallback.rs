@@ -2,6 +2,7 @@
 //! reprojection, variance estimation and an edge-aware à-trous wavelet filter, per signal.
 
 use crate::denoiser::{Denoiser, DenoiserInputs, Encoded, Inputs, Lighting, Requirements};
+use crate::history::PackedHistory;
 use crate::settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
@@ -33,7 +34,8 @@ pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
 /// iterations together (per signal, so split lighting records each twice).
 pub const PASS_LABELS: [&str; 3] = ["denoise_temporal", "denoise_variance", "denoise_atrous"];
 
-/// One pixel's history (WGSL `History`), in demodulated units.
+/// One pixel's history (WGSL `History`), in demodulated units, as the passes see it: stored
+/// packed in 24 bytes ([`crate::history`]) and decoded by [`FallbackDenoiser::read_history`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct GpuHistory {
@@ -47,9 +49,7 @@ pub struct GpuHistory {
     pub carry: [f32; 4],
 }
 
-const _: () = assert!(size_of::<GpuHistory>() == 48);
-
-const HISTORY_BYTES: u64 = size_of::<GpuHistory>() as u64;
+const HISTORY_BYTES: u64 = size_of::<PackedHistory>() as u64;
 
 // A buffer of 16 bytes a pixel: its own, or the start of a shared scratch buffer.
 struct Region {
@@ -88,6 +88,8 @@ pub struct FallbackDenoiser {
     temporal: wgpu::ComputePipeline,
     variance: wgpu::ComputePipeline,
     atrous: wgpu::ComputePipeline,
+    // The first iteration's when it feeds back into the history (`history_feedback`).
+    atrous_feedback: Option<wgpu::ComputePipeline>,
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     // Per signal slot (0 combined/diffuse, 1 specular) and dispatch.
@@ -113,11 +115,13 @@ pub struct FallbackDenoiser {
     bound_to: Vec<wgpu::Buffer>,
     parity: usize,
     history: bool,
+    // Frames recorded (wrapping): seeds the history's stochastic rounding.
+    frame: u32,
 }
 
 impl FallbackDenoiser {
-    /// Builds the passes and allocates `width × height` buffers (144 bytes per pixel: 285 MiB
-    /// at 1920×1080 for combined lighting, 112 bytes more per pixel for split; 16 fewer when
+    /// Builds the passes and allocates `width × height` buffers (96 bytes per pixel: 190 MiB
+    /// at 1920×1080 for combined lighting, 64 bytes more per pixel for split; 16 fewer when
     /// a filter buffer moves to shared scratch, [`Denoiser::use_scratch`]).
     pub fn new(
         gpu: &Gpu,
@@ -157,6 +161,10 @@ impl FallbackDenoiser {
         let temporal = pipeline("denoise_temporal")?;
         let variance = pipeline("denoise_variance")?;
         let atrous = pipeline("denoise_atrous")?;
+        let atrous_feedback = settings
+            .history_feedback
+            .then(|| pipeline("denoise_atrous_feedback"))
+            .transpose()?;
         let params = gpu.uniform_buffer("solari_denoise/params", &GpuDenoiseParams::zeroed());
         let storage = |label: &str, bytes: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -191,6 +199,7 @@ impl FallbackDenoiser {
             temporal,
             variance,
             atrous,
+            atrous_feedback,
             layout,
             params,
             pass_params,
@@ -203,6 +212,7 @@ impl FallbackDenoiser {
             bound_to: Vec::new(),
             parity: 0,
             history: false,
+            frame: 0,
         })
     }
 
@@ -324,7 +334,8 @@ impl FallbackDenoiser {
         })?;
         let pixels = self.size.0 as u64 * self.size.1 as u64;
         let bytes = gpu.read_buffer(&signal.histories[self.parity], pixels * HISTORY_BYTES)?;
-        Ok(bytemuck::cast_slice(&bytes).to_vec())
+        let packed: &[PackedHistory] = bytemuck::cast_slice(&bytes);
+        Ok(packed.iter().map(crate::history::unpack).collect())
     }
 }
 
@@ -400,8 +411,10 @@ impl Denoiser for FallbackDenoiser {
         self.parity ^= 1;
         let reset = inputs.reset || !self.history || !inputs.gbuffer.history_valid();
         let (w, h) = self.size;
+        self.frame = self.frame.wrapping_add(1);
         let params = GpuDenoiseParams {
             shadow: inputs.shadow.is_some() as u32,
+            frame: self.frame,
             ..self.settings.gpu(w, h, reset)
         };
         gpu.queue
@@ -428,8 +441,12 @@ impl Denoiser for FallbackDenoiser {
                 run(e, PASS_LABELS[1], &self.variance, &groups[1])
             });
             frame.scope(PASS_LABELS[2], encoder, &mut ran, |e| {
-                for group in &groups[2..] {
-                    run(e, PASS_LABELS[2], &self.atrous, group);
+                for (k, group) in groups[2..].iter().enumerate() {
+                    let pipeline = match &self.atrous_feedback {
+                        Some(p) if k == 0 => p,
+                        _ => &self.atrous,
+                    };
+                    run(e, PASS_LABELS[2], pipeline, group);
                 }
             });
         }

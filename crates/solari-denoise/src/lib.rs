@@ -29,7 +29,10 @@
 //!    surface (tangent plane within 0.3% of the view distance, normals within 25°, the same
 //!    test ReSTIR DI uses); a pixel with no kept tap is disoccluded and starts over. Each
 //!    pixel keeps its history length (up to [`FallbackSettings::max_history`]); the colour is
-//!    averaged with weight 1/length.
+//!    averaged with weight 1/length. The history is stored in 24 bytes a pixel (16-bit and
+//!    21-bit floats of our own, rounded stochastically so that a slow average never stalls
+//!    short of its target; [`history`]), half its `f32` size, with no change measured in the
+//!    denoised error.
 //! 3. **Rejecting bad samples**: NaN, infinite and overflowing samples are not accumulated;
 //!    the pixel keeps its history, or without one is filled by the spatial filter from its
 //!    neighbours. Nothing non-finite reaches the history or the output.
@@ -115,6 +118,7 @@ pub mod denoiser;
 pub mod dlss;
 pub mod dlss_io;
 pub mod fallback;
+pub mod history;
 pub mod select;
 pub mod settings;
 pub mod upscale;
@@ -135,6 +139,14 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/denoise_common.wesl"),
     ),
     (
+        "denoise_atrous_filter",
+        include_str!("../shaders/denoise_atrous_filter.wesl"),
+    ),
+    (
+        "denoise_history",
+        include_str!("../shaders/denoise_history.wesl"),
+    ),
+    (
         "denoise_variance_math",
         include_str!("../shaders/denoise_variance_math.wesl"),
     ),
@@ -153,6 +165,10 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     (
         "denoise_atrous",
         include_str!("../shaders/denoise_atrous.wesl"),
+    ),
+    (
+        "denoise_atrous_feedback",
+        include_str!("../shaders/denoise_atrous_feedback.wesl"),
     ),
     ("dlss_inputs", include_str!("../shaders/dlss_inputs.wesl")),
     ("dlss_output", include_str!("../shaders/dlss_output.wesl")),

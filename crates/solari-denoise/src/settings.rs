@@ -2,6 +2,10 @@
 
 use solari_scene::GpuError;
 
+/// The largest [`FallbackSettings::max_history`]: the history stores its length as an f16,
+/// which holds whole frames exactly up to 2048.
+pub const MAX_HISTORY_LIMIT: f32 = 2048.0;
+
 /// Every knob of [`crate::FallbackDenoiser`], with the defaults the tests and benchmarks use.
 ///
 /// Lengths are in frames; luminance tolerances are in units of the signal's own standard
@@ -10,7 +14,8 @@ use solari_scene::GpuError;
 pub struct FallbackSettings {
     /// Most frames the temporal average spans (default 32). Past it the history becomes an
     /// exponential average with factor 1/`max_history`: longer is smoother on static views
-    /// and slower to follow changes that the fast-history test misses.
+    /// and slower to follow changes that the fast-history test misses. At most
+    /// [`MAX_HISTORY_LIMIT`] (the stored length is an f16).
     pub max_history: f32,
     /// Edge-aware à-trous iterations, with steps 1, 2, 4, … pixels (default 5: a 5×5 kernel
     /// spread to 125×125 pixels). 1–8. Each costs one full-screen pass.
@@ -128,8 +133,11 @@ impl FallbackSettings {
                 return bad(name, &format!("must be finite and ≥ 0, got {v}"));
             }
         }
-        if self.max_history < 1.0 {
-            return bad("max_history", "must be at least 1 frame");
+        if !(1.0..=MAX_HISTORY_LIMIT).contains(&self.max_history) {
+            return bad(
+                "max_history",
+                "must be 1–2048 frames (the history stores its length as f16)",
+            );
         }
         if !(1..=8).contains(&self.atrous_iterations) {
             return bad(
@@ -187,7 +195,8 @@ impl FallbackSettings {
             spatial_variance_frames: self.spatial_variance_frames,
             reset_length: self.reset_length,
             phi_lobe: self.phi_lobe,
-            _pad1: [0; 3],
+            frame: 0,
+            _pad1: [0; 2],
         }
     }
 }
@@ -230,8 +239,11 @@ pub struct GpuDenoiseParams {
     pub reset_length: f32,
     /// [`FallbackSettings::phi_lobe`].
     pub phi_lobe: f32,
+    /// Frames the denoiser has recorded (wrapping): seeds the history's stochastic rounding
+    /// ([`crate::history`]).
+    pub frame: u32,
     /// Padding.
-    pub _pad1: [u32; 3],
+    pub _pad1: [u32; 2],
 }
 
 const _: () = assert!(size_of::<GpuDenoiseParams>() == 80);
@@ -242,7 +254,8 @@ const _: () = assert!(size_of::<GpuDenoiseParams>() == 80);
 pub struct GpuPassParams {
     /// À-trous step in pixels (1, 2, 4, …; 0 for the temporal and variance passes).
     pub step: u32,
-    /// 1: write this iteration's result into the colour history.
+    /// 1: write this iteration's result into the colour history (the first iteration with
+    /// [`FallbackSettings::history_feedback`], run by the `denoise_atrous_feedback` pipeline).
     pub feedback: u32,
     /// 1: the last iteration, which remodulates and writes the output.
     pub last: u32,

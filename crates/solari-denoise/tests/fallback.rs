@@ -126,6 +126,14 @@ fn firefly_suppression_moves_energy_in_time_without_losing_it() {
         full.1 / full.0
     );
     assert!((full.1 / full.0 - 1.0).abs() < (full_off.1 / full_off.0 - 1.0).abs());
+    // Feedback runs in a pipeline of its own (`denoise_atrous_feedback`): it must act, and it
+    // compounds the luminance-weighted blur (the settings' docs quote +56%).
+    assert!(
+        feedback.1 / feedback.0 > full.1 / full.0 + 0.2,
+        "history feedback: output/input {} against {} without",
+        feedback.1 / feedback.0,
+        full.1 / full.0
+    );
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! CPU-only: the denoiser's shaders compose and validate, every loop carries its `// bound:`
 //! note, and the Rust mirrors have the sizes and offsets naga gives their WGSL twins.
 
+use solari_denoise::history::PackedHistory;
 use solari_denoise::{ENTRY_POINTS, GpuDenoiseParams, GpuHistory, GpuPassParams, MODULES, modules};
 use solari_scene::shaders::CheckedShaders;
 use std::mem::offset_of;
@@ -35,6 +36,7 @@ fn rust_mirrors_match_naga_layouts() {
                 offset_of!(GpuDenoiseParams, spatial_variance_frames),
             ),
             ("phi_lobe", offset_of!(GpuDenoiseParams, phi_lobe)),
+            ("frame", offset_of!(GpuDenoiseParams, frame)),
         ],
     );
     l.mirror(
@@ -52,6 +54,14 @@ fn rust_mirrors_match_naga_layouts() {
         &[
             ("moments", offset_of!(GpuHistory, moments)),
             ("carry", offset_of!(GpuHistory, carry)),
+        ],
+    );
+    l.mirror(
+        "PackedHistory",
+        size_of::<PackedHistory>(),
+        &[
+            ("stats", offset_of!(PackedHistory, stats)),
+            ("detail", offset_of!(PackedHistory, detail)),
         ],
     );
     use solari_denoise::upscale::GpuUpscaleParams;
@@ -76,6 +86,7 @@ fn bindings_are_bound_by_their_wgsl_names() {
             ("denoise_temporal", &own),
             ("denoise_variance", &own),
             ("denoise_atrous", &own),
+            ("denoise_atrous_feedback", &own),
             (
                 "temporal_upscale",
                 &[&solari_denoise::upscale::UPSCALE_BINDINGS],

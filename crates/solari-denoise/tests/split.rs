@@ -77,10 +77,10 @@ fn the_output_follows_the_lighting_kind_and_the_iteration_count() {
                 &what("combined", frame),
             );
         }
-        // Two 16-byte filter buffers, the guide and two 48-byte histories; no output.
+        // Two 16-byte filter buffers, the guide and two 24-byte histories; no output.
         let combined = d.memory_bytes();
         assert!(
-            (144 * pixels..144 * pixels + 4096).contains(&combined),
+            (96 * pixels..96 * pixels + 4096).contains(&combined),
             "{iterations} iterations: combined lighting holds {combined} bytes"
         );
         for frame in 0..2 {
@@ -88,7 +88,7 @@ fn the_output_follows_the_lighting_kind_and_the_iteration_count() {
             assert_uniform(&out, 0.27, &what("split", frame));
         }
         // Split adds the second signal's histories and its own output.
-        assert_eq!(d.memory_bytes(), combined + pixels * (96 + 16));
+        assert_eq!(d.memory_bytes(), combined + pixels * (48 + 16));
         for frame in 0..2 {
             assert_uniform(
                 &h.frame(&mut d, &uniform(0.25), false),

@@ -4,6 +4,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
+use solari_denoise::history::{COLOR_BITS, DETAIL_BITS, MEAN_BITS};
 use solari_denoise::{FallbackDenoiser, FallbackSettings, GpuHistory};
 
 mod common;
@@ -79,10 +80,29 @@ fn temporal(s: &FallbackSettings, prev: &GpuHistory, sample: Option<[f32; 3]>) -
     }
 }
 
-fn close(gpu: &[f32; 4], cpu: &[f32; 4]) -> bool {
-    gpu.iter()
-        .zip(cpu)
-        .all(|(g, c)| (g - c).abs() <= 1e-3 * c.abs().max(g.abs()) + 1e-6)
+/// Within the history's rounding: one code step of each stored value (2⁻¹⁵ of the value for
+/// the colour, 2⁻¹⁰ for the means, 2⁻⁶ for the deviation, the carry and the calm deviation),
+/// plus the `f32` rounding of a deviation taken from mean² and mean of squares.
+fn close(gpu: &GpuHistory, cpu: &GpuHistory) -> bool {
+    let near = |g: f32, c: f32, bits: u32, floor: f32| {
+        (g - c).abs() <= 2f32.powi(-(bits as i32)) * c.abs().max(g.abs()) + 2e-6 * c.abs() + floor
+    };
+    let deviation = |h: &GpuHistory| (h.moments[1] - h.moments[0] * h.moments[0]).max(0.0).sqrt();
+    // About √(2⁻²³) of the mean: what cancellation leaves of a deviation far below it.
+    let cancel = 4e-4 * cpu.moments[0];
+    (0..3).all(|k| near(gpu.color[k], cpu.color[k], COLOR_BITS, 1e-6))
+        && gpu.color[3] == cpu.color[3]
+        && [0, 2, 3]
+            .iter()
+            .all(|&k| near(gpu.moments[k], cpu.moments[k], MEAN_BITS, 1e-6))
+        && near(deviation(gpu), deviation(cpu), DETAIL_BITS, cancel + 1e-6)
+        && (0..3).all(|k| near(gpu.carry[k], cpu.carry[k], DETAIL_BITS, 1e-6))
+        && near(
+            gpu.carry[3],
+            cpu.carry[3],
+            DETAIL_BITS,
+            cancel / cpu.moments[0].max(1e-20),
+        )
 }
 
 #[test]
@@ -93,14 +113,12 @@ fn the_gpu_temporal_pass_matches_its_cpu_twin() {
     let mut rng = Pcg32::seed_from_u64(3);
     let n = (SIZE * SIZE) as usize;
     // Every pixel gets the same radiance each frame: noise, 3% fireflies at 40×, one NaN
-    // frame, and the light dropping to a tenth at frame 80.
-    let mut twin = GpuHistory {
-        color: [0.0; 4],
-        moments: [0.0; 4],
-        carry: [0.0; 4],
-    };
+    // frame, and the light dropping to a tenth at frame 80. The twin steps each checked pixel
+    // from the GPU's own history of the frame before (the stored history is rounded
+    // stochastically, so pixels part by a rounding step or so each frame).
+    let mut before: Vec<GpuHistory> = vec![GpuHistory::default(); n];
     let mut albedo = None;
-    let (mut clamped, mut band_clamped) = (0, 0);
+    let (mut clamped, mut band_clamped, mut checked) = (0, 0, 0);
     for frame in 0..140 {
         let level = if frame < 80 { 1.0 } else { 0.1 };
         let mut v = level * rng.random_range(0.5f32..1.5);
@@ -113,33 +131,71 @@ fn the_gpu_temporal_pass_matches_its_cpu_twin() {
         h.frame(&mut denoiser, &vec![[v, v, v, 1.0]; n], false);
         let history = denoiser.read_history(&h.gpu, 0).expect("history");
         // The pixels with a surface and a history; all saw the same samples.
-        let surfaces: Vec<&GpuHistory> = history.iter().filter(|g| g.color[3] > 0.0).collect();
+        let surfaces: Vec<usize> = (0..n).filter(|&k| history[k].color[3] > 0.0).collect();
         assert!(
             surfaces.len() > n / 2,
             "frame {frame}: {} surfaces",
             surfaces.len()
         );
-        // The demodulating albedo, from frame 0 (the history is the sample itself).
-        let a = *albedo.get_or_insert(v / surfaces[0].color[0]);
+        // The demodulating albedo, from frame 0, where the history is the sample itself, rounded
+        // stochastically: the mean over the surfaces is exact to about 1e-5.
+        let a = *albedo.get_or_insert_with(|| {
+            let sum: f64 = surfaces.iter().map(|&k| history[k].color[0] as f64).sum();
+            (v as f64 / (sum / surfaces.len() as f64)) as f32
+        });
         let sample = v.is_finite().then_some([v / a; 3]);
-        let before = twin;
-        twin = temporal(&settings, &twin, sample);
-        clamped += (twin.carry[0] > 0.0) as u32;
-        band_clamped += (twin.color[3] < (before.color[3] + 1.0).min(settings.max_history)
-            && sample.is_some()) as u32;
-        for (k, g) in surfaces.iter().enumerate().step_by(97) {
+        for (j, &k) in surfaces.iter().enumerate().step_by(97) {
+            let twin = temporal(&settings, &before[k], sample);
+            if j == 0 {
+                clamped += (twin.carry[0] > 0.0) as u32;
+                band_clamped += (twin.color[3]
+                    < (before[k].color[3] + 1.0).min(settings.max_history)
+                    && sample.is_some()) as u32;
+            }
             assert!(
-                close(&g.color, &twin.color)
-                    && close(&g.moments, &twin.moments)
-                    && close(&g.carry, &twin.carry),
-                "frame {frame}, surface pixel {k}: GPU {g:?}\nCPU {twin:?}"
+                close(&history[k], &twin),
+                "frame {frame}, pixel {k}: GPU {:?}\nCPU {twin:?}\nbefore {:?}",
+                history[k],
+                before[k]
             );
+            checked += 1;
         }
+        before = history;
     }
     println!(
-        "temporal twin: 140 frames agree; the firefly clamp acted on {clamped} frames, the \
-         stale-history clamp on {band_clamped}"
+        "temporal twin: {checked} pixel steps over 140 frames agree; the firefly clamp acted \
+         on {clamped} frames, the stale-history clamp on {band_clamped}"
     );
     // The twin must exercise both clamps for the comparison to mean something.
     assert!(clamped > 0 && band_clamped > 0);
+}
+
+/// The stored history is rounded stochastically, so a small change of light is followed to the
+/// end: rounded to nearest, a 0.4% step would stall where it started (the average's step, 1/32
+/// of the difference, is a quarter of a rounding step).
+#[test]
+fn a_small_change_of_light_is_followed_to_the_end() {
+    let Some(mut h) = Harness::new() else { return };
+    let settings = FallbackSettings::default();
+    let mut denoiser = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
+    let n = (SIZE * SIZE) as usize;
+    let mean = |denoiser: &FallbackDenoiser, h: &Harness| {
+        let history = denoiser.read_history(&h.gpu, 0).expect("history");
+        let lit: Vec<f64> = history
+            .iter()
+            .filter(|g| g.color[3] > 0.0)
+            .map(|g| g.color[0] as f64)
+            .collect();
+        lit.iter().sum::<f64>() / lit.len() as f64
+    };
+    for _ in 0..64 {
+        h.frame(&mut denoiser, &vec![[1.0, 1.0, 1.0, 1.0]; n], false);
+    }
+    let start = mean(&denoiser, &h);
+    for _ in 0..400 {
+        h.frame(&mut denoiser, &vec![[1.004, 1.004, 1.004, 1.0]; n], false);
+    }
+    let end = mean(&denoiser, &h) / start;
+    println!("a 0.4% brighter light: the history's mean moved by {end:.6}×");
+    assert!((end - 1.004).abs() < 2e-4, "ended at {end}× (want 1.004×)");
 }

@@ -307,8 +307,8 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 bytes per pixel each, and the 4-byte motion target they share) and the raster
 /// depth buffer (4) to within its uniforms (the box has no mirror, so no override buffer:
-/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the shared scratch's 32, and
-/// every other component something.
+/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the denoiser's 80, the shared
+/// scratch's 32, and every other component something.
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
@@ -336,6 +336,14 @@ fn memory_report_counts_each_component() {
     assert!(
         (44 * pixels..44 * pixels + 4096).contains(&di),
         "ReSTIR DI {di} bytes for {pixels} pixels"
+    );
+    // The fallback denoiser: two 24-byte packed histories, the guide (16) and the filter
+    // buffer that is its output (16); its other filter buffer is in the scratch.
+    let (name, denoiser) = memory[6];
+    assert_eq!(name, "denoiser");
+    assert!(
+        (80 * pixels..80 * pixels + 4096).contains(&denoiser),
+        "denoiser {denoiser} bytes for {pixels} pixels"
     );
     let (name, scratch) = memory[7];
     assert_eq!(name, "scratch");
