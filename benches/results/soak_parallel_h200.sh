@@ -9,9 +9,10 @@
 # runs share the GPU at once: frame times of such runs measure the sharing, not the renderer;
 # what they prove is the absence of non-finite values, overflows and memory growth.
 #
-# Needs, carried in the working tree: .gl/ (Vulkan loader packages, see the device README),
-# .dev/solari (a release build of this commit, stripped) and .dev/scenes (a copy of
-# ../shared/scenes). Usage (device commands):
+# Needs, carried in the working tree: .gl/ (Vulkan loader packages, see the device README)
+# and .dev/bins.tar.xz (its `solari`: a stripped release build of the commit under test, as
+# benches/results/device_env.sh unpacks it); the scenes are the repository's
+# (crates/solari-testdata/scenes). Usage (device commands):
 #   SEQUENTIAL=1 RUNS="interior:1000 sun_boxes:" bash benches/results/soak_parallel_h200.sh start
 #   bash benches/results/soak_parallel_h200.sh poll 570
 # RUNS lists scene:toggle pairs (empty toggle: static lights); FRAMES defaults to 100000;
@@ -29,14 +30,15 @@ set -u
 DIR=/root/soak
 case "${1:-}" in
 start)
-  for f in .gl/*.deb; do dpkg -x "$f" /; done
-  ldconfig
-  export VK_DRIVER_FILES=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
-  export __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+  source benches/results/device_env.sh
   mkdir -p "$DIR"
   # The working tree may be replaced by the next call: run from a private copy.
   # A second `start` (another GPU) must not overwrite the binary or script the first runs.
-  [ -e "$DIR/solari" ] || cp -r .dev/solari .dev/scenes "$DIR/"
+  if [ ! -e "$DIR/solari" ]; then
+    unpack_bins
+    cp /root/bins/solari "$DIR/"
+    cp -r crates/solari-testdata/scenes "$DIR/"
+  fi
   FRAMES=${FRAMES:-100000}
   # One chain of runs, one after another (SEQUENTIAL=1), or all at once (the default). Two
   # runs sharing the H200 reached only about 78% of its throughput (context switching).
