@@ -273,13 +273,21 @@ fn fast_reset_follows_a_light_switch() {
 
 #[test]
 fn bad_settings_are_refused_with_the_knob_named() {
-    let cases: [(FallbackSettings, &str); 6] = [
+    let cases: [(FallbackSettings, &str); 7] = [
         (
             FallbackSettings {
                 atrous_iterations: 0,
                 ..Default::default()
             },
             "atrous_iterations",
+        ),
+        // The stored length is an f16: past 2048 frames it would no longer count whole frames.
+        (
+            FallbackSettings {
+                max_history: 4096.0,
+                ..Default::default()
+            },
+            "max_history",
         ),
         (
             FallbackSettings {
