@@ -1,19 +1,21 @@
 //! The fallback denoiser's history as stored (`shaders/denoise_history.wesl`, whose twin this
 //! is): 24 bytes a pixel instead of the 48 of its twelve `f32`s.
 //!
-//! Every value but the length is non-negative, so each is an unsigned float of our own with 6
-//! exponent bits, covering 2⁻³⁰..2³³ (scenes in physical light units and dim ones both fit,
-//! where f16 stops at 65,504), and as many mantissa bits as the value needs:
+//! Every value but the length is non-negative, so each is an unsigned float of our own with 7
+//! exponent bits, covering 2⁻⁶²..2⁶⁵ (scenes in physical light units and absurdly dim or bright
+//! lights all fit, where f16 stops at 65,504; with 6 exponent bits, 2⁻³⁰..2³³, a light of
+//! 10⁻¹² left the means so coarse that the stale-history test misfired and biased the output
+//! by 2.4%), and as many mantissa bits as the value needs:
 //!
 //! | values | mantissa bits | step (of the value) |
 //! |---|---|---|
-//! | colour (the output) | 15 ([`COLOR_BITS`]) | 2⁻¹⁵..2⁻¹⁶ |
-//! | mean, fast and long mean luminance (the stale-history test compares them) | 10 ([`MEAN_BITS`]) | 2⁻¹⁰..2⁻¹¹ |
-//! | luminance deviation, firefly carry, calm deviation | 6 ([`DETAIL_BITS`]) | 2⁻⁶..2⁻⁷ |
+//! | colour (the output) | 14 ([`COLOR_BITS`]) | 2⁻¹⁴..2⁻¹⁵ |
+//! | mean, fast and long mean luminance (the stale-history test compares them against a ±10% band) | 9 ([`MEAN_BITS`]) | 2⁻⁹..2⁻¹⁰ |
+//! | luminance deviation, firefly carry, calm deviation | 5 ([`DETAIL_BITS`]) | 2⁻⁵..2⁻⁶ |
 //!
-//! Below 2⁻³⁰ the codes step linearly by 2^−(30 + mantissa bits); above the largest code
-//! (2³³ less one step) values are clamped to it: the denoiser's demodulated light saturates at
-//! 8.6·10⁹. Zero, negative and NaN values store 0.
+//! Below 2⁻⁶² the codes step linearly by 2^−(62 + mantissa bits); above the largest code
+//! (2⁶⁵ less one step) values are clamped to it: the denoiser's demodulated light saturates at
+//! 3.7·10¹⁹. Zero, negative and NaN values store 0.
 //!
 //! Each value is rounded stochastically: up with a probability equal to its fraction of the
 //! step. Rounded to nearest, an exponential average whose step is below half a code would
@@ -43,18 +45,18 @@ pub struct PackedHistory {
 const _: () = assert!(size_of::<PackedHistory>() == 24);
 
 /// Mantissa bits of the colour.
-pub const COLOR_BITS: u32 = 15;
+pub const COLOR_BITS: u32 = 14;
 /// Mantissa bits of the mean, fast and long mean luminance.
-pub const MEAN_BITS: u32 = 10;
+pub const MEAN_BITS: u32 = 9;
 /// Mantissa bits of the deviation, the carry and the calm deviation.
-pub const DETAIL_BITS: u32 = 6;
+pub const DETAIL_BITS: u32 = 5;
 
-/// The largest code with `mantissa` bits (about 8.6·10⁹).
+/// The largest code with `mantissa` bits (about 3.7·10¹⁹).
 pub fn code_max(mantissa: u32) -> u32 {
-    (1 << (6 + mantissa)) - 1
+    (1 << (7 + mantissa)) - 1
 }
 
-/// `v` as a code with `mantissa` bits (1..=23) above 6 exponent bits, rounded up with the
+/// `v` as a code with `mantissa` bits (1..=23) above 7 exponent bits, rounded up with the
 /// probability of its fraction of the step, drawn from the top `23 − mantissa` bits of
 /// `random`. Zero, negative and NaN values give 0; values above the largest code give
 /// [`code_max`].
@@ -65,9 +67,9 @@ pub fn encode_unsigned(v: f32, mantissa: u32, random: u32) -> u32 {
     if bits == 0 || bits > 0x7f80_0000 {
         return 0;
     }
-    if bits < 0x3080_0000 {
-        // Below 2⁻³⁰: linear codes, as f16's subnormals.
-        let scale = f32::from_bits((157 + mantissa) << 23);
+    if bits < 0x2080_0000 {
+        // Below 2⁻⁶²: linear codes, as f16's subnormals.
+        let scale = f32::from_bits((189 + mantissa) << 23);
         let fraction = dither as f32 * f32::from_bits((127 - dropped) << 23);
         return ((v * scale + fraction) as u32).min(1 << mantissa);
     }
@@ -75,20 +77,20 @@ pub fn encode_unsigned(v: f32, mantissa: u32, random: u32) -> u32 {
     // probability (and into the exponent at the end of a binade).
     let rounded = bits + dither;
     let exponent = rounded >> 23;
-    if exponent >= 160 {
+    if exponent >= 192 {
         return code_max(mantissa);
     }
-    ((exponent - 96) << mantissa) | ((rounded >> dropped) & ((1 << mantissa) - 1))
+    ((exponent - 64) << mantissa) | ((rounded >> dropped) & ((1 << mantissa) - 1))
 }
 
 /// The value of a code with `mantissa` bits (exact: every code is an `f32`).
 pub fn decode_unsigned(code: u32, mantissa: u32) -> f32 {
     let exponent = code >> mantissa;
     if exponent == 0 {
-        return code as f32 * f32::from_bits((97 - mantissa) << 23);
+        return code as f32 * f32::from_bits((65 - mantissa) << 23);
     }
     let fraction = code & ((1 << mantissa) - 1);
-    f32::from_bits(((exponent + 96) << 23) | (fraction << (23 - mantissa)))
+    f32::from_bits(((exponent + 64) << 23) | (fraction << (23 - mantissa)))
 }
 
 /// The history as the passes read it: the codes decoded and the second moment rebuilt as
@@ -150,10 +152,10 @@ mod tests {
                     assert_eq!(encode_unsigned(v, m, random), code, "{v} ({m} bits)");
                 }
             }
-            assert_eq!(decode_unsigned(1 << m, m), 2f32.powi(-30));
+            assert_eq!(decode_unsigned(1 << m, m), 2f32.powi(-62));
             assert_eq!(
                 decode_unsigned(code_max(m), m),
-                2f32.powi(33) - 2f32.powi(32 - m as i32)
+                2f32.powi(65) - 2f32.powi(64 - m as i32)
             );
         }
     }
@@ -162,7 +164,7 @@ mod tests {
     fn rounding_is_stochastic_and_unbiased() {
         for m in WIDTHS {
             let draws = 1u32 << (23 - m);
-            for v in [0.3f32, 1.0 + 1e-4, 7.77e7, 3.1e-10, 1.3e-35] {
+            for v in [0.3f32, 1.0 + 1e-4, 7.77e7, 1e-12, 3.1e-20, 1.3e-38] {
                 let mean: f64 = (0..draws)
                     .map(|d| decode_unsigned(encode_unsigned(v, m, d << (32 - (23 - m))), m) as f64)
                     .sum::<f64>()
@@ -184,7 +186,7 @@ mod tests {
             for v in [0.0, -0.0, -1.0, f32::NAN, -f32::NAN, f32::NEG_INFINITY] {
                 assert_eq!(encode_unsigned(v, m, u32::MAX), 0, "{v}");
             }
-            for v in [8.6e9, 1e20, f32::MAX, f32::INFINITY] {
+            for v in [3.7e19, 1e20, f32::MAX, f32::INFINITY] {
                 assert_eq!(encode_unsigned(v, m, 0), code_max(m), "{v}");
             }
         }

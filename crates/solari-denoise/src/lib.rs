@@ -29,7 +29,7 @@
 //!    surface (tangent plane within 0.3% of the view distance, normals within 25°, the same
 //!    test ReSTIR DI uses); a pixel with no kept tap is disoccluded and starts over. Each
 //!    pixel keeps its history length (up to [`FallbackSettings::max_history`]); the colour is
-//!    averaged with weight 1/length. The history is stored in 24 bytes a pixel (16-bit and
+//!    averaged with weight 1/length. The history is stored in 24 bytes a pixel (12-, 16- and
 //!    21-bit floats of our own, rounded stochastically so that a slow average never stalls
 //!    short of its target; [`history`]), half its `f32` size, with no change measured in the
 //!    denoised error.

@@ -178,6 +178,49 @@ fn non_finite_input_is_rejected_not_spread() {
     assert!(worst < 1e-3, "bad samples leaked into the output: {worst}");
 }
 
+/// The packed history's range (`solari_denoise::history`): a light far dimmer than f16 could
+/// hold, one far brighter, and one past the range, which is clamped. Surfaces' mean output over
+/// the last frames must keep the dim and bright levels (the dim one sits in the linear codes,
+/// where stochastic rounding keeps the average right) and stay finite past the range.
+#[test]
+fn the_history_keeps_dim_and_bright_light() {
+    let Some(mut h) = Harness::new() else { return };
+    let n = (SIZE * SIZE) as usize;
+    // Light of 1e-12 (a 6-bit exponent's codes stopped at 2^-30: its output then read 2.4%
+    // high), 1e-21 (close to the 7-bit exponent's 2^-62, demodulated), 1e8 (past f16's
+    // 65,504), and 1e21 (past the 3.7e19 limit).
+    for level in [1e-12f32, 1e-21, 1e8, 1e21] {
+        let mut denoiser = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, FallbackSettings::default())
+            .expect("denoiser");
+        let (mut sum, mut count) = (0.0f64, 0u64);
+        for frame in 0..48 {
+            let out = h.frame(&mut denoiser, &vec![[level, level, level, 1.0]; n], false);
+            for p in out.iter().filter(|p| p[3] > 0.5) {
+                assert!(
+                    p[..3].iter().all(|v| v.is_finite() && *v >= 0.0),
+                    "{level}: frame {frame}: {p:?}"
+                );
+                if frame >= 32 {
+                    sum += luminance(*p);
+                    count += 1;
+                }
+            }
+        }
+        let ratio = sum / count as f64 / level as f64;
+        println!("a constant light of {level:e}: surfaces' mean output is {ratio:.5}× the input");
+        if level < 1e19 {
+            assert!(
+                (ratio - 1.0).abs() < 1e-3,
+                "{level}: output {ratio}× the input"
+            );
+        } else {
+            // Clamped where the history's codes end (3.7e19 in demodulated units): far below
+            // the input, and finite (checked above).
+            assert!(ratio < 0.5, "{level}: output {ratio}× the input");
+        }
+    }
+}
+
 #[test]
 fn absurd_values_stay_finite() {
     let Some(mut h) = Harness::new() else { return };

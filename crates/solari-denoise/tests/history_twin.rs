@@ -41,16 +41,16 @@ fn value(rng: &mut Pcg32, k: u32) -> f32 {
         f32::INFINITY,
         f32::NEG_INFINITY,
         -1.0,
-        9.313_226e-10, // 2⁻³⁰, the first exponent code
-        9.313_225e-10,
-        8.581_545e9, // the largest code
-        8.59e9,
+        2.168_404_3e-19, // 2⁻⁶², the first exponent code
+        2.168_404e-19,
+        3.689_123e19, // near the largest code
+        3.7e19,
         f32::MAX,
         1e-38,
     ];
     match k % 4 {
         0 => EDGES[rng.random_range(0..EDGES.len())],
-        _ => 10f32.powf(rng.random_range(-14.0..11.0)),
+        _ => 10f32.powf(rng.random_range(-25.0..21.0)),
     }
 }
 
@@ -59,8 +59,7 @@ fn history_codec_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
     let mut rng = Pcg32::seed_from_u64(24);
     let widths = [COLOR_BITS, MEAN_BITS, DETAIL_BITS];
-    // Every code of the 10- and 6-bit widths, every 16th of the 15-bit one (2²¹ codes), then
-    // random ones.
+    // Every code of the 16- and 12-bit widths, every 16th of the 21-bit one, then random ones.
     let codes: Vec<(u32, u32)> = widths
         .iter()
         .flat_map(|&m| {
