@@ -20,7 +20,7 @@
 //! Each value is rounded stochastically: up with a probability equal to its fraction of the
 //! step. Rounded to nearest, an exponential average whose step is below half a code would
 //! stall (f16 with 32 frames of history stops 1.6% short of its target); rounded
-//! stochastically it is right on average, at the price of noise of at most half a step per
+//! stochastically it is right on average, at the price of noise of less than one step per
 //! frame. The second moment is stored as a deviation, so the variance does not vanish into the
 //! rounding of the mean. The history length is an f16, exact for whole frames up to 2048
 //! ([`crate::settings::MAX_HISTORY_LIMIT`]).
