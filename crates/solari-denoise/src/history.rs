@@ -27,6 +27,7 @@
 
 use crate::fallback::GpuHistory;
 use bytemuck::{Pod, Zeroable};
+use solari_scene::rng::Rng;
 
 /// One pixel's history as the GPU stores it (WGSL `PackedHistory`), bits low to high: `color`
 /// r, g, b (21 bits each, one spare); `stats` length (f16), mean, fast mean, long mean (16
@@ -91,6 +92,27 @@ pub fn decode_unsigned(code: u32, mantissa: u32) -> f32 {
     }
     let fraction = code & ((1 << mantissa) - 1);
     f32::from_bits(((exponent + 64) << 23) | (fraction << (23 - mantissa)))
+}
+
+/// `h` stored as the temporal pass stores it (WGSL `pack_history`), drawing each value's
+/// rounding from `rng` in the shader's order: colour r, g, b, then mean, fast, long, then
+/// deviation, carry r, g, b, calm deviation. The length must be a whole number of frames.
+pub fn pack(h: &GpuHistory, rng: &mut Rng) -> PackedHistory {
+    let mut draw = |v: f32, mantissa| encode_unsigned(v, mantissa, rng.next_u32());
+    let [r, g, b] = [h.color[0], h.color[1], h.color[2]].map(|c| draw(c, COLOR_BITS));
+    let length = half::f16::from_f32(h.color[3]).to_bits() as u32;
+    let [mean, fast, long] = [h.moments[0], h.moments[2], h.moments[3]].map(|m| draw(m, MEAN_BITS));
+    let deviation = (h.moments[1] - h.moments[0] * h.moments[0]).max(0.0).sqrt();
+    let [deviation, carry_r, carry_g, carry_b, calm] =
+        [deviation, h.carry[0], h.carry[1], h.carry[2], h.carry[3]].map(|v| draw(v, DETAIL_BITS));
+    PackedHistory {
+        color: [r | (g << 21), (g >> 11) | (b << 10)],
+        stats: [length | (mean << 16), fast | (long << 16)],
+        detail: [
+            deviation | (carry_r << 12) | (carry_g << 24),
+            (carry_g >> 8) | (carry_b << 4) | (calm << 16),
+        ],
+    }
 }
 
 /// The history as the passes read it: the codes decoded and the second moment rebuilt as

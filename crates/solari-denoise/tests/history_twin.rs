@@ -1,18 +1,21 @@
 //! The history codec (`denoise_history.wesl`) against its Rust twin
 //! (`solari_denoise::history`) on lavapipe, bit for bit, at each of its three widths: every
-//! code of the two narrower widths and every 16th of the colour's decoded, values spread over every magnitude with random dithers (and the adversarial
-//! ones: zero, negative zero, NaN, infinities, the edges of the linear range and of the
-//! largest code), and random packed histories unpacked.
+//! code of the two narrower widths and every 16th of the colour's decoded, values spread over
+//! every magnitude with random dithers (and the adversarial ones: zero, negative zero, NaN,
+//! infinities, the edges of the linear range and of the largest code), random packed
+//! histories unpacked, and random histories packed with the shader's random draws.
 
 use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
+use solari_denoise::GpuHistory;
 use solari_denoise::history::{
     COLOR_BITS, DETAIL_BITS, MEAN_BITS, PackedHistory, code_max, decode_unsigned, encode_unsigned,
-    unpack,
+    pack, unpack,
 };
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
+use solari_scene::rng::Rng as ShaderRng;
 
 /// WGSL twin: `Case` in `shaders/denoise_history_test.wesl`.
 #[repr(C)]
@@ -20,7 +23,8 @@ use solari_scene::gpu::test_gpu;
 struct Case {
     value: [u32; 4],
     packed: PackedHistory,
-    pad: [u32; 2],
+    seed: [u32; 2],
+    history: GpuHistory,
 }
 
 /// WGSL twin: `Outcome`.
@@ -31,6 +35,8 @@ struct Outcome {
     color: [f32; 4],
     moments: [f32; 4],
     carry: [f32; 4],
+    packed: PackedHistory,
+    pad: [u32; 2],
 }
 
 fn value(rng: &mut Pcg32, k: u32) -> f32 {
@@ -85,10 +91,33 @@ fn history_codec_matches_its_rust_twin() {
                 let m = widths[k as usize % 3];
                 (rng.random_range(0..=code_max(m)), m)
             });
+            // A history to pack: every value of any magnitude (the adversarial ones too), the
+            // mean of squares below the squared mean now and then, a whole length.
+            let any = |rng: &mut Pcg32| {
+                let k = rng.random_range(0..4);
+                value(rng, k)
+            };
+            let mean = any(&mut rng);
+            let history = GpuHistory {
+                color: [
+                    any(&mut rng),
+                    any(&mut rng),
+                    any(&mut rng),
+                    rng.random_range(0..2049) as f32,
+                ],
+                moments: [
+                    mean,
+                    mean * mean * rng.random_range(0.5..3.0f32),
+                    any(&mut rng),
+                    any(&mut rng),
+                ],
+                carry: [any(&mut rng), any(&mut rng), any(&mut rng), any(&mut rng)],
+            };
             Case {
                 value: [value(&mut rng, k).to_bits(), rng.random(), code, m],
                 packed,
-                pad: [0; 2],
+                seed: [rng.random(), 0],
+                history,
             }
         })
         .collect();
@@ -117,6 +146,18 @@ fn history_codec_matches_its_rust_twin() {
             r.codes[1],
             decode_unsigned(code, m).to_bits(),
             "decode {code} of {m} bits"
+        );
+        // Packing, bit for bit, except that the deviation (taken from mean² and the mean of
+        // squares, which a GPU may fuse) may land one code off.
+        let twin = pack(&c.history, &mut ShaderRng(c.seed[0]));
+        let deviation = |p: &PackedHistory| (p.detail[0] & 0xfff) as i64;
+        let others = |p: &PackedHistory| (p.color, p.stats, [p.detail[0] & !0xfff, p.detail[1]]);
+        assert!(
+            others(&r.packed) == others(&twin)
+                && (deviation(&r.packed) - deviation(&twin)).abs() <= 1,
+            "pack {:?}: GPU {:?} CPU {twin:?}",
+            c.history,
+            r.packed
         );
         let twin = unpack(&c.packed);
         let gpu = [r.color, r.moments, r.carry].concat();
