@@ -27,6 +27,7 @@ pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
         ("denoised", Buf::ReadWrite),
         ("pass_params", Buf::Uniform),
         ("shadow", Buf::Read),
+        ("transient", Buf::ReadWrite),
     ],
 );
 
@@ -51,17 +52,24 @@ pub struct GpuHistory {
 
 const HISTORY_BYTES: u64 = size_of::<PackedHistory>() as u64;
 
-// A buffer of 16 bytes a pixel: its own, or the start of a shared scratch buffer.
+// Bytes per pixel of the transient words (WGSL `transient`): the new history, then the
+// variance pass's output.
+const TRANSIENT_BYTES: u64 = 32;
+
+// A per-pixel buffer: its own, or the start of a shared scratch buffer.
 struct Region {
     buffer: wgpu::Buffer,
     shared: bool,
+    // Bytes per pixel.
+    stride: u64,
 }
 
 impl Region {
-    fn own(buffer: wgpu::Buffer) -> Self {
+    fn own(buffer: wgpu::Buffer, stride: u64) -> Self {
         Self {
             buffer,
             shared: false,
+            stride,
         }
     }
 
@@ -69,16 +77,16 @@ impl Region {
         wgpu::BufferBinding {
             buffer: &self.buffer,
             offset: 0,
-            size: wgpu::BufferSize::new(pixels * 16),
+            size: wgpu::BufferSize::new(pixels * self.stride),
         }
     }
 }
 
-// One signal's buffers and bind groups (combined lighting has one signal, split two).
+// One signal's history and bind groups (combined lighting has one signal, split two).
 struct Signal {
-    histories: [wgpu::Buffer; 2],
-    // [parity][dispatch]: temporal, variance, then each à-trous iteration.
-    groups: [Vec<wgpu::BindGroup>; 2],
+    history: wgpu::Buffer,
+    // Per dispatch: temporal, variance, then each à-trous iteration.
+    groups: Vec<wgpu::BindGroup>,
 }
 
 /// The fallback denoiser. See the crate docs for the algorithm and its measured bias.
@@ -88,41 +96,54 @@ pub struct FallbackDenoiser {
     temporal: wgpu::ComputePipeline,
     variance: wgpu::ComputePipeline,
     atrous: wgpu::ComputePipeline,
-    // The first iteration's when it feeds back into the history (`history_feedback`).
-    atrous_feedback: Option<wgpu::ComputePipeline>,
+    // The first iteration's, which reads the transient words (two vec4s a pixel); with
+    // `history_feedback` it also feeds back into the history.
+    atrous_first: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
     // Per signal slot (0 combined/diffuse, 1 specular) and dispatch.
     pass_params: [Vec<wgpu::Buffer>; 2],
-    // The à-trous ping-pong. With one signal the last iteration writes the output into its
-    // target, so that filter buffer is the output (a separate one cost 16 B per pixel); it
-    // is always an own buffer. The other lives only within `encode`, so it may be a shared
-    // scratch buffer (`use_scratch`). The guide does too, but sharing it as well put one
-    // buffer both read-only and read-write in the à-trous dispatches, which wgpu refuses;
-    // binding `filter_in` read-write instead cost the à-trous 4% on the H100.
-    filters: [Region; 2],
+    // Where each pass writes, for n à-trous iterations: the temporal pass puts the new
+    // history in `transient` and the variance pass's window data in `output`; the variance
+    // pass stores the history (one buffer per signal, not two: last frame's is not read
+    // after the temporal pass) and puts its output in `transient`; iteration k writes
+    // `output` when n − 1 − k is even, else `second`, so the last writes `output`. With one
+    // signal the last iteration writes the denoised image there, so `output` is the output
+    // (a separate one cost 16 B per pixel) and always an own buffer.
+    //
+    // `transient` lives only from the temporal pass to the first iteration, and `second`
+    // from the second iteration on, so both may be the same shared scratch buffer
+    // (`use_scratch`) when n is odd. When n is even the first iteration writes `second`
+    // while it reads `transient`, and one buffer bound read-only and read-write in one
+    // dispatch is refused by wgpu: `second` is then its own. The guide is an own buffer for
+    // the same reason (binding `filter_in` read-write instead cost the à-trous 4% on the
+    // H100).
+    output: wgpu::Buffer,
+    second: Region,
+    transient: Region,
     guide: wgpu::Buffer,
     // The output of split lighting (made when split lighting is first bound), whose second
     // signal adds to the first after both have used the filter buffers.
     split_output: Option<wgpu::Buffer>,
-    // Placeholders: bound as `shadow` when the inputs bring none, and as `denoised` when
-    // the output goes to a filter buffer.
+    // Placeholders for bindings a dispatch does not use (and for `shadow` when the inputs
+    // bring none, `denoised` when the output goes to a filter buffer): one bound read-only,
+    // one read-write.
     no_shadow: wgpu::Buffer,
     no_output: wgpu::Buffer,
     // Built on first use for the lighting (and shadow) buffers given, rebuilt when they
     // change.
     signals: Vec<Signal>,
     bound_to: Vec<wgpu::Buffer>,
-    parity: usize,
     history: bool,
     // Frames recorded (wrapping): seeds the history's stochastic rounding.
     frame: u32,
 }
 
 impl FallbackDenoiser {
-    /// Builds the passes and allocates `width × height` buffers (96 bytes per pixel: 190 MiB
-    /// at 1920×1080 for combined lighting, 64 bytes more per pixel for split; 16 fewer when
-    /// a filter buffer moves to shared scratch, [`Denoiser::use_scratch`]).
+    /// Builds the passes and allocates `width × height` buffers: 104 bytes per pixel (206 MiB
+    /// at 1920×1080) for combined lighting, 40 more for split. [`Denoiser::use_scratch`]
+    /// moves 48 of them into shared scratch with an odd `atrous_iterations` (the default 5),
+    /// 32 with an even one.
     pub fn new(
         gpu: &Gpu,
         width: u32,
@@ -147,7 +168,7 @@ impl FallbackDenoiser {
         let layout = FALLBACK_BINDINGS.layout(gpu, "solari_denoise/fallback");
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let modules = crate::modules();
-        let pipeline = |entry: &str| -> Result<_, GpuError> {
+        let pipeline = |entry: &str, constants: &[(&str, f64)]| -> Result<_, GpuError> {
             // The denoiser traces no rays: either backend's composition serves.
             let wgsl = compose(entry, Backend::Software, &modules)?;
             gpu.compute_pipeline(
@@ -155,16 +176,19 @@ impl FallbackDenoiser {
                 &wgsl,
                 &[Some(&layout), Some(&gbuffer_layout)],
                 ShaderChecks::BoundsOnly,
-                &[],
+                constants,
             )
         };
-        let temporal = pipeline("denoise_temporal")?;
-        let variance = pipeline("denoise_variance")?;
-        let atrous = pipeline("denoise_atrous")?;
-        let atrous_feedback = settings
-            .history_feedback
-            .then(|| pipeline("denoise_atrous_feedback"))
-            .transpose()?;
+        let temporal = pipeline("denoise_temporal", &[])?;
+        let variance = pipeline("denoise_variance", &[])?;
+        let atrous = pipeline("denoise_atrous", &[])?;
+        // `@id(7120) override DENOISE_FILTER_IN_STRIDE` in denoise_atrous_filter.wesl.
+        let first = if settings.history_feedback {
+            "denoise_atrous_feedback"
+        } else {
+            "denoise_atrous"
+        };
+        let atrous_first = pipeline(first, &[("7120", 2.0)])?;
         let params = gpu.uniform_buffer("solari_denoise/params", &GpuDenoiseParams::zeroed());
         let storage = |label: &str, bytes: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -176,13 +200,16 @@ impl FallbackDenoiser {
                 mapped_at_creation: false,
             })
         };
-        let filters = [
-            Region::own(storage("solari_denoise/filter_a", pixels * 16)),
-            Region::own(storage("solari_denoise/filter_b", pixels * 16)),
-        ];
+        let output = storage("solari_denoise/filter_output", pixels * 16);
+        let second = Region::own(storage("solari_denoise/filter_second", pixels * 16), 16);
+        let transient = Region::own(
+            storage("solari_denoise/transient", pixels * TRANSIENT_BYTES),
+            TRANSIENT_BYTES,
+        );
         let guide = storage("solari_denoise/guide", pixels * 16);
-        let no_shadow = storage("solari_denoise/no_shadow", 16);
-        let no_output = storage("solari_denoise/no_output", 16);
+        // 32 bytes: at least one element of every array they stand in for.
+        let no_shadow = storage("solari_denoise/no_shadow", 32);
+        let no_output = storage("solari_denoise/no_output", 32);
         let pass_params = [0u32, 1].map(|slot| {
             (0..settings.atrous_iterations + 2)
                 .map(|dispatch| {
@@ -199,18 +226,19 @@ impl FallbackDenoiser {
             temporal,
             variance,
             atrous,
-            atrous_feedback,
+            atrous_first,
             layout,
             params,
             pass_params,
-            filters,
+            output,
+            second,
+            transient,
             guide,
             split_output: None,
             no_shadow,
             no_output,
             signals: Vec::new(),
             bound_to: Vec::new(),
-            parity: 0,
             history: false,
             frame: 0,
         })
@@ -221,10 +249,9 @@ impl FallbackDenoiser {
         self.settings
     }
 
-    // Which filter buffer the last à-trous iteration writes (dispatch d ≥ 2 writes filter
-    // (d + 1) % 2, and the last is d = iterations + 1).
-    fn output_filter(&self) -> usize {
-        self.settings.atrous_iterations as usize % 2
+    // Whether `second` may share the scratch with `transient` (see the fields).
+    fn second_shares(&self) -> bool {
+        self.settings.atrous_iterations % 2 == 1
     }
 
     /// Drops all history: the next frame starts afresh (as `DenoiserInputs::reset` does).
@@ -273,53 +300,64 @@ impl FallbackDenoiser {
                 gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(&p));
             }
         }
+        let n = self.settings.atrous_iterations as usize;
+        let whole = wgpu::Buffer::as_entire_buffer_binding;
+        let output = whole(&self.output);
+        let second = self.second.binding(pixels);
+        let transient = self.transient.binding(pixels);
+        let (ro, rw) = (whole(&self.no_shadow), whole(&self.no_output));
         self.signals = inputs
             .iter()
             .enumerate()
             .map(|(slot, input)| {
-                let histories = [0, 1].map(|_| {
-                    gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                        label: Some("solari_denoise/history"),
-                        size: pixels * HISTORY_BYTES,
-                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                        mapped_at_creation: false,
-                    })
+                let history = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("solari_denoise/history"),
+                    size: pixels * HISTORY_BYTES,
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                    mapped_at_creation: false,
                 });
-                let groups = [0usize, 1].map(|parity| {
-                    let (before, now) = (&histories[parity ^ 1], &histories[parity]);
-                    (0..self.settings.atrous_iterations as usize + 2)
-                        .map(|dispatch| {
-                            // Temporal writes history and the variance pass's window data
-                            // to filter B; variance reads them and writes filter A; iteration
-                            // k reads filter (k % 2) and writes the other.
-                            let (from, to) = match dispatch {
-                                0 => (&self.filters[0], &self.filters[1]),
-                                1 => (&self.filters[1], &self.filters[0]),
-                                d => (&self.filters[d % 2], &self.filters[(d + 1) % 2]),
-                            };
-                            let params = &self.pass_params[slot][dispatch];
-                            let whole = wgpu::Buffer::as_entire_buffer_binding;
-                            let entries = FALLBACK_BINDINGS.range_entries(&[
-                                ("params", whole(&self.params)),
-                                ("noisy", whole(input)),
-                                ("history_before", whole(before)),
-                                ("history_now", whole(now)),
-                                ("filter_in", from.binding(pixels)),
-                                ("filter_out", to.binding(pixels)),
-                                ("guide", whole(&self.guide)),
-                                ("denoised", whole(denoised)),
-                                ("pass_params", whole(params)),
-                                ("shadow", whole(&shadow)),
-                            ]);
-                            gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                                label: Some("solari_denoise/fallback"),
-                                layout: &self.layout,
-                                entries: &entries,
-                            })
+                let groups = (0..n + 2)
+                    .map(|dispatch| {
+                        // What each dispatch reads and writes (see the fields); a binding
+                        // it does not use gets a placeholder, since a buffer may not be
+                        // bound read-only and read-write in one dispatch.
+                        let written = |k: usize| {
+                            if (n - 1 - k).is_multiple_of(2) {
+                                output.clone()
+                            } else {
+                                second.clone()
+                            }
+                        };
+                        let h = whole(&history);
+                        // (history_before, history_now, filter_in, filter_out, transient)
+                        let (before, now, from, to, words) = match dispatch {
+                            0 => (h, rw.clone(), ro.clone(), output.clone(), transient.clone()),
+                            1 => (ro.clone(), h, output.clone(), rw.clone(), transient.clone()),
+                            2 => (ro.clone(), h, transient.clone(), written(0), rw.clone()),
+                            d => (ro.clone(), h, written(d - 3), written(d - 2), rw.clone()),
+                        };
+                        let params = whole(&self.pass_params[slot][dispatch]);
+                        let entries = FALLBACK_BINDINGS.range_entries(&[
+                            ("params", whole(&self.params)),
+                            ("noisy", whole(input)),
+                            ("history_before", before),
+                            ("history_now", now),
+                            ("filter_in", from),
+                            ("filter_out", to),
+                            ("guide", whole(&self.guide)),
+                            ("denoised", whole(denoised)),
+                            ("pass_params", params),
+                            ("shadow", whole(&shadow)),
+                            ("transient", words),
+                        ]);
+                        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                            label: Some("solari_denoise/fallback"),
+                            layout: &self.layout,
+                            entries: &entries,
                         })
-                        .collect()
-                });
-                Signal { histories, groups }
+                    })
+                    .collect();
+                Signal { history, groups }
             })
             .collect();
         self.bound_to = key.into_iter().cloned().collect();
@@ -333,7 +371,7 @@ impl FallbackDenoiser {
             GpuError::Validation(format!("fallback denoiser: no signal {slot} bound yet"))
         })?;
         let pixels = self.size.0 as u64 * self.size.1 as u64;
-        let bytes = gpu.read_buffer(&signal.histories[self.parity], pixels * HISTORY_BYTES)?;
+        let bytes = gpu.read_buffer(&signal.history, pixels * HISTORY_BYTES)?;
         let packed: &[PackedHistory] = bytemuck::cast_slice(&bytes);
         Ok(packed.iter().map(crate::history::unpack).collect())
     }
@@ -408,7 +446,6 @@ impl Denoiser for FallbackDenoiser {
             )));
         }
         self.bind(gpu, &inputs.lighting, inputs.shadow);
-        self.parity ^= 1;
         let reset = inputs.reset || !self.history || !inputs.gbuffer.history_valid();
         let (w, h) = self.size;
         self.frame = self.frame.wrapping_add(1);
@@ -423,7 +460,7 @@ impl Denoiser for FallbackDenoiser {
         let gbuffer = inputs.gbuffer.bind_group()?;
         let mut ran = Ran::none();
         for signal in &self.signals {
-            let groups = &signal.groups[self.parity];
+            let groups = &signal.groups;
             let run = |e: &mut wgpu::CommandEncoder, label, pipeline, group| {
                 let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some(label),
@@ -442,9 +479,10 @@ impl Denoiser for FallbackDenoiser {
             });
             frame.scope(PASS_LABELS[2], encoder, &mut ran, |e| {
                 for (k, group) in groups[2..].iter().enumerate() {
-                    let pipeline = match &self.atrous_feedback {
-                        Some(p) if k == 0 => p,
-                        _ => &self.atrous,
+                    let pipeline = if k == 0 {
+                        &self.atrous_first
+                    } else {
+                        &self.atrous
                     };
                     run(e, PASS_LABELS[2], pipeline, group);
                 }
@@ -458,30 +496,38 @@ impl Denoiser for FallbackDenoiser {
     }
 
     /// With split lighting its own buffer; with combined lighting the filter buffer the last
-    /// à-trous iteration writes (so the buffer changes if the lighting's kind does).
+    /// à-trous iteration writes.
     fn output(&self) -> &wgpu::Buffer {
         match (&self.split_output, self.signals.len()) {
             (Some(b), 2) => b,
-            _ => &self.filters[self.output_filter()].buffer,
+            _ => &self.output,
         }
     }
 
-    /// The filter buffer that is not the output: 16 bytes per pixel.
+    /// The transient words (32 bytes per pixel), and with an odd `atrous_iterations` the
+    /// second filter buffer too, which uses them at other times.
     fn scratch_bytes(&self) -> u64 {
-        self.size.0 as u64 * self.size.1 as u64 * 16
+        self.size.0 as u64 * self.size.1 as u64 * TRANSIENT_BYTES
     }
 
     fn use_scratch(&mut self, _gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
-        let slot = 1 - self.output_filter();
-        if self.filters[slot].shared && self.filters[slot].buffer == *scratch {
+        if self.transient.shared && self.transient.buffer == *scratch {
             // Already there: keep the bind groups and the history.
             return Ok(());
         }
         solari_scene::scratch::check("fallback denoiser", scratch, self.scratch_bytes())?;
-        self.filters[slot] = Region {
+        self.transient = Region {
             buffer: scratch.clone(),
             shared: true,
+            stride: TRANSIENT_BYTES,
         };
+        if self.second_shares() {
+            self.second = Region {
+                buffer: scratch.clone(),
+                shared: true,
+                stride: 16,
+            };
+        }
         // Rebind on the next frame (which restarts history).
         self.bound_to.clear();
         Ok(())
@@ -489,21 +535,20 @@ impl Denoiser for FallbackDenoiser {
 
     fn memory_bytes(&self) -> u64 {
         let pixels = self.size.0 as u64 * self.size.1 as u64;
-        let regions: u64 = self
-            .filters
-            .iter()
+        let regions: u64 = [&self.second, &self.transient]
+            .into_iter()
             .filter(|r| !r.shared)
             .map(|r| r.buffer.size())
             .sum();
         let buffers: u64 = regions
-            + [&self.guide, &self.params]
+            + [&self.output, &self.guide, &self.params]
                 .into_iter()
                 .chain(&self.split_output)
                 .chain(self.pass_params.iter().flatten())
                 .map(|b| b.size())
                 .sum::<u64>();
-        // Histories are made on the first frame, one pair per signal: count at least one.
+        // Histories are made on the first frame, one per signal: count at least one.
         let signals = self.signals.len().max(1) as u64;
-        buffers + signals * pixels * 2 * HISTORY_BYTES
+        buffers + signals * pixels * HISTORY_BYTES
     }
 }

@@ -796,14 +796,19 @@ impl RealtimeRenderer {
         .with_shared_scratch(gpu)
     }
 
-    // Moves ReSTIR DI's and GI's initial reservoirs and the denoiser's second filter buffer
-    // into one scratch buffer (their lifetimes within a frame do not overlap; GI's ends with
-    // specular GI, which is bound again here), allocated on first use at the largest size
-    // asked. Called again when the light readers are rebuilt.
+    // Moves the world cache's new samples, ReSTIR DI's and GI's initial reservoirs, the
+    // G-buffer's overrides and the denoiser's transient words and second filter buffer into
+    // one scratch buffer (their lifetimes within a frame do not overlap, except GI's, which
+    // ends in specular GI, the overrides' writer:
+    // that pass reads each pixel's reservoir before it stores the pixel's override; it is
+    // bound again here), allocated on first use at the largest size asked. Called again when
+    // the light readers are rebuilt.
     fn share_scratch(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
         let bytes = [
+            self.cache.as_ref().map(|(c, _)| c.scratch_bytes()),
             Some(self.di.scratch_bytes()),
             self.gi.as_ref().map(|(g, _)| g.scratch_bytes()),
+            self.psr.then(|| self.gbuffer.override_scratch_bytes()),
             self.denoiser.as_ref().map(|d| d.scratch_bytes()),
         ]
         .into_iter()
@@ -814,9 +819,16 @@ impl RealtimeRenderer {
             self.scratch = Some(solari_scene::scratch::allocate(gpu, bytes)?);
         }
         let scratch = self.scratch.as_ref().expect("allocated above");
+        // The cache first: GI and specular GI bind its buffers.
+        if let Some((cache, _)) = &mut self.cache {
+            cache.use_scratch(gpu, scratch)?;
+        }
         self.di.use_scratch(gpu, scratch)?;
         if let (Some((gi, _)), Some((cache, _))) = (&mut self.gi, &self.cache) {
             gi.use_scratch(gpu, scratch, cache)?;
+        }
+        if self.psr {
+            self.gbuffer.use_override_scratch(gpu, scratch)?;
         }
         if let Some(d) = &mut self.denoiser
             && d.scratch_bytes() > 0
@@ -857,8 +869,8 @@ impl RealtimeRenderer {
     /// (ReSTIR GI's history reservoirs; path GI's only reservoirs are in `scratch`; 0
     /// without GI), `specular_gi` (0 without),
     /// `denoiser` (with the temporal upscaler's accumulation, when it runs), `scratch` (the
-    /// buffer DI, GI and the denoiser share for what lives only within their own passes; see
-    /// [`solari_scene::scratch`]). The scene's own memory is the caller's
+    /// buffer the world cache, DI, GI, the G-buffer's overrides and the denoiser share for
+    /// what lives only within one part of the frame; see [`solari_scene::scratch`]). The scene's own memory is the caller's
     /// ([`GpuScene::memory_bytes`]); the profiler's and the detector's few kilobytes are left
     /// out.
     pub fn memory(&self) -> [(&'static str, u64); 8] {
@@ -888,6 +900,13 @@ impl RealtimeRenderer {
             ),
             ("scratch", self.scratch.as_ref().map_or(0, |s| s.size())),
         ]
+    }
+
+    /// The scratch buffer the passes share ([`solari_scene::scratch`]; `None` only while
+    /// the renderer is being built). No pass may read there what an earlier part of the frame,
+    /// or an earlier frame, left: tests fill it with garbage between frames to check that.
+    pub fn shared_scratch(&self) -> Option<&wgpu::Buffer> {
+        self.scratch.as_ref()
     }
 
     /// GPU memory the denoiser holds, in bytes.

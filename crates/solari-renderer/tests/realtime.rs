@@ -307,8 +307,9 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 bytes per pixel each, and the 4-byte motion target they share) and the raster
 /// depth buffer (4) to within its uniforms (the box has no mirror, so no override buffer:
-/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the denoiser's 80, the shared
-/// scratch's 32, and every other component something.
+/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the denoiser's 56, the shared
+/// scratch's 32 (or the world cache's new samples, if more), and every other component
+/// something.
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
@@ -330,24 +331,38 @@ fn memory_report_counts_each_component() {
     );
     // ReSTIR DI: the final reservoirs (20; one buffer serves as history), the image (16)
     // and the shadow report (8), to within its uniforms and light table; its initial
-    // reservoirs live in the shared scratch, with ReSTIR GI's (32, the largest) and the
-    // denoiser's second filter buffer (16).
+    // reservoirs live in the shared scratch, with ReSTIR GI's (32), the denoiser's
+    // transient words (32) and its second filter buffer (16).
     let di = memory[3].1;
     assert!(
         (44 * pixels..44 * pixels + 4096).contains(&di),
         "ReSTIR DI {di} bytes for {pixels} pixels"
     );
-    // The fallback denoiser: two 24-byte packed histories, the guide (16) and the filter
-    // buffer that is its output (16); its other filter buffer is in the scratch.
+    // The fallback denoiser: one 24-byte packed history, the guide (16) and the filter
+    // buffer that is its output (16); its transient words and other filter buffer are in
+    // the scratch.
     let (name, denoiser) = memory[6];
     assert_eq!(name, "denoiser");
     assert!(
-        (80 * pixels..80 * pixels + 4096).contains(&denoiser),
+        (56 * pixels..56 * pixels + 4096).contains(&denoiser),
         "denoiser {denoiser} bytes for {pixels} pixels"
     );
+    // The scratch also holds the world cache's new samples (32 bytes a slot), which at this
+    // small size are the largest user.
     let (name, scratch) = memory[7];
     assert_eq!(name, "scratch");
-    assert_eq!(scratch, 32 * pixels, "scratch bytes for {pixels} pixels");
+    let samples = 32 * renderer.settings().cache.capacity as u64;
+    assert_eq!(
+        scratch,
+        (32 * pixels).max(samples),
+        "scratch bytes for {pixels} pixels"
+    );
+    let cache = memory[2].1;
+    let own = renderer.settings().cache.memory_bytes() - samples;
+    assert_eq!(
+        cache, own,
+        "the world cache counts its new samples, now in the scratch"
+    );
     for (name, bytes) in memory {
         assert!(bytes > 0, "{name} reports no memory");
     }

@@ -39,6 +39,14 @@
 //!   mirror gets a plausible guide, not an exact one. Smooth non-metals keep their own
 //!   guides (Solari found replacing them worse).
 //!
+//!   The pass stores every pixel's override slot each frame (an override or none), so the
+//!   override buffer may be shared scratch. It may even be the buffer that holds this frame's
+//!   GI reservoirs (plain path GI keeps them in the renderer's scratch, as the overrides
+//!   are): a pixel reads its own reservoir before it stores its own slot, and both are 32
+//!   bytes, so no pixel's store reaches a reservoir another pixel still has to read. The
+//!   shader then writes the overrides through the reservoirs' binding, since a shader may
+//!   assume that two bindings do not alias.
+//!
 //! Cost: up to `2 × max_bounces` rays per traced pixel (one segment and one shadow ray per
 //! bounce); none for rough pixels. Replacement adds no ray: it rides on the mirror pixels'
 //! own path.
@@ -65,7 +73,8 @@ pub const SPECULAR_BINDINGS: BufferGroup = BufferGroup::new(
     0,
     &[
         ("spec_params", Buf::Uniform),
-        ("spec_gi", Buf::Read),
+        // Read-write: the overrides may share its buffer (see the module docs).
+        ("spec_gi", Buf::ReadWrite),
         ("spec_lit", Buf::ReadWrite),
         ("spec_overrides", Buf::ReadWrite),
         ("spec_previous_transforms", Buf::Read),
@@ -145,7 +154,14 @@ mod flags {
     pub const NEE: u32 = 2;
     pub const CACHE_END: u32 = 4;
     pub const PSR: u32 = 8;
+    pub const OVERRIDES_IN_GI: u32 = 16;
 }
+
+// A pixel's override and its GI reservoir take the same 32 bytes, so a pixel's store of one
+// can never reach another pixel's copy of the other (flags::OVERRIDES_IN_GI).
+const _: () = assert!(
+    size_of::<crate::GpuGiReservoir>() as u64 == solari_scene::gbuffer_override::OVERRIDE_BYTES
+);
 
 /// What primary surface replacement writes and reads, both the G-buffer's:
 /// [`solari_scene::gbuffer::GBuffer::overrides`] (enable them first with
@@ -154,7 +170,8 @@ mod flags {
 /// [`solari_scene::gbuffer::GBuffer::transforms_generation`] changes).
 #[derive(Clone, Copy, Debug)]
 pub struct PsrBindings<'a> {
-    /// The per-pixel override buffer.
+    /// The per-pixel override buffer (it may be ReSTIR GI's reservoir buffer, when both are
+    /// in the same shared scratch).
     pub overrides: &'a wgpu::Buffer,
     /// Last frame's instance transforms.
     pub previous_transforms: &'a wgpu::Buffer,
@@ -204,6 +221,8 @@ pub struct SpecularGi {
     group: Option<wgpu::BindGroup>,
     reuse_gi: bool,
     psr: bool,
+    // The override buffer is the GI reservoirs' (flags::OVERRIDES_IN_GI).
+    overrides_in_gi: bool,
 }
 
 impl SpecularGi {
@@ -270,6 +289,7 @@ impl SpecularGi {
             group: None,
             reuse_gi: false,
             psr: false,
+            overrides_in_gi: false,
         })
     }
 
@@ -307,14 +327,18 @@ impl SpecularGi {
             )));
         }
         let reservoirs = gi.map_or(&self.no_reservoirs, |g| g.reservoirs());
+        // One buffer in two read-write bindings would be aliasing the shader may not expect:
+        // the overrides are then written through `spec_gi`.
+        let overrides_in_gi = psr.is_some_and(|p| p.overrides == reservoirs);
+        let overrides = match psr {
+            Some(p) if !overrides_in_gi => p.overrides,
+            _ => &self.no_psr[0],
+        };
         let mut entries = SPECULAR_BINDINGS.entries(&[
             ("spec_params", &self.params),
             ("spec_gi", reservoirs),
             ("spec_lit", target),
-            (
-                "spec_overrides",
-                psr.map_or(&self.no_psr[0], |p| p.overrides),
-            ),
+            ("spec_overrides", overrides),
             (
                 "spec_previous_transforms",
                 psr.map_or(&self.no_psr[1], |p| p.previous_transforms),
@@ -328,6 +352,7 @@ impl SpecularGi {
         }));
         self.reuse_gi = gi.is_some();
         self.psr = psr.is_some();
+        self.overrides_in_gi = overrides_in_gi;
         Ok(())
     }
 
@@ -375,6 +400,9 @@ impl SpecularGi {
         }
         if self.psr {
             bits |= flags::PSR;
+        }
+        if self.overrides_in_gi {
+            bits |= flags::OVERRIDES_IN_GI;
         }
         let params = GpuSpecularParams {
             width: self.size.0,

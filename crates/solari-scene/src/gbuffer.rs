@@ -463,12 +463,46 @@ impl GBuffer {
     }
 
     /// The per-pixel override buffer that writers bind (WGSL `array<GBufferOverride>`,
-    /// row-major), when [`GBuffer::enable_overrides`] made one.
+    /// row-major), when [`GBuffer::enable_overrides`] made one. A writer stores every pixel's
+    /// slot every frame (an override, or none), so it may be shared scratch
+    /// ([`GBuffer::use_override_scratch`]).
     pub fn overrides(&self) -> Option<&wgpu::Buffer> {
         self.overrides.as_ref().map(|o| o.buffer())
     }
 
-    /// Stores every written override into this frame's targets and clears it (profiler
+    /// Scratch bytes the overrides need to move into shared scratch (32 per pixel), or 0
+    /// when overrides are not enabled.
+    pub fn override_scratch_bytes(&self) -> u64 {
+        self.overrides
+            .as_ref()
+            .map_or(0, |_| OverridePass::bytes(self.size))
+    }
+
+    /// Keeps the overrides in `scratch` ([`crate::scratch`]) instead of their own buffer,
+    /// which is freed (rebind writers to [`GBuffer::overrides`] afterwards). Safe because
+    /// the buffer holds nothing from one frame to the next: the writer stores every pixel
+    /// and the apply pass reads them in the same frame, so passes that run before the writer
+    /// or after the apply may use the scratch for anything. Errors when overrides are not
+    /// enabled or `scratch` is too small; a resize brings back an own buffer.
+    pub fn use_override_scratch(
+        &mut self,
+        gpu: &Gpu,
+        scratch: &wgpu::Buffer,
+    ) -> Result<(), GpuError> {
+        let Some(o) = &mut self.overrides else {
+            return Err(GpuError::Validation(
+                "GBuffer::use_override_scratch without GBuffer::enable_overrides".into(),
+            ));
+        };
+        o.use_scratch(gpu, scratch)
+    }
+
+    /// Whether the overrides live in shared scratch ([`GBuffer::use_override_scratch`]).
+    pub fn overrides_shared(&self) -> bool {
+        self.overrides.as_ref().is_some_and(|o| o.shared())
+    }
+
+    /// Stores every written override into this frame's targets (profiler
     /// scope [`crate::gbuffer_override::OVERRIDE_PASS_LABELS`]`[0]`). Record it after the
     /// passes that must see the primary surfaces and before those that read the guides.
     /// Errors when overrides are not enabled.

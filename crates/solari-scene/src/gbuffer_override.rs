@@ -7,7 +7,13 @@
 //! surface; the lighting passes must still see the mirror. The specular GI pass follows the
 //! mirror bounces and writes the reflected surface's override (`solari_restir::SpecularGi`);
 //! [`crate::gbuffer::GBuffer::apply_overrides`] then stores every written override into this
-//! frame's targets and clears it.
+//! frame's targets.
+//!
+//! A writer stores, every frame, something for every pixel of the image: an override, or
+//! `GBufferOverride()` (all zero: none). So the buffer holds nothing from frame to frame, and
+//! may be shared scratch ([`crate::scratch`], [`crate::gbuffer::GBuffer::use_override_scratch`])
+//! that other passes overwrite before the writer runs: 32 bytes per pixel (63 MiB at
+//! 1920×1080) that the real-time renderer does not allocate.
 //!
 //! Because the replacement happens in place, next frame's `*_before` targets hold the
 //! replaced pixels too: the denoiser's reprojection compares replaced with replaced, as it
@@ -17,7 +23,7 @@
 //!
 //! WGSL: `shaders/gbuffer_override.wesl` (`GBufferOverride`, `make_override`, `view_uv`) for
 //! writers; `shaders/gbuffer_override_apply.wesl` is the apply pass. Memory: 32 bytes per
-//! pixel, allocated by [`crate::gbuffer::GBuffer::enable_overrides`] only.
+//! pixel, allocated by [`crate::gbuffer::GBuffer::enable_overrides`] only, unless shared.
 
 use crate::bindings::{Buf, BufferGroup};
 use crate::error::GpuError;
@@ -35,10 +41,7 @@ pub const OVERRIDE_BYTES: u64 = 32;
 pub const APPLY_BINDINGS: BufferGroup = BufferGroup::new(
     0,
     0,
-    &[
-        ("override_params", Buf::Uniform),
-        ("overrides", Buf::ReadWrite),
-    ],
+    &[("override_params", Buf::Uniform), ("overrides", Buf::Read)],
 );
 
 /// The apply pass's label (dispatch, profiler scope and report name).
@@ -58,7 +61,10 @@ const _: () = assert!(size_of::<GpuOverrideParams>() == 16);
 /// The override buffer and the pass that applies it to one of two target sets.
 pub(crate) struct OverridePass {
     buffer: wgpu::Buffer,
+    // Whether `buffer` is shared scratch (not counted as the G-buffer's memory).
+    shared: bool,
     params: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
     group: wgpu::BindGroup,
     // Group 1 per target set (frame parity).
@@ -73,7 +79,7 @@ impl OverridePass {
         targets: &[GBufferTargets; 2],
         size: (u32, u32),
     ) -> Result<Self, GpuError> {
-        let bytes = size.0 as u64 * size.1 as u64 * OVERRIDE_BYTES;
+        let bytes = Self::bytes(size);
         gpu.check_storage_binding("G-buffer override buffer", bytes)?;
         // Zero-initialised by wgpu: no pixel has an override.
         let buffer = gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -110,7 +116,9 @@ impl OverridePass {
         let out_groups = out_groups(gpu, &out_layout, targets);
         Ok(Self {
             buffer,
+            shared: false,
             params,
+            layout,
             pipeline,
             group,
             out_groups,
@@ -123,15 +131,47 @@ impl OverridePass {
         &self.buffer
     }
 
+    /// Bytes of the override buffer for `size` pixels.
+    pub(crate) fn bytes(size: (u32, u32)) -> u64 {
+        size.0 as u64 * size.1 as u64 * OVERRIDE_BYTES
+    }
+
+    /// Replaces the own buffer by `scratch` (at least [`OverridePass::bytes`]), which the
+    /// writers overwrite whole every frame.
+    pub(crate) fn use_scratch(
+        &mut self,
+        gpu: &Gpu,
+        scratch: &wgpu::Buffer,
+    ) -> Result<(), GpuError> {
+        crate::scratch::check("G-buffer overrides", scratch, Self::bytes(self.size))?;
+        self.buffer = scratch.clone();
+        self.shared = true;
+        self.group = APPLY_BINDINGS.bind(
+            gpu,
+            "solari_scene/gbuffer_override",
+            &self.layout,
+            &[
+                ("override_params", &self.params),
+                ("overrides", &self.buffer),
+            ],
+        );
+        Ok(())
+    }
+
+    pub(crate) fn shared(&self) -> bool {
+        self.shared
+    }
+
     pub(crate) fn memory_bytes(&self) -> u64 {
-        self.buffer.size() + self.params.size()
+        let own = if self.shared { 0 } else { self.buffer.size() };
+        own + self.params.size()
     }
 
     pub(crate) fn size(&self) -> (u32, u32) {
         self.size
     }
 
-    /// Applies the overrides to the target set `parity` and clears them.
+    /// Applies the overrides to the target set `parity`.
     pub(crate) fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,

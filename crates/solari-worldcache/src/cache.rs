@@ -86,6 +86,8 @@ pub struct WorldCache {
     cells: wgpu::Buffer,
     active: wgpu::Buffer,
     new_samples: wgpu::Buffer,
+    // Whether `new_samples` is shared scratch (`use_scratch`), not counted as the cache's.
+    new_samples_shared: bool,
     control: wgpu::Buffer,
     dispatch: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
@@ -285,6 +287,7 @@ impl WorldCache {
             cells: t.cells,
             active: t.active,
             new_samples: t.new_samples,
+            new_samples_shared: false,
             control: t.control,
             dispatch,
             layout,
@@ -386,9 +389,34 @@ impl WorldCache {
             self.cells = t.cells;
             self.active = t.active;
             self.new_samples = t.new_samples;
+            self.new_samples_shared = false;
             self.control = t.control;
         }
         self.settings = settings;
+        Ok(())
+    }
+
+    /// Bytes of scratch [`WorldCache::use_scratch`] needs: the new samples (32 bytes a slot,
+    /// 16 MiB at the default capacity), which live from the update pass to the blend pass.
+    pub fn scratch_bytes(&self) -> u64 {
+        self.settings.capacity as u64 * size_of::<crate::GpuNewSample>() as u64
+    }
+
+    /// Keeps the new samples in `scratch` ([`solari_scene::scratch`], at least
+    /// [`WorldCache::scratch_bytes`]) instead of their own buffer, which is freed. The update
+    /// pass writes a sample for every cell it walks and the blend pass, the next dispatch,
+    /// reads exactly those, so passes recorded outside [`WorldCache::encode`] may use the
+    /// scratch for anything. Rebind the passes built over [`WorldCache::bind_group_entries`]
+    /// afterwards. A new capacity ([`WorldCache::set_settings`]) brings back an own buffer.
+    pub fn use_scratch(&mut self, gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
+        solari_scene::scratch::check("world cache", scratch, self.scratch_bytes())?;
+        self.new_samples = scratch.clone();
+        self.new_samples_shared = true;
+        self.group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_worldcache/cache"),
+            layout: &self.layout,
+            entries: &self.bind_group_entries(),
+        });
         Ok(())
     }
 
@@ -401,9 +429,15 @@ impl WorldCache {
         gpu.queue.submit([encoder.finish()]);
     }
 
-    /// GPU memory the cache holds, in bytes ([`WorldCacheSettings::memory_bytes`]).
+    /// GPU memory the cache holds, in bytes ([`WorldCacheSettings::memory_bytes`], less the
+    /// new samples when they are in shared scratch).
     pub fn memory_bytes(&self) -> u64 {
-        self.settings.memory_bytes()
+        let shared = if self.new_samples_shared {
+            self.scratch_bytes()
+        } else {
+            0
+        };
+        self.settings.memory_bytes() - shared
     }
 
     /// The bind group a consumer's pipeline can use at group 2 when it needs nothing else

@@ -227,6 +227,47 @@ fn cache_converges_to_the_analytic_furnaces() {
     }
 }
 
+/// The renderer keeps the new samples in shared scratch that other passes overwrite
+/// (`WorldCache::use_scratch`). With that scratch filled with garbage (random bytes, so NaNs,
+/// infinities and huge values among them) before every frame, the uniform furnace's cells
+/// still converge to the analytic 1 (as in `cache_converges_to_the_analytic_furnaces`) and
+/// never hold a non-finite value (the detector checks every frame): the blend reads only
+/// what the update wrote in the same frame. The cache no longer counts the samples, and a
+/// scratch too small is refused.
+#[test]
+fn new_samples_in_a_scratch_full_of_garbage_change_nothing() {
+    use rand::{Rng, SeedableRng};
+    let Some(gpu) = test_gpu() else { return };
+    let scene = load_gltf(solari_testdata::scene("furnace_uniform")).expect("scene");
+    let capacity = 1 << 15;
+    let mut s = setup(&gpu, &scene, 32, capacity);
+    let own = s.cache.memory_bytes();
+    let small = solari_scene::scratch::allocate(&gpu, s.cache.scratch_bytes() - 16).unwrap();
+    let e = s.cache.use_scratch(&gpu, &small).unwrap_err().to_string();
+    assert!(e.contains("world cache") && e.contains("it needs"), "{e}");
+    let scratch = solari_scene::scratch::allocate(&gpu, s.cache.scratch_bytes()).unwrap();
+    s.cache.use_scratch(&gpu, &scratch).expect("scratch");
+    assert_eq!(own - s.cache.memory_bytes(), 32 * capacity as u64);
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
+    let garbage: Vec<u8> = (0..2 * scratch.size()).map(|_| rng.random()).collect();
+    let camera = scene.camera(None).unwrap();
+    for frame in 0..500usize {
+        // A different window of the garbage each frame.
+        let at = (frame * 4099) % scratch.size() as usize;
+        gpu.queue
+            .write_buffer(&scratch, 0, &garbage[at..at + scratch.size() as usize]);
+        s.frame(&gpu, &scene, &camera);
+    }
+    let cells = live_cells(&s, &gpu, 20.0);
+    let ((t, tse), _, n) = cell_means(&cells, |_| true);
+    eprintln!("furnace_uniform, new samples in garbage: {n} cells, irradiance {t:.4} ± {tse:.4}");
+    assert!(n > 50, "too few cells ({n})");
+    assert!(
+        (t - 1.0).abs() < 4.0 * tse + 0.03,
+        "irradiance {t} ± {tse}, expected 1"
+    );
+}
+
 /// Mean output over `frames` frames after `warmup`, and the last frame alone.
 fn mean_output(
     gpu: &Gpu,
