@@ -54,10 +54,11 @@ pub struct DenoiserInputs<'a> {
     /// none), for denoisers that size their filter by it. Pass it only when
     /// [`Requirements::inputs`] asks for [`Inputs::HIT_DISTANCE`].
     pub hit_distance: Option<&'a wgpu::Buffer>,
-    /// Optional: what each pixel's direct-light shadow ray did (`vec2<f32>` per pixel: the
-    /// luminance of the light it removed, and the width in world units of the penumbra its
-    /// blocker casts at the pixel; zeros where nothing blocks), as
-    /// `solari_restir::RestirDi::shadow` writes it. With it the fallback denoiser tells hard
+    /// Optional: what each pixel's direct-light shadow ray did (one `u32` per pixel, two
+    /// bfloat16 as `solari_scene::packing::pack_bf16x2_unsigned` packs them: the luminance
+    /// of the light it removed, and the width in world units of the penumbra its blocker
+    /// casts at the pixel; zeros where nothing blocks), as `solari_restir::RestirDi::shadow`
+    /// writes it. With it the fallback denoiser tells hard
     /// shadows from noise (a shadow edge whose penumbra is under a pixel is not noise), on
     /// young histories and where a flickering penumbra would open its filter across the
     /// edge. Pass it only when [`Requirements::inputs`] asks for [`Inputs::SHADOW`].

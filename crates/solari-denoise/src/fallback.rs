@@ -140,7 +140,7 @@ pub struct FallbackDenoiser {
 }
 
 impl FallbackDenoiser {
-    /// Builds the passes and allocates `width × height` buffers: 104 bytes per pixel (206 MiB
+    /// Builds the passes and allocates `width × height` buffers: 96 bytes per pixel (190 MiB
     /// at 1920×1080) for combined lighting, 40 more for split. [`Denoiser::use_scratch`]
     /// moves 48 of them into shared scratch with an odd `atrous_iterations` (the default 5),
     /// 32 with an even one.
@@ -206,7 +206,7 @@ impl FallbackDenoiser {
             storage("solari_denoise/transient", pixels * TRANSIENT_BYTES),
             TRANSIENT_BYTES,
         );
-        let guide = storage("solari_denoise/guide", pixels * 16);
+        let guide = storage("solari_denoise/guide", pixels * 8);
         // 32 bytes: at least one element of every array they stand in for.
         let no_shadow = storage("solari_denoise/no_shadow", 32);
         let no_output = storage("solari_denoise/no_output", 32);
@@ -434,15 +434,15 @@ impl Denoiser for FallbackDenoiser {
         solari_scene::gbuffer_input::check_size("fallback denoiser", self.size, inputs.gbuffer)?;
         let pixels = self.size.0 as u64 * self.size.1 as u64;
         if let Some(shadow) = inputs.shadow
-            && shadow.size() < pixels * 8
+            && shadow.size() < pixels * 4
         {
             return Err(GpuError::Validation(format!(
                 "fallback denoiser: the shadow input holds {} bytes; {}×{} pixels need {} \
-                 (vec2<f32> each)",
+                 (one packed u32 each)",
                 shadow.size(),
                 self.size.0,
                 self.size.1,
-                pixels * 8
+                pixels * 4
             )));
         }
         self.bind(gpu, &inputs.lighting, inputs.shadow);

@@ -448,7 +448,7 @@ fn a_short_shadow_input_is_refused() {
             mapped_at_creation: false,
         })
     };
-    let (short, right) = (shadow(64), shadow((SIZE * SIZE * 8) as u64));
+    let (short, right) = (shadow(64), shadow((SIZE * SIZE * 4) as u64));
     let mut encoder = h.gbuffer_encoder();
     let camera = solari_scene::default_scene::cornell_box()
         .camera(None)

@@ -307,7 +307,7 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 bytes per pixel each, and the 4-byte motion target they share) and the raster
 /// depth buffer (4) to within its uniforms (the box has no mirror, so no override buffer:
-/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the denoiser's 56, the shared
+/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the denoiser's 48, the shared
 /// scratch's 32 (or the world cache's new samples, if more), and every other component
 /// something.
 #[test]
@@ -338,13 +338,13 @@ fn memory_report_counts_each_component() {
         (44 * pixels..44 * pixels + 4096).contains(&di),
         "ReSTIR DI {di} bytes for {pixels} pixels"
     );
-    // The fallback denoiser: one 24-byte packed history, the guide (16) and the filter
+    // The fallback denoiser: one 24-byte packed history, the guide (8) and the filter
     // buffer that is its output (16); its transient words and other filter buffer are in
     // the scratch.
     let (name, denoiser) = memory[6];
     assert_eq!(name, "denoiser");
     assert!(
-        (56 * pixels..56 * pixels + 4096).contains(&denoiser),
+        (48 * pixels..48 * pixels + 4096).contains(&denoiser),
         "denoiser {denoiser} bytes for {pixels} pixels"
     );
     // The scratch also holds the world cache's new samples (32 bytes a slot), which at this

@@ -299,7 +299,7 @@ impl RestirDi {
         let finals = buffer("solari_restir/di_reservoirs", reservoir_bytes);
         let initial = buffer("solari_restir/di_reservoirs_initial", reservoir_bytes);
         let output = buffer("solari_restir/di_output", output_bytes);
-        let shadow = buffer("solari_restir/di_shadow", pixels * 8);
+        let shadow = buffer("solari_restir/di_shadow", pixels * 4);
         let group = self.group_for(gpu, &finals, &initial, &output, &shadow);
         self.buffers = Some(PixelBuffers {
             output,
@@ -528,11 +528,14 @@ impl RestirDi {
             .output
     }
 
-    /// What each pixel's final shadow ray did (`vec2<f32>` per pixel, row by row): the
+    /// What each pixel's final shadow ray did (one `u32` per pixel, row by row, holding two
+    /// bfloat16: [`solari_scene::packing::unpack_bf16x2`], WGSL `unpack_bf16x2`): the
     /// luminance of the light it removed (0 where the sample is seen or there is none), and
     /// the width in world units of the penumbra its blocker casts at the pixel (the blocker's
-    /// distance × the light's apparent diameter; 0 where nothing blocks). A denoiser reads it
-    /// to tell noise from hard shadows (`solari_denoise::DenoiserInputs::shadow`).
+    /// distance × the light's apparent diameter; 0 where nothing blocks). Each keeps f32's
+    /// range and 0.4% of its precision, which is all a denoiser needs to tell noise from
+    /// hard shadows (`solari_denoise::DenoiserInputs::shadow`); 4 bytes a pixel instead of
+    /// 8.
     pub fn shadow(&self) -> &wgpu::Buffer {
         &self
             .buffers

@@ -8,6 +8,7 @@ mod common;
 
 use common::{DirectLight, di_settings, tile_settings};
 use solari_scene::gpu::test_gpu;
+use solari_scene::packing::unpack_bf16x2;
 use solari_scene::{Scene, default_scene, load_gltf};
 
 /// One frame's shadow data (removed luminance, penumbra width) and the scene's diagonal.
@@ -20,10 +21,12 @@ fn shadow_data(scene: &Scene, size: u32) -> Option<(Vec<[f32; 2]>, f32)> {
     direct.encode(&gpu, scene, &camera, &mut encoder);
     gpu.queue.submit([encoder.finish()]);
     let bytes = gpu
-        .read_buffer(direct.di.shadow(), size as u64 * size as u64 * 8)
+        .read_buffer(direct.di.shadow(), size as u64 * size as u64 * 4)
         .expect("read back");
     let (lo, hi) = scene.bounds();
-    Some((bytemuck::cast_slice(&bytes).to_vec(), (hi - lo).length()))
+    let words: &[u32] = bytemuck::cast_slice(&bytes);
+    let data = words.iter().map(|&w| unpack_bf16x2(w)).collect();
+    Some((data, (hi - lo).length()))
 }
 
 fn median(mut v: Vec<f32>) -> f32 {

@@ -64,6 +64,30 @@ pub fn unpack_unit_vector(p: u32, bits: u32) -> Vec3 {
     ))
 }
 
+/// Largest finite bfloat16 (bits `0x7f7f`).
+pub const BF16_MAX: f32 = 3.389_531_4e38;
+
+/// A non-negative value as bfloat16 bits (f32's exponent, 8 significant bits; rounded to
+/// nearest, ties to even): relative error at most 2^-8. Negative values and NaN store 0;
+/// values above [`BF16_MAX`], infinity included, store it. WGSL twin:
+/// `encode_bf16_unsigned`.
+pub fn encode_bf16_unsigned(x: f32) -> u32 {
+    let v = if x > 0.0 { x.min(BF16_MAX) } else { 0.0 };
+    let bits = v.to_bits();
+    (bits + 0x7fff + ((bits >> 16) & 1)) >> 16
+}
+
+/// Two non-negative values in one word (`x` low, `y` high), as [`encode_bf16_unsigned`].
+/// WGSL twin: `pack_bf16x2_unsigned`.
+pub fn pack_bf16x2_unsigned(v: [f32; 2]) -> u32 {
+    encode_bf16_unsigned(v[0]) | (encode_bf16_unsigned(v[1]) << 16)
+}
+
+/// The two values of a [`pack_bf16x2_unsigned`] word. WGSL twin: `unpack_bf16x2`.
+pub fn unpack_bf16x2(p: u32) -> [f32; 2] {
+    [f32::from_bits(p << 16), f32::from_bits(p & 0xffff_0000)]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -106,6 +130,48 @@ mod tests {
             assert!(
                 back.is_finite() && back.dot(Vec3::Z) > 1.0 - 1e-6,
                 "{n} -> {back}"
+            );
+        }
+    }
+
+    #[test]
+    fn bf16_pairs_round_to_nearest_and_clamp_what_they_cannot_hold() {
+        let mut state = 0x853c_49e6_748f_ea9bu64;
+        for _ in 0..100_000 {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            // Any positive finite f32 (random exponent and mantissa).
+            let x = f32::from_bits(((state >> 33) as u32) & 0x7f7f_ffff);
+            let y = unpack_bf16x2(pack_bf16x2_unsigned([x, 1.0]))[0];
+            if x >= f32::MIN_POSITIVE {
+                assert!((y - x).abs() <= x * 2f32.powi(-8), "{x} -> {y}");
+            }
+            // The nearest: its neighbours in bfloat16 are no closer.
+            let code = encode_bf16_unsigned(x);
+            for n in [code.saturating_sub(1), code + 1] {
+                let other = f32::from_bits(n << 16);
+                assert!(
+                    (other - x).abs() >= (y - x).abs(),
+                    "{x}: {other} is closer than {y}"
+                );
+            }
+        }
+        for (x, want) in [
+            (0.0, 0.0),
+            (-0.0, 0.0),
+            (-1.0, 0.0),
+            (f32::NAN, 0.0),
+            (f32::INFINITY, BF16_MAX),
+            (f32::MAX, BF16_MAX),
+            (1.0, 1.0),
+            // A tie (halfway between 1 and its next bfloat16) goes to the even code, 1.
+            (1.0 + 2f32.powi(-8), 1.0),
+        ] {
+            assert_eq!(
+                unpack_bf16x2(pack_bf16x2_unsigned([x, x])),
+                [want, want],
+                "{x}"
             );
         }
     }
