@@ -28,6 +28,7 @@ pub const FALLBACK_BINDINGS: BufferGroup = BufferGroup::new(
         ("pass_params", Buf::Uniform),
         ("shadow", Buf::Read),
         ("transient", Buf::ReadWrite),
+        ("transient_ro", Buf::Read),
     ],
 );
 
@@ -52,8 +53,8 @@ pub struct GpuHistory {
 
 const HISTORY_BYTES: u64 = size_of::<PackedHistory>() as u64;
 
-// Bytes per pixel of the transient words (WGSL `transient`): the new history, then the
-// variance pass's output.
+// Bytes per pixel of the transient words (WGSL `transient`, two planes of 16): the new
+// history, then in the first plane the variance pass's output.
 const TRANSIENT_BYTES: u64 = 32;
 
 // A per-pixel buffer: its own, or the start of a shared scratch buffer.
@@ -96,8 +97,7 @@ pub struct FallbackDenoiser {
     temporal: wgpu::ComputePipeline,
     variance: wgpu::ComputePipeline,
     atrous: wgpu::ComputePipeline,
-    // The first iteration's, which reads the transient words (two vec4s a pixel); with
-    // `history_feedback` it also feeds back into the history.
+    // The first iteration's: with `history_feedback` it also feeds back into the history.
     atrous_first: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
@@ -182,13 +182,11 @@ impl FallbackDenoiser {
         let temporal = pipeline("denoise_temporal", &[])?;
         let variance = pipeline("denoise_variance", &[])?;
         let atrous = pipeline("denoise_atrous", &[])?;
-        // `@id(7120) override DENOISE_FILTER_IN_STRIDE` in denoise_atrous_filter.wesl.
-        let first = if settings.history_feedback {
-            "denoise_atrous_feedback"
+        let atrous_first = if settings.history_feedback {
+            pipeline("denoise_atrous_feedback", &[])?
         } else {
-            "denoise_atrous"
+            atrous.clone()
         };
-        let atrous_first = pipeline(first, &[("7120", 2.0)])?;
         let params = gpu.uniform_buffer("solari_denoise/params", &GpuDenoiseParams::zeroed());
         let storage = |label: &str, bytes: u64| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
@@ -294,17 +292,36 @@ impl FallbackDenoiser {
             Some(b) if split => b,
             _ => &self.no_output,
         };
+        let n = self.settings.atrous_iterations as usize;
+        // Whether à-trous iteration k writes `output` (else `second`): the last one does.
+        let writes_output = |k: usize| (n - 1 - k).is_multiple_of(2);
+        let second_in_transient = self.second.buffer == self.transient.buffer;
+        // Whether a dispatch reads the transient words' buffer as `filter_in` (read-only), so
+        // it reads the centre's words through `transient_ro`: the first iteration (the first
+        // plane), and later ones that read a `second` sharing that buffer.
+        let centre_ro = |dispatch: usize| match dispatch {
+            0 | 1 => false,
+            2 => true,
+            d => second_in_transient && !writes_output(d - 3),
+        };
         for slot in 0..2u32 {
             for (dispatch, buffer) in self.pass_params[slot as usize].iter().enumerate() {
-                let p = pass_params(&self.settings, slot, dispatch as u32, split);
+                let p = GpuPassParams {
+                    centre_ro: centre_ro(dispatch) as u32,
+                    ..pass_params(&self.settings, slot, dispatch as u32, split)
+                };
                 gpu.queue.write_buffer(buffer, 0, bytemuck::bytes_of(&p));
             }
         }
-        let n = self.settings.atrous_iterations as usize;
         let whole = wgpu::Buffer::as_entire_buffer_binding;
         let output = whole(&self.output);
         let second = self.second.binding(pixels);
         let transient = self.transient.binding(pixels);
+        // The transient words' first plane, where the variance pass leaves its output.
+        let first_plane = wgpu::BufferBinding {
+            size: wgpu::BufferSize::new(pixels * 16),
+            ..transient.clone()
+        };
         let (ro, rw) = (whole(&self.no_shadow), whole(&self.no_output));
         self.signals = inputs
             .iter()
@@ -322,19 +339,26 @@ impl FallbackDenoiser {
                         // it does not use gets a placeholder, since a buffer may not be
                         // bound read-only and read-write in one dispatch.
                         let written = |k: usize| {
-                            if (n - 1 - k).is_multiple_of(2) {
+                            if writes_output(k) {
                                 output.clone()
                             } else {
                                 second.clone()
                             }
                         };
                         let h = whole(&history);
-                        // (history_before, history_now, filter_in, filter_out, transient)
+                        // (history_before, history_now, filter_in, filter_out, transient
+                        // for the temporal and variance passes)
                         let (before, now, from, to, words) = match dispatch {
                             0 => (h, rw.clone(), ro.clone(), output.clone(), transient.clone()),
                             1 => (ro.clone(), h, output.clone(), rw.clone(), transient.clone()),
-                            2 => (ro.clone(), h, transient.clone(), written(0), rw.clone()),
+                            2 => (ro.clone(), h, first_plane.clone(), written(0), rw.clone()),
                             d => (ro.clone(), h, written(d - 3), written(d - 2), rw.clone()),
+                        };
+                        // The centre's words: read-only where `filter_in` reads their buffer.
+                        let (words, words_ro) = match dispatch {
+                            0 | 1 => (words, ro.clone()),
+                            d if centre_ro(d) => (rw.clone(), transient.clone()),
+                            _ => (transient.clone(), ro.clone()),
                         };
                         let params = whole(&self.pass_params[slot][dispatch]);
                         let entries = FALLBACK_BINDINGS.range_entries(&[
@@ -349,6 +373,7 @@ impl FallbackDenoiser {
                             ("pass_params", params),
                             ("shadow", whole(&shadow)),
                             ("transient", words),
+                            ("transient_ro", words_ro),
                         ]);
                         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
                             label: Some("solari_denoise/fallback"),
@@ -392,7 +417,8 @@ fn pass_params(
         signal: if split { slot + 1 } else { 0 },
         accumulate: (slot == 1) as u32,
         output_in_filter: !split as u32,
-        _pad: [0; 2],
+        centre_ro: 0,
+        _pad: 0,
     }
 }
 

@@ -266,8 +266,11 @@ pub struct GpuPassParams {
     /// 1: the last iteration writes the output over its own filter result (one signal: the
     /// filter buffer is the output, so the denoiser keeps no separate one).
     pub output_in_filter: u32,
+    /// 1: read the centre's guide words through `transient_ro` (this dispatch binds the
+    /// transient words' buffer read-only elsewhere), 0: through `transient`.
+    pub centre_ro: u32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 const _: () = assert!(size_of::<GpuPassParams>() == 32);

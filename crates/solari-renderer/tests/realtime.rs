@@ -307,7 +307,7 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 bytes per pixel each, and the 4-byte motion target they share) and the raster
 /// depth buffer (4) to within its uniforms (the box has no mirror, so no override buffer:
-/// `tests/psr.rs` has one), ReSTIR DI's 44 bytes per pixel, the denoiser's 48, the shared
+/// `tests/psr.rs` has one), ReSTIR DI's 40 bytes per pixel, the denoiser's 48, the shared
 /// scratch's 32 (or the world cache's new samples, if more), and every other component
 /// something.
 #[test]
@@ -330,12 +330,12 @@ fn memory_report_counts_each_component() {
         "G-buffer {gbuffer} bytes for {pixels} pixels"
     );
     // ReSTIR DI: the final reservoirs (20; one buffer serves as history), the image (16)
-    // and the shadow report (8), to within its uniforms and light table; its initial
+    // and the shadow report (4), to within its uniforms and light table; its initial
     // reservoirs live in the shared scratch, with ReSTIR GI's (32), the denoiser's
     // transient words (32) and its second filter buffer (16).
     let di = memory[3].1;
     assert!(
-        (44 * pixels..44 * pixels + 4096).contains(&di),
+        (40 * pixels..40 * pixels + 4096).contains(&di),
         "ReSTIR DI {di} bytes for {pixels} pixels"
     );
     // The fallback denoiser: one 24-byte packed history, the guide (8) and the filter
