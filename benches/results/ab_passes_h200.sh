@@ -5,7 +5,9 @@
 # under each BVH build preset in $PRESETS with the new binary. Carry .gl, .dev/bins.tar.xz
 # (stripped `solari` and `solari_base`) and .dev/SOLARI_COMMIT.
 # Usage: bash benches/results/ab_passes_h200.sh  (SCENES, FLAGS, FRAMES, REPS, BVH_SCENES,
-# PRESETS override; BINS names the binaries, default `solari_base solari`, for variants). Results: $OUT/ab.tar.gz and $OUT/ab_table.txt
+# PRESETS override; BINS names the binaries, default `solari_base solari`, for variants:
+# the table then covers the default pair only, benches/results/memory_scratch_2026-11-26/
+# ab_variants.py all of them). Results: $OUT/ab.tar.gz and $OUT/ab_table.txt
 # (benches/results/ab_passes.py).
 set -u
 source benches/results/device_env.sh

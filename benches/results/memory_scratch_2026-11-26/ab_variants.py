@@ -1,0 +1,27 @@
+# Per-pass medians of an ab_passes_h200.sh run with any number of binaries (BINS), each
+# against the first: python3 ab_variants.py EXTRACTED_AB_DIR "solari_base solari ..."
+# (the world cache's and light tiles' passes left out of the listing).
+import json,glob,statistics,collections,re,sys
+root=sys.argv[1]; bins=sys.argv[2].split()
+d=collections.defaultdict(lambda: collections.defaultdict(list)); mem={}
+for f in sorted(glob.glob(root+'/ab_*.json')):
+    m=re.match(r'ab_(.+?)_(solari(?:_\w+)?)_(\d+)\.json',f.split('/')[-1])
+    s,b,rep=m.groups()
+    for x in bins:
+        if f.split('/')[-1].startswith(f'ab_') and f'_{x}_{rep}.json' in f: 
+            if f.endswith(f'_{x}_{rep}.json'): b=x; s=f.split('/')[-1][3:-len(f'_{x}_{rep}.json')]
+    j=json.load(open(f))
+    mem[(s,b)]=j['memory_bytes']['renderer_total']/2**20
+    for k,v in j['passes'].items():
+        if v['mean_ms'] is not None: d[(s,b)][k].append(v['mean_ms'])
+    d[(s,b)]['GPU frame'].append(j['gpu_frame_ms']); d[(s,b)]['wall frame'].append(j['wall_frame_ms'])
+for s in ['cornell_box','sun_boxes','many_lights','interior']:
+    print(f"## {s}: memory " + "  ".join(f"{b} {mem.get((s,b),0):.1f}" for b in bins))
+    keys=sorted(k for k in d[(s,bins[0])] if not k.startswith('world_cache') and k!='light_tiles')
+    for k in keys:
+        base=statistics.median(d[(s,bins[0])][k])
+        row=f"{s:12s} {k:20s} {base:8.4f}"
+        for b in bins[1:]:
+            v=d[(s,b)].get(k)
+            if v: v=statistics.median(v); row+=f" {v:8.4f} ({100*(v/base-1):+5.1f}%)"
+        print(row)
