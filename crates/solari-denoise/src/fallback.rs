@@ -157,14 +157,11 @@ impl FallbackDenoiser {
                 "fallback denoiser: image size {width}×{height} is empty"
             )));
         }
-        let largest = pixels * HISTORY_BYTES;
-        let limit = gpu.device.limits().max_storage_buffer_binding_size;
-        if largest > limit {
-            return Err(GpuError::Validation(format!(
-                "fallback denoiser: {width}×{height} needs {largest}-byte history buffers, over \
-                 the device's {limit}-byte binding limit"
-            )));
-        }
+        // The transient bytes are the largest buffer bound whole (32 bytes a pixel).
+        gpu.check_storage_binding(
+            &format!("fallback denoiser's transient bytes at {width}×{height}"),
+            pixels * TRANSIENT_BYTES,
+        )?;
         let layout = FALLBACK_BINDINGS.layout(gpu, "solari_denoise/fallback");
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let modules = crate::modules();

@@ -474,3 +474,38 @@ fn a_short_shadow_input_is_refused() {
     }
     h.gpu.queue.submit([encoder.finish()]);
 }
+
+/// An image whose largest buffer (the transient bytes, 32 a pixel) is over the device's
+/// storage binding limit is refused with both sizes named, before anything is allocated; one
+/// just under it is built. (Lavapipe device with a 64 KiB limit: 45×45 pixels need 64,800
+/// bytes, 46×46 67,712.)
+#[test]
+fn images_over_the_binding_limit_are_refused_by_name() {
+    use solari_scene::GpuError;
+    use solari_scene::gpu::{Gpu, test_gpu};
+    let Some(gpu) = test_gpu() else { return };
+    let mut desc = Gpu::device_descriptor(&gpu.adapter);
+    desc.required_limits = wgpu::Limits {
+        max_storage_buffer_binding_size: 1 << 16,
+        ..gpu.adapter.limits()
+    };
+    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).expect("device");
+    let small = Gpu::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue);
+    let settings = FallbackSettings::default();
+    match FallbackDenoiser::new(&small, 46, 46, settings) {
+        Err(GpuError::OverLimit {
+            what,
+            needed,
+            limit,
+        }) => {
+            assert!(
+                what.contains("transient") && what.contains("46×46"),
+                "{what}"
+            );
+            assert_eq!((needed, limit), (46 * 46 * 32, 1 << 16));
+        }
+        other => panic!("expected OverLimit, got {:?}", other.err()),
+    }
+    FallbackDenoiser::new(&small, 45, 45, settings).expect("45×45 fits");
+    small.check_errors().expect("no wgpu error");
+}
