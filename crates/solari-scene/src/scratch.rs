@@ -1,15 +1,18 @@
 //! Per-frame scratch memory that several passes share.
 //!
-//! Some per-pixel buffers live only inside one component's frame: ReSTIR DI's initial
-//! reservoirs (written by its first dispatch, read by its second), ReSTIR GI's, one of the
-//! fallback denoiser's filter buffers. Passes run one after another, so one
-//! buffer can hold each in turn. A renderer asks each component how much it needs
-//! (`scratch_bytes`), allocates the largest with [`allocate`], and hands it to each
-//! (`use_scratch`). The contract for a component that takes scratch: it reads only what its
-//! own dispatches of the same frame wrote there, so whatever ran before may have left
-//! anything in it.
+//! Some buffers live only inside one part of a frame: the world cache's new samples (from
+//! its update pass to its blend pass), ReSTIR DI's initial reservoirs (written by its first
+//! dispatch, read by its second), ReSTIR GI's, the G-buffer's overrides (written by specular
+//! GI for every pixel, read by the apply pass), the fallback denoiser's transient bytes and
+//! one of its filter buffers. Passes run one after another, so one buffer can hold each in
+//! turn. A renderer asks each component how much it needs (`scratch_bytes`), allocates the
+//! largest with [`allocate`], and hands it to each (`use_scratch`). The contract for a
+//! component that takes scratch: it reads only what its own dispatches (or, for the
+//! overrides, their one writer) of the same frame wrote there, so whatever ran before may
+//! have left anything in it.
 //!
-//! At 1920×1080 this saves 36 bytes per pixel (71 MiB) in the real-time renderer; see
+//! At 1920×1080 with the real-time renderer's defaults on `interior`, its users need 132
+//! bytes a pixel and 16 MiB; the one 32-byte-a-pixel scratch saves 214 MiB of that. See
 //! `benches/RESULTS.md`, "GPU memory per component".
 
 use crate::error::GpuError;
