@@ -798,11 +798,10 @@ impl RealtimeRenderer {
 
     // Moves the world cache's new samples, ReSTIR DI's and GI's initial reservoirs, the
     // G-buffer's overrides and the denoiser's transient words and second filter buffer into
-    // one scratch buffer (their lifetimes within a frame do not overlap, except GI's, which
-    // ends in specular GI, the overrides' writer:
-    // that pass reads each pixel's reservoir before it stores the pixel's override; it is
-    // bound again here), allocated on first use at the largest size asked. Called again when
-    // the light readers are rebuilt.
+    // one scratch buffer, allocated on first use at the largest size asked. Their lifetimes
+    // within a frame do not overlap, except GI's, which ends in specular GI, the overrides'
+    // writer: that pass reads each pixel's reservoir before it stores the pixel's override
+    // (it is bound again here). Called again when the light readers are rebuilt.
     fn share_scratch(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
         let bytes = [
             self.cache.as_ref().map(|(c, _)| c.scratch_bytes()),
