@@ -482,15 +482,13 @@ fn a_short_shadow_input_is_refused() {
 #[test]
 fn images_over_the_binding_limit_are_refused_by_name() {
     use solari_scene::GpuError;
-    use solari_scene::gpu::{Gpu, test_gpu};
-    let Some(gpu) = test_gpu() else { return };
-    let mut desc = Gpu::device_descriptor(&gpu.adapter);
-    desc.required_limits = wgpu::Limits {
+    use solari_scene::gpu::test_gpu_with_limits;
+    let Some(small) = test_gpu_with_limits(|own| wgpu::Limits {
         max_storage_buffer_binding_size: 1 << 16,
-        ..gpu.adapter.limits()
+        ..own
+    }) else {
+        return;
     };
-    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).expect("device");
-    let small = Gpu::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue);
     let settings = FallbackSettings::default();
     match FallbackDenoiser::new(&small, 46, 46, settings) {
         Err(GpuError::OverLimit {

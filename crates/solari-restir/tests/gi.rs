@@ -551,14 +551,12 @@ fn buffers_over_the_binding_limit_are_refused_by_name() {
     use solari_restir::RestirDi;
     use solari_scene::GpuError;
     use solari_scene::shaders::Backend;
-    let Some(gpu) = test_gpu() else { return };
-    let mut desc = Gpu::device_descriptor(&gpu.adapter);
-    desc.required_limits = wgpu::Limits {
+    let Some(small) = solari_scene::gpu::test_gpu_with_limits(|own| wgpu::Limits {
         max_storage_buffer_binding_size: 1 << 16,
-        ..gpu.adapter.limits()
+        ..own
+    }) else {
+        return;
     };
-    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).expect("device");
-    let small = Gpu::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue);
     let di = RestirDi::new(
         &small,
         Backend::Software,

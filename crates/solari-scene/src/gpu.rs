@@ -887,6 +887,20 @@ pub fn test_gpu() -> Option<Gpu> {
     }
 }
 
+/// [`test_gpu`]'s adapter with other limits: `limits` gets the adapter's own and returns
+/// those to ask for (lower ones, to test what happens over a device's limits). `None` where
+/// [`test_gpu`] skips; panics if the adapter refuses the device.
+pub fn test_gpu_with_limits(limits: impl FnOnce(wgpu::Limits) -> wgpu::Limits) -> Option<Gpu> {
+    let gpu = test_gpu()?;
+    let mut desc = Gpu::device_descriptor(&gpu.adapter);
+    desc.required_limits = limits(gpu.adapter.limits());
+    let (device, queue) =
+        pollster::block_on(gpu.adapter.request_device(&desc)).expect("a device with these limits");
+    let mut small = Gpu::from_parts(gpu.instance.clone(), gpu.adapter.clone(), device, queue);
+    small.strict = true;
+    Some(small)
+}
+
 /// Bytes a texture's data takes: every mip level of every layer at its format's block size.
 /// A lower bound on what the driver allocates (it pads and aligns), for memory reports.
 pub fn texture_bytes(texture: &wgpu::Texture) -> u64 {

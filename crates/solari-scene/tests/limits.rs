@@ -3,7 +3,7 @@
 //! lowered on purpose (GPU: lavapipe in CI).
 
 use solari_scene::gbuffer::GBuffer;
-use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::gpu::{Gpu, test_gpu, test_gpu_with_limits};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
 use solari_scene::*;
@@ -11,21 +11,12 @@ use solari_scene::*;
 /// A device on the test adapter with small limits: 64 KiB storage bindings, 64-texel 2D
 /// textures, two texture-array layers.
 fn small_gpu() -> Option<Gpu> {
-    let gpu = test_gpu()?;
-    let mut desc = Gpu::device_descriptor(&gpu.adapter);
-    desc.required_limits = wgpu::Limits {
+    test_gpu_with_limits(|own| wgpu::Limits {
         max_storage_buffer_binding_size: 1 << 16,
         max_texture_dimension_2d: 64,
         max_texture_array_layers: 2,
-        ..gpu.adapter.limits()
-    };
-    let (device, queue) = pollster::block_on(gpu.adapter.request_device(&desc)).ok()?;
-    Some(Gpu::from_parts(
-        gpu.instance.clone(),
-        gpu.adapter.clone(),
-        device,
-        queue,
-    ))
+        ..own
+    })
 }
 
 fn over_limit(r: Result<impl Sized, GpuError>, what: &str) {
