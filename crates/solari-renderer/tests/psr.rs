@@ -363,17 +363,11 @@ fn scenes_without_mirrors_skip_replacement() {
     assert_eq!(plain[7], ("scratch", (32 * pixels).max(samples)));
 }
 
-/// Bytes from a small PCG-style generator (the test needs no statistics, only garbage).
+/// `len` random bytes (the workspace's PCG, as the other scratch tests use).
 fn garbage(len: u64, seed: u64) -> Vec<u8> {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-    (0..len)
-        .map(|_| {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 56) as u8
-        })
-        .collect()
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(seed);
+    (0..len).map(|_| rng.random()).collect()
 }
 
 /// The overrides share the renderer's scratch with DI's and GI's initial reservoirs (plain
