@@ -551,8 +551,8 @@ impl GBuffer {
     }
 
     /// GPU memory the G-buffer holds, in bytes: both target sets (their shared motion
-    /// texture once), the raster producer's depth buffer, the uniforms and last frame's
-    /// transforms.
+    /// texture once), the raster producer's depth buffer, the uniforms, last frame's
+    /// transforms and the override buffer, unless it is shared scratch.
     pub fn memory_bytes(&self) -> u64 {
         let targets: u64 = self
             .targets

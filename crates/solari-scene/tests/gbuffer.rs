@@ -403,3 +403,39 @@ fn jitter_leaves_motion_vectors_unjittered() {
         );
     }
 }
+
+/// Moving the overrides into shared scratch is refused, with the reason, before overrides
+/// are enabled and with a scratch smaller than 32 bytes a pixel; with one large enough the
+/// overrides are shared, the G-buffer no longer counts them, and the writers' buffer is the
+/// scratch.
+#[test]
+fn override_scratch_is_refused_when_it_cannot_serve() {
+    let Some(gpu) = test_gpu() else { return };
+    let (w, h) = (24u32, 16u32);
+    let mut gb = GBuffer::new(&gpu, Backend::Software, w, h).expect("G-buffer");
+    let fits = scratch::allocate(&gpu, 32 * (w * h) as u64).unwrap();
+    let e = gb
+        .use_override_scratch(&gpu, &fits)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("without GBuffer::enable_overrides"), "{e}");
+    assert_eq!(gb.override_scratch_bytes(), 0);
+    gb.enable_overrides(&gpu).expect("overrides");
+    assert_eq!(gb.override_scratch_bytes(), 32 * (w * h) as u64);
+    let own = gb.memory_bytes();
+    let small = scratch::allocate(&gpu, 32 * (w * h) as u64 - 16).unwrap();
+    let e = gb
+        .use_override_scratch(&gpu, &small)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("G-buffer overrides") && e.contains("it needs"),
+        "{e}"
+    );
+    assert!(!gb.overrides_shared());
+    gb.use_override_scratch(&gpu, &fits).expect("scratch");
+    assert!(gb.overrides_shared());
+    assert_eq!(gb.overrides(), Some(&fits));
+    assert_eq!(own - gb.memory_bytes(), 32 * (w * h) as u64);
+    gpu.check_errors().expect("no wgpu error");
+}
