@@ -157,67 +157,86 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         for preset in presets {
             let quality = preset.unwrap_or(BvhQuality::Medium);
             let preset = preset.map_or("-", BvhQuality::name);
-            let (build_s, build_rate) = if backend == Backend::Software {
-                let t = Instant::now();
-                let bvh = SoftwareBvh::build(&scene, quality);
-                let s = t.elapsed().as_secs_f64();
-                drop(bvh);
-                (s, tris as f64 / s / 1e6)
-            } else {
-                (f64::NAN, f64::NAN)
+            // With `--compare-checks`, a merged scene is also measured two-level.
+            let merges = match (backend, args.scene.merge_instances, args.compare_checks) {
+                (Backend::Software, true, true) => vec![true, false],
+                (Backend::Software, merge, _) => vec![merge],
+                (Backend::RayQuery, ..) => vec![false],
             };
-            let gs = GpuScene::new(
-                &gpu,
-                &scene,
-                backend,
-                &GpuSceneOptions {
-                    bvh_quality: quality,
-                    max_texture_size: 256,
-                    ..Default::default()
-                },
-            )
-            .map_err(|e| e.to_string())?;
-            let best = TraceVariant::for_scene(&gs);
-            let mut variants = vec![(ShaderChecks::BoundsOnly, best)];
-            if args.compare_checks && backend == Backend::Software {
-                variants.push((ShaderChecks::All, best));
-                variants.push((ShaderChecks::None, best));
-                if best == TraceVariant::SingleUntransformed {
-                    variants.push((ShaderChecks::BoundsOnly, TraceVariant::SingleInstance));
+            for merge in merges {
+                let gs = GpuScene::new(
+                    &gpu,
+                    &scene,
+                    backend,
+                    &GpuSceneOptions {
+                        bvh_quality: quality,
+                        max_texture_size: 256,
+                        merge_instances: merge,
+                        ..Default::default()
+                    },
+                )
+                .map_err(|e| e.to_string())?;
+                let (build_s, build_rate) = if backend == Backend::Software {
+                    // The same build again, timed alone (the upload above also writes buffers).
+                    let t = Instant::now();
+                    let bvh = if gs.is_merged() {
+                        SoftwareBvh::build_merged(&scene, quality)
+                    } else {
+                        SoftwareBvh::build(&scene, quality)
+                    };
+                    let s = t.elapsed().as_secs_f64();
+                    drop(bvh);
+                    (s, tris as f64 / s / 1e6)
+                } else {
+                    (f64::NAN, f64::NAN)
+                };
+                let best = TraceVariant::for_scene(&gs);
+                let mut variants = vec![(ShaderChecks::BoundsOnly, best)];
+                if args.compare_checks && backend == Backend::Software {
+                    variants.push((ShaderChecks::All, best));
+                    variants.push((ShaderChecks::None, best));
+                    if best == TraceVariant::SingleUntransformed {
+                        variants.push((ShaderChecks::BoundsOnly, TraceVariant::SingleInstance));
+                    }
+                    if best != TraceVariant::General {
+                        variants.push((ShaderChecks::BoundsOnly, TraceVariant::General));
+                    }
                 }
-                if best != TraceVariant::General {
-                    variants.push((ShaderChecks::BoundsOnly, TraceVariant::General));
-                }
-            }
-            for (checks, variant) in variants {
-                let pass = ViewPass::ray_bench(&gpu, backend, checks, variant)
-                    .map_err(|e| e.to_string())?;
-                let traversal = variant.name();
-                let mut view = GpuView::new(&camera, w, h);
-                view.view_mode = 0;
-                let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;
-                view.view_mode = 1;
-                let both = measure(&gpu, &pass, &gs, &view, args.frames)?;
-                let primary_rate = primary.rays_per_frame as f64 / (primary.median_ms * 1e-3) / 1e9;
-                let rate = both.rays_per_frame as f64 / (both.median_ms * 1e-3) / 1e9;
-                let checks = checks.name();
-                if args.json {
-                    println!(
-                        "{}",
-                        serde_json::json!({"scene": name, "triangles": tris, "width": w, "height": h,
+                for (checks, variant) in variants {
+                    let pass = ViewPass::ray_bench(&gpu, backend, checks, variant)
+                        .map_err(|e| e.to_string())?;
+                    // The general pipeline on a merged scene reads the merge flag at run time.
+                    let traversal = match (variant, gs.is_merged()) {
+                        (TraceVariant::General, true) => "two-level code, merged BVH",
+                        _ => variant.name(),
+                    };
+                    let mut view = GpuView::new(&camera, w, h);
+                    view.view_mode = 0;
+                    let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;
+                    view.view_mode = 1;
+                    let both = measure(&gpu, &pass, &gs, &view, args.frames)?;
+                    let primary_rate =
+                        primary.rays_per_frame as f64 / (primary.median_ms * 1e-3) / 1e9;
+                    let rate = both.rays_per_frame as f64 / (both.median_ms * 1e-3) / 1e9;
+                    let checks = checks.name();
+                    if args.json {
+                        println!(
+                            "{}",
+                            serde_json::json!({"scene": name, "triangles": tris, "width": w, "height": h,
                         "adapter": gpu.info.name, "backend": backend.name(), "preset": preset, "runtime_checks": checks, "traversal": traversal,
                         "bvh_build_s": build_s, "build_mtris_per_s": build_rate,
                         "primary_ms": primary.median_ms, "primary_rays": primary.rays_per_frame, "primary_grays_per_s": primary_rate,
                         "ao_ms": both.median_ms, "ao_rays": both.rays_per_frame, "ao_grays_per_s": rate, "frames": args.frames})
-                    );
-                } else {
-                    println!(
-                        "| {} | {preset} | {checks} | {traversal} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
-                        backend.name(),
-                        primary.median_ms,
-                        both.median_ms,
-                        both.rays_per_frame as f64 / 1e6
-                    );
+                        );
+                    } else {
+                        println!(
+                            "| {} | {preset} | {checks} | {traversal} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
+                            backend.name(),
+                            primary.median_ms,
+                            both.median_ms,
+                            both.rays_per_frame as f64 / 1e6
+                        );
+                    }
                 }
             }
         }

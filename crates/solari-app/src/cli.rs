@@ -134,6 +134,12 @@ pub struct SceneArgs {
     /// BVH build quality for the software backend: fastest, fast, medium, slow, very-slow.
     #[arg(long, default_value = "medium", value_parser = values::bvh_quality)]
     pub bvh_quality: BvhQuality,
+    /// Software backend: trace every instance through one merged world-space BVH (no top
+    /// level, no per-instance transform; on by default, within a size rule: see
+    /// `GpuSceneOptions::merge_instances`). `off` keeps a BVH per mesh under a top level.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub merge_instances: bool,
     /// BRDF for every pass and the reference: layered (energy-conserving: a white furnace
     /// reads 1 at every roughness) or gltf-spec (the glTF specification's Appendix B, for
     /// comparisons with other glTF renderers).
@@ -302,6 +308,7 @@ impl SceneArgs {
         let options = GpuSceneOptions {
             bvh_quality: self.bvh_quality,
             brdf: self.brdf,
+            merge_instances: self.merge_instances,
             ..Default::default()
         };
         let start = std::time::Instant::now();
@@ -310,9 +317,14 @@ impl SceneArgs {
         let upload_seconds = start.elapsed().as_secs_f64();
         let stats = scene.stats();
         log::info!(
-            "{name}: {stats:?}; loaded in {load_seconds:.2} s, uploaded ({} BVH, {}) in \
+            "{name}: {stats:?}; loaded in {load_seconds:.2} s, uploaded ({} {} BVH, {}) in \
              {upload_seconds:.2} s, {:.1} MiB on the GPU",
             self.bvh_quality.name(),
+            if gpu_scene.is_merged() {
+                "merged"
+            } else {
+                "two-level"
+            },
             backend.name(),
             gpu_scene.memory_bytes() as f64 / (1 << 20) as f64
         );

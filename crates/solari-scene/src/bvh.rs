@@ -67,13 +67,14 @@ impl BvhQuality {
 }
 
 /// A triangle as the GPU stores it: corner 0 and two edges, with the mesh-local triangle index
-/// in `v0.w` (as bits). WGSL twin: `BvhTriangle` in `trace_software.wesl`.
+/// in `v0.w` (as bits). WGSL twin: `BvhTriangle` in `scene_bindings.wesl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct GpuTriangle {
     /// Corner 0 (xyz) and the triangle's index in its mesh (w, bit-cast u32).
     pub v0: [f32; 4],
-    /// Edge 1 (xyz), w unused.
+    /// Edge 1 (xyz). In a merged BVH, w holds the triangle's instance (bit-cast u32, with
+    /// [`MERGED_MIRRORED`] set when that instance's transform mirrors); unused otherwise.
     pub e1: [f32; 4],
     /// Edge 2 (xyz), w unused.
     pub e2: [f32; 4],
@@ -81,7 +82,39 @@ pub struct GpuTriangle {
 const _: () = assert!(size_of::<GpuTriangle>() == 48);
 const _: () = assert!(size_of::<CwBvhNode>() == 80);
 
-/// The flattened two-level BVH, ready to upload.
+/// Bit 31 of a merged triangle's instance word (`GpuTriangle::e1`'s w): the instance's
+/// transform has a negative determinant, so the world-space triangle winds the other way and
+/// traversal flips the front-face bit back to the mesh's own winding.
+pub const MERGED_MIRRORED: u32 = 1 << 31;
+
+/// Merging stops paying when instancing would copy too much: a merged BVH holds every
+/// instance's triangles, where the two-level one holds each mesh's once. Merge when the copies
+/// stay at most this many triangles, or at most [`MERGE_MAX_COPY_FACTOR`] times the meshes' own.
+pub const MERGE_MAX_TRIANGLES: usize = 1 << 22;
+
+/// See [`MERGE_MAX_TRIANGLES`].
+pub const MERGE_MAX_COPY_FACTOR: usize = 2;
+
+/// Triangles a merged BVH of `scene` would hold, and those of its meshes (what the two-level
+/// BVH holds), before spatial splits.
+pub fn merge_triangle_counts(scene: &Scene) -> (usize, usize) {
+    let merged = scene
+        .instances
+        .iter()
+        .map(|i| scene.meshes[i.mesh as usize].triangle_count())
+        .sum();
+    let meshes = scene.meshes.iter().map(|m| m.triangle_count()).sum();
+    (merged, meshes)
+}
+
+/// Whether a merged BVH of `scene` stays within the size rule of [`MERGE_MAX_TRIANGLES`].
+pub fn merge_fits(scene: &Scene) -> bool {
+    let (merged, meshes) = merge_triangle_counts(scene);
+    merged <= MERGE_MAX_TRIANGLES || merged <= meshes.saturating_mul(MERGE_MAX_COPY_FACTOR)
+}
+
+/// The flattened two-level BVH, ready to upload; or, merged, one world-space BVH over every
+/// instance's triangles ([`SoftwareBvh::build_merged`]).
 #[derive(Clone, Debug, Default)]
 pub struct SoftwareBvh {
     /// All nodes: each mesh's BLAS, then the TLAS. Indices inside are absolute.
@@ -100,6 +133,9 @@ pub struct SoftwareBvh {
     pub blas_build_time: Duration,
     /// Time spent building the TLAS.
     pub tlas_build_time: Duration,
+    /// For a merged BVH, each instance's (mesh, transform) it was built from: the instances
+    /// it can trace without a rebuild. `None` for the two-level BVH.
+    pub merged_from: Option<Vec<(u32, glam::Mat4)>>,
 }
 
 /// Meshes with fewer triangles than this build on one thread. obvhs's parallel build (its
@@ -186,8 +222,87 @@ impl SoftwareBvh {
         out
     }
 
-    /// Rebuilds only the top level (after instances moved, were added or removed).
+    /// Builds one BVH over every instance's triangles in world space, each triangle tagged
+    /// with its instance (`GpuTriangle::e1`'s w). Traversal then has no top level and no
+    /// object-space transform: on the H200 the 1,290-instance `interior` traces as fast as
+    /// the same triangles in one mesh (`benches/RESULTS.md`). The BVH holds every instance's
+    /// copy of its mesh ([`merge_fits`] says when that is reasonable), and moving an
+    /// instance means building it again ([`SoftwareBvh::traces_merged`]).
+    pub fn build_merged(scene: &Scene, quality: BvhQuality) -> Self {
+        let start = Instant::now();
+        let (count, _) = merge_triangle_counts(scene);
+        let mut tris = Vec::with_capacity(count);
+        // (instance tag, mesh-local triangle) per entry of `tris`.
+        let mut ids = Vec::with_capacity(count);
+        for (k, inst) in scene.instances.iter().enumerate() {
+            let m = inst.transform.as_dmat4();
+            let tag = k as u32
+                | if m.determinant() < 0.0 {
+                    MERGED_MIRRORED
+                } else {
+                    0
+                };
+            let mesh = &scene.meshes[inst.mesh as usize];
+            for t in 0..mesh.triangle_count() {
+                // World positions in f64, rounded once: as close to the mesh as f32 allows.
+                let [a, b, c] = mesh
+                    .triangle(t)
+                    .map(|p| m.transform_point3(p.as_dvec3()).as_vec3());
+                tris.push(Triangle {
+                    v0: a.into(),
+                    v1: b.into(),
+                    v2: c.into(),
+                });
+                ids.push((tag, t as u32));
+            }
+        }
+        let bvh = run_build(tris.len(), || {
+            obvhs::cwbvh::builder::build_cwbvh_from_tris(
+                &tris,
+                quality.params(),
+                &mut Duration::default(),
+            )
+        });
+        let triangles = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| {
+                let t = &tris[i as usize];
+                let (tag, local) = ids[i as usize];
+                let e1 = Vec3::from(t.v1 - t.v0);
+                let e2 = Vec3::from(t.v2 - t.v0);
+                GpuTriangle {
+                    v0: [t.v0.x, t.v0.y, t.v0.z, f32::from_bits(local)],
+                    e1: e1.extend(f32::from_bits(tag)).into(),
+                    e2: e2.extend(0.0).into(),
+                }
+            })
+            .collect();
+        Self {
+            blas_node_count: bvh.nodes.len() as u32,
+            nodes: bvh.nodes,
+            triangles,
+            tlas_instances: Vec::new(),
+            blas_roots: vec![0; scene.meshes.len()],
+            tlas_root: 0,
+            blas_build_time: start.elapsed(),
+            tlas_build_time: Duration::ZERO,
+            merged_from: Some(merged_layout(scene)),
+        }
+    }
+
+    /// Whether this is a merged BVH that traces `scene`'s instances as they are: the same
+    /// meshes under the same transforms (materials may differ: the BVH does not hold them).
+    pub fn traces_merged(&self, scene: &Scene) -> bool {
+        self.merged_from
+            .as_ref()
+            .is_some_and(|from| *from == merged_layout(scene))
+    }
+
+    /// Rebuilds only the top level (after instances moved, were added or removed). A merged
+    /// BVH has no top level: build it again, or build the two-level one.
     pub fn rebuild_tlas(&mut self, scene: &Scene, quality: BvhQuality) {
+        debug_assert!(self.merged_from.is_none(), "a merged BVH has no top level");
         let start = Instant::now();
         self.nodes.truncate(self.blas_node_count as usize);
         let aabbs: Vec<Aabb> = scene
@@ -212,8 +327,21 @@ impl SoftwareBvh {
         self.tlas_build_time = start.elapsed();
     }
 
+    /// Whether this is a merged BVH ([`SoftwareBvh::build_merged`]).
+    pub fn is_merged(&self) -> bool {
+        self.merged_from.is_some()
+    }
+
     /// Total bytes the GPU buffers take.
     pub fn gpu_bytes(&self) -> u64 {
         (self.nodes.len() * 80 + self.triangles.len() * 48 + self.tlas_instances.len() * 4) as u64
     }
+}
+
+fn merged_layout(scene: &Scene) -> Vec<(u32, glam::Mat4)> {
+    scene
+        .instances
+        .iter()
+        .map(|i| (i.mesh, i.transform))
+        .collect()
 }

@@ -1,7 +1,7 @@
 //! Upload of a [`Scene`] to the GPU: bind group 0 (geometry, materials, textures and the
 //! acceleration structure of the chosen tracing backend).
 
-use crate::bvh::{BvhQuality, SoftwareBvh};
+use crate::bvh::{BvhQuality, SoftwareBvh, merge_fits, merge_triangle_counts};
 use crate::error::GpuError;
 use crate::gpu::{Gpu, buffer_layout_entry};
 use crate::gpu_types::*;
@@ -23,6 +23,16 @@ pub struct GpuSceneOptions {
     /// The BRDF every pass shades this scene with (`brdf::BrdfModel`; default the
     /// energy-conserving layered model).
     pub brdf: crate::brdf::BrdfModel,
+    /// Software backend: trace all instances through one merged world-space BVH
+    /// (`SoftwareBvh::build_merged`) instead of a BVH per mesh under a top level over the
+    /// instances. Default on. Merged traversal has no top level and no per-instance transform
+    /// (on the H200 the 1,290-instance `interior` traces about a third faster,
+    /// `benches/RESULTS.md`), but it copies each instance's triangles, so it applies only
+    /// within `bvh::merge_fits`' size rule and the device's binding limit; and moving,
+    /// adding or removing an instance ([`GpuScene::set_instances`]) splits the scene into
+    /// the two-level BVH for good, since a scene that moved once will move again. Material
+    /// changes keep it merged.
+    pub merge_instances: bool,
 }
 
 impl Default for GpuSceneOptions {
@@ -31,6 +41,7 @@ impl Default for GpuSceneOptions {
             bvh_quality: BvhQuality::Medium,
             max_texture_size: 1024,
             brdf: crate::brdf::BrdfModel::default(),
+            merge_instances: true,
         }
     }
 }
@@ -94,6 +105,68 @@ pub struct GpuScene {
 fn rows(m: Mat4) -> [[f32; 4]; 3] {
     let t = m.transpose();
     [t.x_axis.into(), t.y_axis.into(), t.z_axis.into()]
+}
+
+// The software backend's BVH for `scene`: merged where the options, the size rule and the
+// device's binding limit allow, else two-level.
+fn software_accel(gpu: &Gpu, scene: &Scene, options: &GpuSceneOptions) -> Result<Accel, GpuError> {
+    if options.merge_instances && merge_fits(scene) {
+        let bvh = SoftwareBvh::build_merged(scene, options.bvh_quality);
+        log_bvh(&bvh);
+        match upload_software(gpu, bvh) {
+            Ok(accel) => return Ok(accel),
+            Err(e @ GpuError::OverLimit { .. }) => {
+                log::info!("merged BVH over the device's limits ({e}): two-level instead")
+            }
+            Err(e) => return Err(e),
+        }
+    } else if options.merge_instances {
+        let (merged, meshes) = merge_triangle_counts(scene);
+        log::info!(
+            "not merging instances: {merged} instanced triangles against {meshes} in the meshes \
+             (bvh::merge_fits); two-level BVH"
+        );
+    }
+    let bvh = SoftwareBvh::build(scene, options.bvh_quality);
+    log_bvh(&bvh);
+    upload_software(gpu, bvh)
+}
+
+fn log_bvh(bvh: &SoftwareBvh) {
+    log::info!(
+        "software BVH ({}): {} nodes, {} triangles, {:.1} MiB, BLAS {:?}, TLAS {:?}",
+        if bvh.is_merged() {
+            "merged"
+        } else {
+            "two-level"
+        },
+        bvh.nodes.len(),
+        bvh.triangles.len(),
+        bvh.gpu_bytes() as f64 / 1048576.0,
+        bvh.blas_build_time,
+        bvh.tlas_build_time
+    );
+}
+
+fn upload_software(gpu: &Gpu, bvh: SoftwareBvh) -> Result<Accel, GpuError> {
+    Ok(Accel::Software {
+        nodes: gpu.storage_buffer(
+            "solari_scene/bvh_nodes",
+            cast_slice(&bvh.nodes),
+            wgpu::BufferUsages::empty(),
+        )?,
+        triangles: gpu.storage_buffer(
+            "solari_scene/bvh_triangles",
+            cast_slice(&bvh.triangles),
+            wgpu::BufferUsages::empty(),
+        )?,
+        tlas_instances: gpu.storage_buffer(
+            "solari_scene/tlas_instances",
+            cast_slice(&bvh.tlas_instances),
+            wgpu::BufferUsages::empty(),
+        )?,
+        bvh,
+    })
 }
 
 fn normal_rows(m: Mat4) -> [[f32; 4]; 3] {
@@ -308,38 +381,12 @@ impl GpuScene {
             texture_layer_size: layer_size,
             brdf_model: options.brdf.gpu_id(),
             environment_sampled: scene.environment_is_light() as u32,
+            merged: 0,
+            _pad: [0; 3],
         };
         let info = gpu.uniform_buffer("solari_scene/scene_info", &info_data);
         let accel = match backend {
-            Backend::Software => {
-                let bvh = SoftwareBvh::build(scene, options.bvh_quality);
-                log::info!(
-                    "software BVH: {} nodes, {} triangles, {:.1} MiB, BLAS {:?}, TLAS {:?}",
-                    bvh.nodes.len(),
-                    bvh.triangles.len(),
-                    bvh.gpu_bytes() as f64 / 1048576.0,
-                    bvh.blas_build_time,
-                    bvh.tlas_build_time
-                );
-                Accel::Software {
-                    nodes: gpu.storage_buffer(
-                        "solari_scene/bvh_nodes",
-                        cast_slice(&bvh.nodes),
-                        wgpu::BufferUsages::empty(),
-                    )?,
-                    triangles: gpu.storage_buffer(
-                        "solari_scene/bvh_triangles",
-                        cast_slice(&bvh.triangles),
-                        wgpu::BufferUsages::empty(),
-                    )?,
-                    tlas_instances: gpu.storage_buffer(
-                        "solari_scene/tlas_instances",
-                        cast_slice(&bvh.tlas_instances),
-                        wgpu::BufferUsages::empty(),
-                    )?,
-                    bvh,
-                }
-            }
+            Backend::Software => software_accel(gpu, scene, options)?,
             Backend::RayQuery => {
                 build_ray_query(gpu, scene, &vertex_buf, &index_buf, &mesh_offsets)?
             }
@@ -389,6 +436,17 @@ impl GpuScene {
     /// structure. Use after moving, adding or removing instances (meshes must be unchanged).
     pub fn set_instances(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
         self.generation += 1;
+        if let Accel::Software { bvh, .. } = &self.accel
+            && bvh.is_merged()
+            && !bvh.traces_merged(scene)
+        {
+            // Instances moved: from now on the top level is rebuilt instead of everything.
+            log::info!(
+                "instances changed in a merged scene: splitting it into per-mesh BVHs under a \
+                 top level (two-level traversal from now on)"
+            );
+            self.accel = upload_software(gpu, SoftwareBvh::build(scene, self.options.bvh_quality))?;
+        }
         let blas_root = |mesh: u32| match &self.accel {
             Accel::Software { bvh, .. } => bvh.blas_roots[mesh as usize],
             Accel::RayQuery { .. } => 0,
@@ -424,12 +482,18 @@ impl GpuScene {
             .first()
             .is_some_and(|i| i.transform == Mat4::IDENTITY);
         match &mut self.accel {
+            // A merged BVH traces these instances as it is (checked above): nothing to rebuild.
+            Accel::Software { bvh, .. } if bvh.is_merged() => {
+                self.info_data.tlas_root = bvh.tlas_root;
+                self.info_data.merged = 1;
+            }
             Accel::Software {
                 bvh,
                 nodes,
                 tlas_instances,
                 ..
             } => {
+                self.info_data.merged = 0;
                 bvh.rebuild_tlas(scene, self.options.bvh_quality);
                 let node_bytes: &[u8] = cast_slice(&bvh.nodes);
                 if (node_bytes.len() as u64) <= nodes.size() {
@@ -572,6 +636,12 @@ impl GpuScene {
     /// renderers know when to restart.
     pub fn generation(&self) -> u64 {
         self.generation
+    }
+
+    /// Whether the software BVH is merged ([`GpuSceneOptions::merge_instances`]): one
+    /// world-space level over every instance's triangles.
+    pub fn is_merged(&self) -> bool {
+        matches!(&self.accel, Accel::Software { bvh, .. } if bvh.is_merged())
     }
 
     /// Instances in the scene as uploaded now (after the last [`GpuScene::set_instances`]).
@@ -875,8 +945,11 @@ fn upload_environment(gpu: &Gpu, scene: &Scene) -> (wgpu::TextureView, f32) {
 /// `TRACE_SINGLE_INSTANCE`), about 11% faster on an H200. When that instance is also
 /// untransformed, rays need no object-space transform either (`TRACE_UNTRANSFORMED`), a further
 /// 3–4%: the transformed ray is a second live copy of the ray through the whole traversal.
+/// A scene whose instances were merged into one world-space BVH ([`GpuSceneOptions::merge_instances`])
+/// traces as one untransformed level whose triangles name their instance
+/// ([`TraceVariant::Merged`]).
 /// A specialised pipeline refuses, at dispatch, scenes it cannot trace;
-/// [`TraceVariant::General`] traces any scene.
+/// [`TraceVariant::General`] traces any scene (merged ones through a run-time flag).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TraceVariant {
     /// Two-level traversal: any number of instances.
@@ -887,11 +960,17 @@ pub enum TraceVariant {
     /// Single-level traversal of instance 0 whose transform is exactly the identity, so rays
     /// stay in world space (software backend only).
     SingleUntransformed,
+    /// Single-level world-space traversal of a merged BVH, each hit's instance read from its
+    /// triangle (software backend only).
+    Merged,
 }
 
 impl TraceVariant {
     /// The fastest variant that can trace `scene` as it is now.
     pub fn for_scene(scene: &GpuScene) -> Self {
+        if scene.is_merged() {
+            return TraceVariant::Merged;
+        }
         match (scene.backend, scene.info_data.instance_count) {
             (Backend::Software, 1) if scene.first_instance_identity => {
                 TraceVariant::SingleUntransformed
@@ -918,15 +997,19 @@ impl TraceVariant {
             TraceVariant::SingleInstance => &[("7100", 1.0)],
             // ... and `@id(7101) override TRACE_UNTRANSFORMED`.
             TraceVariant::SingleUntransformed => &[("7100", 1.0), ("7101", 1.0)],
+            // ... and `@id(7102) override TRACE_MERGED`.
+            TraceVariant::Merged => &[("7100", 1.0), ("7101", 1.0), ("7102", 1.0)],
         }
     }
 
-    /// A short name for reports: `two-level`, `single-instance` or `single-untransformed`.
+    /// A short name for reports: `two-level`, `single-instance`, `single-untransformed` or
+    /// `merged`.
     pub fn name(self) -> &'static str {
         match self {
             TraceVariant::General => "two-level",
             TraceVariant::SingleInstance => "single-instance",
             TraceVariant::SingleUntransformed => "single-untransformed",
+            TraceVariant::Merged => "merged",
         }
     }
 
@@ -935,18 +1018,21 @@ impl TraceVariant {
         let fits = match self {
             TraceVariant::General => true,
             TraceVariant::SingleInstance => {
-                scene.backend == Backend::Software && scene.info_data.instance_count == 1
+                scene.backend == Backend::Software
+                    && scene.info_data.instance_count == 1
+                    && !scene.is_merged()
             }
             TraceVariant::SingleUntransformed => {
                 TraceVariant::SingleInstance.check(scene).is_ok() && scene.first_instance_identity
             }
+            TraceVariant::Merged => scene.is_merged(),
         };
         if fits {
             return Ok(());
         }
         Err(GpuError::Validation(format!(
-            "a pipeline specialised as {} was given a {} scene with {} instances{}; rebuild the \
-             pass with TraceVariant::for_scene",
+            "a pipeline specialised as {} was given a {} scene with {} instances{}{}; rebuild \
+             the pass with TraceVariant::for_scene",
             self.name(),
             scene.backend.name(),
             scene.info_data.instance_count,
@@ -954,6 +1040,11 @@ impl TraceVariant {
                 ""
             } else {
                 " (the first one transformed)"
+            },
+            if scene.is_merged() {
+                ", merged"
+            } else {
+                ", not merged"
             }
         )))
     }

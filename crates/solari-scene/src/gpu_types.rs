@@ -96,8 +96,13 @@ pub struct GpuSceneInfo {
     /// 1 when the environment is a sampled light ([`crate::Scene::environment_is_light`]):
     /// paths that escape leave it to next-event estimation or weight it by MIS.
     pub environment_sampled: u32,
+    /// 1 when the software BVH is merged (`bvh::SoftwareBvh::build_merged`): one world-space
+    /// level whose triangles name their instance.
+    pub merged: u32,
+    /// Uniform buffers are sized in 16 bytes.
+    pub _pad: [u32; 3],
 }
-const _: () = assert!(size_of::<GpuSceneInfo>() == 32);
+const _: () = assert!(size_of::<GpuSceneInfo>() == 48);
 
 /// WGSL twin: `GpuView` in `view.wesl`.
 #[repr(C)]

@@ -346,6 +346,48 @@ impl CpuTracer {
             .try_normalize()
     }
 
+    /// How far `point` lies from one given triangle of one instance: the world-space
+    /// distance to its nearest point, in f64 (`None` if out of range). For arbitrating
+    /// rounding ties: where a rounding of the triangle (a merged BVH holds it in world space)
+    /// moves a hit at an edge, a vertex or along a grazing ray, the hit point must still lie
+    /// on the triangle up to that rounding.
+    pub fn point_distance(&self, instance: u32, primitive: u32, point: Vec3) -> Option<f64> {
+        let o2w = self
+            .world_to_object
+            .get(instance as usize)?
+            .as_dmat4()
+            .inverse();
+        let (_, tris) = &self.meshes[self.instance_mesh[instance as usize] as usize];
+        let tri = tris.get(primitive as usize)?;
+        let a = o2w.transform_point3(tri.v0.as_dvec3());
+        let b = a + o2w.transform_vector3(tri.e1.as_dvec3());
+        let c = a + o2w.transform_vector3(tri.e2.as_dvec3());
+        Some(closest_on_triangle(point.as_dvec3(), a, b, c).distance(point.as_dvec3()))
+    }
+
+    /// How far `point` lies from the nearest edge of one given triangle of one instance, in
+    /// world units and f64 (`None` if out of range): whether a hit sits where rounding may
+    /// let a ray slip past the triangle.
+    pub fn edge_distance(&self, instance: u32, primitive: u32, point: Vec3) -> Option<f64> {
+        let o2w = self
+            .world_to_object
+            .get(instance as usize)?
+            .as_dmat4()
+            .inverse();
+        let (_, tris) = &self.meshes[self.instance_mesh[instance as usize] as usize];
+        let tri = tris.get(primitive as usize)?;
+        let a = o2w.transform_point3(tri.v0.as_dvec3());
+        let b = a + o2w.transform_vector3(tri.e1.as_dvec3());
+        let c = a + o2w.transform_vector3(tri.e2.as_dvec3());
+        let p = point.as_dvec3();
+        let segment = |s: glam::DVec3, e: glam::DVec3| {
+            let k = ((p - s).dot(e - s) / (e - s).length_squared().max(f64::MIN_POSITIVE))
+                .clamp(0.0, 1.0);
+            (s + (e - s) * k).distance(p)
+        };
+        Some(segment(a, b).min(segment(b, c)).min(segment(c, a)))
+    }
+
     /// The `t` at which the ray meets one given triangle of one instance, if it does within
     /// `bary_eps` of its edges (any `t`). Computed in f64, so it can arbitrate rounding ties
     /// between two f32 tracers, sliver triangles included.
@@ -396,6 +438,45 @@ pub fn instance_bounds(scene: &Scene, inst: &crate::model::Instance) -> (Vec3, V
     (lo, hi)
 }
 
+// The point of triangle abc nearest p, by the Voronoi regions of its corners and edges
+// (Ericson, Real-Time Collision Detection, 5.1.5).
+fn closest_on_triangle(
+    p: glam::DVec3,
+    a: glam::DVec3,
+    b: glam::DVec3,
+    c: glam::DVec3,
+) -> glam::DVec3 {
+    let (ab, ac, ap) = (b - a, c - a, p - a);
+    let (d1, d2) = (ab.dot(ap), ac.dot(ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = p - b;
+    let (d3, d4) = (ab.dot(bp), ac.dot(bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return a + ab * (d1 / (d1 - d3));
+    }
+    let cp = p - c;
+    let (d5, d6) = (ab.dot(cp), ac.dot(cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return a + ac * (d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    a + ab * (vb * denom) + ac * (vc * denom)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -435,6 +516,33 @@ mod tests {
             }
             let hit = tracer.trace(o, d, 0.0, f32::INFINITY, 0);
             assert_eq!(hit.map(|h| h.t), brute.map(|b| b.0));
+        }
+    }
+
+    #[test]
+    fn closest_point_on_a_triangle_is_no_farther_than_any_sampled_point() {
+        use glam::DVec3;
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(3);
+        let mut v = || DVec3::new(rng.random(), rng.random(), rng.random()) * 4.0 - 2.0;
+        for _ in 0..200 {
+            let (a, b, c, p) = (v(), v(), v(), v());
+            let q = closest_on_triangle(p, a, b, c);
+            // On the triangle: its barycentrics are in [0, 1].
+            let n = (b - a).cross(c - a);
+            let area = n.length_squared();
+            let u = (q - a).cross(c - a).dot(n) / area;
+            let w = (b - a).cross(q - a).dot(n) / area;
+            assert!(u >= -1e-9 && w >= -1e-9 && u + w <= 1.0 + 1e-9, "{u} {w}");
+            let best = q.distance(p);
+            for i in 0..=40 {
+                for j in 0..=(40 - i) {
+                    let s = a + (b - a) * (i as f64 / 40.0) + (c - a) * (j as f64 / 40.0);
+                    assert!(
+                        best <= s.distance(p) + 1e-9,
+                        "sample nearer than the closest point"
+                    );
+                }
+            }
         }
     }
 }

@@ -177,7 +177,12 @@ fn a_traced_gbuffer_specialised_for_one_instance_refuses_a_grown_scene() {
     let mut scene = default_scene::cornell_box();
     scene.instances.truncate(1);
     let camera = scene.camera(None).unwrap();
-    let gs = GpuScene::new(&gpu, &scene, Backend::Software, &Default::default()).unwrap();
+    // Two-level BVHs: a merged scene of any size takes the merged traversal.
+    let options = GpuSceneOptions {
+        merge_instances: false,
+        ..Default::default()
+    };
+    let gs = GpuScene::new(&gpu, &scene, Backend::Software, &options).unwrap();
     let variant = TraceVariant::for_scene(&gs);
     assert_ne!(variant, TraceVariant::General);
     let mut gb = gbuffer(&gpu, GBufferProducer::Traced, variant);
@@ -185,7 +190,7 @@ fn a_traced_gbuffer_specialised_for_one_instance_refuses_a_grown_scene() {
     render(&gpu, &mut gb, &gs, &scene, &camera);
 
     let grown = default_scene::cornell_box();
-    let gs = GpuScene::new(&gpu, &grown, Backend::Software, &Default::default()).unwrap();
+    let gs = GpuScene::new(&gpu, &grown, Backend::Software, &options).unwrap();
     gb.prepare(&gpu, &grown, &camera).unwrap();
     let frame = FrameContext::new(1, gb.size(), &camera, None);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());

@@ -191,6 +191,34 @@ fn t_tolerance(cpu: &CpuTracer, inst: u32, prim: u32, o: Vec3, d: Vec3, t: f32) 
     (1e-4 * t.abs() + 16.0 * f32::EPSILON * magnitude / d.length()) / cos.max(1e-3)
 }
 
+/// Whether a GPU hit lies on its triangle up to rounding, measured in f64: the world
+/// coordinates' (a few ulps of their magnitude) plus the slide along the ray that `t`'s own
+/// tolerance allows (`t_tolerance`, which grows as 1/|cos θ|). A rounding of the triangle
+/// (merged BVHs hold it in world space, the reference in object space) moves hits at edges
+/// and vertices, also of sliver triangles whose barycentrics swing widely there, and slides
+/// the crossing point of a grazing ray: no barycentric check can arbitrate those.
+fn on_triangle_within_rounding(cpu: &CpuTracer, o: Vec3, d: Vec3, g: &GpuRayHit) -> bool {
+    let p = o + d * g.t;
+    let ulps = 16.0 * f32::EPSILON * o.abs().max(p.abs()).max_element();
+    let slide = d.length() * t_tolerance(cpu, g.instance, g.primitive, o, d, g.t);
+    cpu.point_distance(g.instance, g.primitive, p)
+        .is_some_and(|dist| dist <= (ulps + slide) as f64)
+}
+
+/// Whether the reference's hit lies at an edge of its triangle: within 1e-4 in barycentrics,
+/// or within rounding in space (as `on_triangle_within_rounding` measures it), which is what
+/// counts on tiny or sliver triangles.
+fn cpu_hit_near_edge(cpu: &CpuTracer, o: Vec3, d: Vec3, c: &RayHit) -> bool {
+    if near_edge(c.barycentrics) {
+        return true;
+    }
+    let p = o + d * c.t;
+    let ulps = 16.0 * f32::EPSILON * o.abs().max(p.abs()).max_element();
+    let slide = d.length() * t_tolerance(cpu, c.instance, c.primitive, o, d, c.t);
+    cpu.edge_distance(c.instance, c.primitive, p)
+        .is_some_and(|dist| dist <= (ulps + slide) as f64)
+}
+
 /// Compares GPU hits with the CPU reference; returns (indices of ties, mismatches as text).
 fn compare(cpu: &CpuTracer, rays: &[GpuRay], hits: &[GpuRayHit]) -> (Vec<usize>, Vec<String>) {
     let mut ties = Vec::new();
@@ -241,17 +269,42 @@ fn compare(cpu: &CpuTracer, rays: &[GpuRay], hits: &[GpuRayHit]) -> (Vec<usize>,
                         // The GPU's hit is real (checked in f64) and nearer: the f32 reference
                         // missed it (an edge or grazing case). Counted with the ties.
                         ties.push(i);
-                    } else if c.t < g.t && alt_ok && near_edge(c.barycentrics) {
+                    } else if (c.t < g.t
+                        && (alt_ok || on_triangle_within_rounding(cpu, o, d, g))
+                        && cpu_hit_near_edge(cpu, o, d, &c))
+                        || (g.t <= c.t + t_tolerance(cpu, c.instance, c.primitive, o, d, c.t)
+                            && on_triangle_within_rounding(cpu, o, d, g))
+                    {
+                        // Farther than the reference's hit at an edge the GPU slipped past,
+                        // or not farther and on its triangle up to rounding.
                         ties.push(i);
                     } else {
+                        let dist = cpu.point_distance(g.instance, g.primitive, o + d * g.t);
                         bad.push(format!(
-                            "ray {i}: cpu {c:?} gpu {g:?} (cpu t on gpu's triangle {alt:?})"
+                            "ray {i}: cpu {c:?} gpu {g:?} (cpu t on gpu's triangle {alt:?}, \
+                             gpu hit point {dist:?} from it)"
                         ));
                     }
                 }
             }
-            (Some(c), false) if near_edge(c.barycentrics) => ties.push(i),
+            (Some(c), false) if cpu_hit_near_edge(cpu, o, d, &c) => ties.push(i),
             (None, true) if near_edge(Vec2::from(g.barycentrics)) => ties.push(i),
+            (None, true) => {
+                // A hit the f32 reference missed away from an edge: a grazing ray, where the
+                // crossing point slides along the ray with any rounding (merged BVHs meet it
+                // in world space, the reference in object space). Real if f64 confirms it.
+                let alt = cpu.hit_t(g.instance, g.primitive, o, d, EDGE_EPSILON);
+                let gtol = t_tolerance(cpu, g.instance, g.primitive, o, d, g.t);
+                if alt.is_some_and(|t| (t - g.t).abs() <= gtol)
+                    || on_triangle_within_rounding(cpu, o, d, g)
+                {
+                    ties.push(i);
+                } else {
+                    bad.push(format!(
+                        "ray {i}: cpu None gpu {g:?} (cpu t on gpu's triangle {alt:?})"
+                    ));
+                }
+            }
             (c, _) => bad.push(format!("ray {i} {r:?}: cpu {c:?} gpu {g:?}")),
         }
     }
@@ -278,7 +331,15 @@ fn both_backends_agree_with_the_cpu_reference_on_every_scene() {
     for backend in backends(&gpu) {
         let general = TraceRaysPass::new(&gpu, backend, TraceVariant::General)
             .unwrap_or_else(|e| panic!("{e}"));
-        for (name, scene) in scenes() {
+        // Merging changes nothing for ray queries: their scenes are traced once.
+        let merges: &[bool] = match backend {
+            Backend::Software => &[false, true],
+            Backend::RayQuery => &[false],
+        };
+        for ((name, scene), &merge) in scenes()
+            .into_iter()
+            .flat_map(|s| merges.iter().map(move |m| (s.clone(), m)))
+        {
             let cpu = CpuTracer::new(&scene);
             let gs = GpuScene::new(
                 &gpu,
@@ -286,14 +347,22 @@ fn both_backends_agree_with_the_cpu_reference_on_every_scene() {
                 backend,
                 &GpuSceneOptions {
                     max_texture_size: 16,
+                    merge_instances: merge,
                     ..Default::default()
                 },
             )
             .unwrap_or_else(|e| panic!("{name}: {e}"));
-            // Single-instance scenes are also traced by every specialised traversal they fit.
+            assert_eq!(
+                gs.is_merged(),
+                merge,
+                "{name}: every test scene fits the merge rule"
+            );
+            let name = format!("{name}{}", if merge { ", merged" } else { "" });
+            // Scenes are also traced by every specialised traversal they fit.
             let specialised: Vec<_> = [
                 TraceVariant::SingleInstance,
                 TraceVariant::SingleUntransformed,
+                TraceVariant::Merged,
             ]
             .into_iter()
             .filter(|v| v.for_backend(backend) == *v && v.check(&gs).is_ok())
@@ -301,9 +370,10 @@ fn both_backends_agree_with_the_cpu_reference_on_every_scene() {
             .collect();
             if backend == Backend::Software {
                 let expected = match name.as_str() {
+                    _ if merge => 1,
                     "single transformed instance" => 1,
                     "single untransformed instance" => 2,
-                    _ => specialised.len(),
+                    _ => 0,
                 };
                 assert_eq!(specialised.len(), expected, "{name}: specialised variants");
                 assert_eq!(
@@ -366,7 +436,11 @@ fn moving_adding_and_removing_instances_updates_the_top_level_only() {
     let mut scene = default_scene::cornell_box();
     for backend in backends(&gpu) {
         let pass = TraceRaysPass::new(&gpu, backend, TraceVariant::General).unwrap();
-        let mut gs = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).unwrap();
+        let two_level = GpuSceneOptions {
+            merge_instances: false,
+            ..Default::default()
+        };
+        let mut gs = GpuScene::new(&gpu, &scene, backend, &two_level).unwrap();
         // A software traversal specialised for one instance refuses this many-instance scene.
         for variant in [
             TraceVariant::SingleInstance,
@@ -401,4 +475,195 @@ fn moving_adding_and_removing_instances_updates_the_top_level_only() {
         );
         scene = default_scene::cornell_box();
     }
+}
+
+#[test]
+fn a_merged_scene_keeps_its_bvh_for_material_changes_and_splits_when_instances_move() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut scene = default_scene::cornell_box();
+    let mut gs =
+        GpuScene::new(&gpu, &scene, Backend::Software, &GpuSceneOptions::default()).unwrap();
+    assert!(gs.is_merged(), "merging is the default");
+    assert_eq!(TraceVariant::for_scene(&gs), TraceVariant::Merged);
+    let merged = TraceRaysPass::new(&gpu, Backend::Software, TraceVariant::Merged).unwrap();
+    let general = TraceRaysPass::new(&gpu, Backend::Software, TraceVariant::General).unwrap();
+    // Traversals specialised for one unmerged instance refuse a merged scene, and the merged
+    // one refuses an unmerged scene (below).
+    for v in [
+        TraceVariant::SingleInstance,
+        TraceVariant::SingleUntransformed,
+    ] {
+        let pass = TraceRaysPass::new(&gpu, Backend::Software, v).unwrap();
+        let err = pass.trace(&gpu, &gs, &[]).unwrap_err().to_string();
+        assert!(err.contains("merged"), "{err}");
+    }
+    let check = |gs: &GpuScene, scene: &Scene, pass: &TraceRaysPass, what: &str| {
+        let rays = make_rays(scene, 11);
+        let hits = pass.trace(&gpu, gs, &rays).unwrap();
+        let (_, bad) = compare(&CpuTracer::new(scene), &rays, &hits);
+        assert!(
+            bad.is_empty(),
+            "{what}: {}",
+            bad[..bad.len().min(5)].join("\n")
+        );
+    };
+    // A material swap (a light switched off, as the soak does) keeps the merged BVH.
+    let nodes = gs.software_bvh().unwrap().nodes.len();
+    scene.instances[2].material = scene.instances[0].material;
+    gs.set_instances(&gpu, &scene).unwrap();
+    assert!(gs.is_merged(), "a material change keeps the merged BVH");
+    assert_eq!(gs.software_bvh().unwrap().nodes.len(), nodes);
+    check(&gs, &scene, &merged, "merged after a material change");
+    check(&gs, &scene, &general, "general on a merged scene");
+    // Moving one instance splits the scene into the two-level BVH, which traces it right.
+    scene.instances[7].transform = glam::Mat4::from_translation(Vec3::Y * 0.5);
+    gs.set_instances(&gpu, &scene).unwrap();
+    assert!(!gs.is_merged(), "a moved instance splits the merged BVH");
+    assert_eq!(TraceVariant::for_scene(&gs), TraceVariant::General);
+    let err = merged.trace(&gpu, &gs, &[]).unwrap_err().to_string();
+    assert!(err.contains("TraceVariant::for_scene"), "{err}");
+    check(&gs, &scene, &general, "two-level after the split");
+    // Later moves only rebuild the top level.
+    let blas_nodes = gs.software_bvh().unwrap().blas_node_count;
+    scene.instances[7].transform = glam::Mat4::from_translation(Vec3::Y * 0.25);
+    gs.set_instances(&gpu, &scene).unwrap();
+    assert_eq!(gs.software_bvh().unwrap().blas_node_count, blas_nodes);
+    check(&gs, &scene, &general, "two-level after a second move");
+}
+
+#[test]
+fn merging_follows_its_size_rule() {
+    use solari_scene::bvh::{MERGE_MAX_TRIANGLES, merge_fits, merge_triangle_counts};
+    let mut scene = default_scene::cornell_box();
+    let (merged, meshes) = merge_triangle_counts(&scene);
+    assert!(merged <= meshes * 2 && merge_fits(&scene));
+    // One mesh instanced until the copies pass both bounds: more than MERGE_MAX_TRIANGLES
+    // and more than twice the meshes' triangles.
+    let mesh_tris = scene.meshes[scene.instances[0].mesh as usize].triangle_count();
+    let copies = MERGE_MAX_TRIANGLES / mesh_tris + 1;
+    let inst = scene.instances[0].clone();
+    scene.instances = vec![inst; copies];
+    assert!(!merge_fits(&scene), "{:?}", merge_triangle_counts(&scene));
+    scene.instances.truncate(copies - 1);
+    assert!(merge_fits(&scene), "{:?}", merge_triangle_counts(&scene));
+}
+
+/// The built-in scene with some instances mirrored (negative determinants).
+fn mirrored_scene() -> Scene {
+    let mut scene = default_scene::cornell_box();
+    for (k, inst) in scene.instances.iter_mut().enumerate().skip(5) {
+        let flip = if k % 2 == 0 {
+            Vec3::new(-1.0, 1.0, 1.0)
+        } else {
+            Vec3::new(1.0, 1.0, -1.3)
+        };
+        inst.transform = glam::Mat4::from_scale(flip) * inst.transform;
+    }
+    scene
+}
+
+#[test]
+fn merged_traversal_reports_what_the_two_level_one_reports_on_mirrored_instances() {
+    // A merged BVH meets mirrored instances' triangles in world space, where they wind the
+    // other way; traversal flips the front-face bit back (`MERGED_MIRRORED`), so hits and
+    // back-face culling are those of the two-level traversal, which meets them in object space.
+    let Some(gpu) = test_gpu() else { return };
+    let scene = mirrored_scene();
+    let rays = make_rays(&scene, 5);
+    let trace = |merge: bool, variant: TraceVariant| {
+        let options = GpuSceneOptions {
+            merge_instances: merge,
+            ..Default::default()
+        };
+        let gs = GpuScene::new(&gpu, &scene, Backend::Software, &options).unwrap();
+        assert_eq!(gs.is_merged(), merge);
+        let pass = TraceRaysPass::new(&gpu, Backend::Software, variant).unwrap();
+        pass.trace(&gpu, &gs, &rays).unwrap()
+    };
+    let two_level = trace(false, TraceVariant::General);
+    let cpu = CpuTracer::new(&scene);
+    for (variant, merged) in [
+        (TraceVariant::Merged, trace(true, TraceVariant::Merged)),
+        (TraceVariant::General, trace(true, TraceVariant::General)),
+    ] {
+        let mut ties = 0;
+        let mut random_ties = 0;
+        let mut culled = 0;
+        for (i, ((a, b), r)) in two_level.iter().zip(&merged).zip(&rays).enumerate() {
+            culled += (r.flags & RAY_FLAG_CULL_BACK_FACING != 0 && a.instance != NO_HIT) as usize;
+            if r.flags & RAY_FLAG_TERMINATE_ON_FIRST_HIT != 0 {
+                // Any hit will do: only hit or miss must agree.
+                assert_eq!(
+                    a.instance == NO_HIT,
+                    b.instance == NO_HIT,
+                    "{variant:?} ray {i}"
+                );
+            } else if a.instance == b.instance && a.primitive == b.primitive {
+                assert_eq!(
+                    a.front_face, b.front_face,
+                    "{variant:?} ray {i}: {a:?} {b:?}"
+                );
+                if a.instance != NO_HIT {
+                    let (o, d) = (Vec3::from(r.origin), Vec3::from(r.direction));
+                    let tol = t_tolerance(&cpu, a.instance, a.primitive, o, d, a.t);
+                    assert!((a.t - b.t).abs() <= tol, "{variant:?} ray {i}: {a:?} {b:?}");
+                }
+            } else {
+                // World and object space round differently: only at edges and grazing rays.
+                let near =
+                    |h: &GpuRayHit| h.instance == NO_HIT || near_edge(Vec2::from(h.barycentrics));
+                assert!(
+                    near(a) || near(b) || (a.t - b.t).abs() < 1e-3 * a.t.max(b.t),
+                    "{variant:?} ray {i}: {a:?} {b:?}"
+                );
+                ties += 1;
+                random_ties += (i < RANDOM_RAYS) as usize;
+            }
+        }
+        // Most of the list is edge, vertex and grazing rays, built to sit on rounding.
+        assert!(
+            random_ties * 100 <= RANDOM_RAYS && ties * 10 <= rays.len(),
+            "{variant:?}: {ties} ties, {random_ties} among random rays"
+        );
+        assert!(
+            culled > 50,
+            "the rays must include back-face culled ones ({culled})"
+        );
+    }
+}
+
+#[test]
+fn a_merged_bvh_over_the_binding_limit_falls_back_to_two_levels() {
+    // One mesh instanced 300 times: the merged triangles (300 copies) pass a 64 KiB binding
+    // limit that the two-level BVH (one copy) stays under.
+    let Some(gpu) = solari_scene::gpu::test_gpu_with_limits(|l| wgpu::Limits {
+        max_storage_buffer_binding_size: 64 << 10,
+        ..l
+    }) else {
+        return;
+    };
+    let mut scene = default_scene::cornell_box();
+    let block = scene.instances[7].clone();
+    scene.instances.truncate(7);
+    for k in 0..300 {
+        let mut copy = block.clone();
+        let (x, z) = ((k % 20) as f32, (k / 20) as f32);
+        copy.transform = glam::Mat4::from_translation(Vec3::new(x, 3.0, z) * 0.1)
+            * glam::Mat4::from_scale(Vec3::splat(0.05));
+        scene.instances.push(copy);
+    }
+    assert!(
+        solari_scene::bvh::merge_fits(&scene),
+        "the size rule allows it"
+    );
+    let gs = GpuScene::new(&gpu, &scene, Backend::Software, &GpuSceneOptions::default())
+        .expect("falls back instead of failing");
+    assert!(!gs.is_merged(), "over the binding limit: two-level");
+    let pass = TraceRaysPass::new(&gpu, Backend::Software, TraceVariant::for_scene(&gs)).unwrap();
+    // As many random rays as the ray buffer's 64 KiB allow.
+    let rays = &make_rays(&scene, 3)[..1000];
+    let hits = pass.trace(&gpu, &gs, rays).unwrap();
+    let (_, bad) = compare(&CpuTracer::new(&scene), rays, &hits);
+    assert!(bad.is_empty(), "{}", bad[..bad.len().min(5)].join("\n"));
+    assert!(hits.iter().filter(|h| h.instance != NO_HIT).count() > 500);
 }
