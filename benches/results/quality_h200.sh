@@ -3,8 +3,9 @@
 # quality is judged against, and auto's own picks.
 #   time:  every setting of the grid (SETTINGS) at 1920x1080, `render --mode realtime
 #          --denoiser fallback --frames 200 --json` (GPU ms per frame: the sum of the passes);
-#   error: the same settings at 960x540 (a quarter of the pixels, so `compare` stays quick):
-#          frame 136 of a still camera against a full-bounce reference (--spp $SPP);
+#   error: the same settings at 960x540 (a quarter of the pixels, so `compare` stays quick;
+#          ERROR_SIZE=1920x1080 measures at the output size): frame 136 of a still camera
+#          against a full-bounce reference (--spp $SPP);
 #   auto:  `render --quality auto --budget-ms B` at 1920x1080 for B in BUDGETS: the setting
 #          it picks (its JSON) and that setting's own frame time.
 # A setting is SCALE-GI[-nodi]: SCALE 50, 67 (internal scale 0.5, 0.67 with the temporal

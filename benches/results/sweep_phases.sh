@@ -3,8 +3,9 @@
 # binary), R (the results folder), SCENES, SETTINGS, SPP, and defines `flags SETTING` (the
 # render options of one setting). Files per scene s and setting g, in $R:
 #   time:  ${s}_${g}_time.json/.log: 1920x1080, 200 frames, fallback denoiser, --json;
-#   error: ${s}_ref.json/.log (the --spp $SPP full-bounce reference at 960x540) and
-#          ${s}_${g}_error.json/.log/.compare.json: frame 136 of a still camera against it.
+#   error: ${s}_ref.json/.log (the --spp $SPP full-bounce reference at $ERROR_SIZE, default
+#          960x540) and ${s}_${g}_error.json/.log/.compare.json: frame 136 of a still camera
+#          against it.
 
 # scene_file comes from device_env.sh, which every device script sources first.
 
@@ -31,16 +32,16 @@ sweep_time() {
 }
 
 sweep_error() {
-  local s f g n
+  local s f g n size=${ERROR_SIZE:-960x540}
   for s in $SCENES; do
     f=$(scene_file "$s")
     echo "== $s reference $(date -u +%T)" >&2
-    $BIN render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
+    $BIN render "$f" --mode reference --spp "$SPP" --size "$size" --out "$R/${s}_ref.exr" \
       --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
     for g in $SETTINGS; do
       n="${s}_${g}_error"
       $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
-        --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
+        --size "$size" --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
       $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
       rm -f "$R/$n.exr"
     done

@@ -20,5 +20,7 @@ pub fn shared_scenes() -> Vec<PathBuf> {
 pub mod denoise;
 pub mod font;
 pub mod gi_table;
+pub mod quality_table;
+pub mod scatter;
 pub mod sweep;
 pub mod table;

@@ -9,6 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use solari_benches::font::PlotInput;
 use solari_benches::gi_table::{GiRow, parse_gi};
+use solari_benches::scatter::{self, Point};
 
 fn main() {
     PlotInput::exit_on_error(run);
@@ -64,45 +65,21 @@ fn panel(
     scene: &str,
     rows: &[&GiRow],
 ) -> Result<(), String> {
-    let max_ms = rows.iter().map(|r| r.gpu_ms).fold(0.0, f64::max) * 1.1;
-    let min_ms = rows.iter().map(|r| r.gpu_ms).fold(f64::INFINITY, f64::min) * 0.9;
-    let hi = rows.iter().map(|r| r.rel_mse_1).fold(0.0, f64::max) * 1.15;
-    let mut chart = ChartBuilder::on(area)
-        .caption(scene, ("sans-serif", 20))
-        .margin(14)
-        .x_label_area_size(44)
-        .y_label_area_size(72)
-        .build_cartesian_2d(min_ms..max_ms, 0.0..hi)
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc("GPU ms per frame")
-        .y_desc("relMSE, one frame")
-        .label_style(("sans-serif", 13))
-        .draw()
-        .map_err(|e| e.to_string())?;
-    for r in rows {
-        let c = colour(r.gi());
-        let style = if r.specular() {
-            c.filled()
-        } else {
-            c.stroke_width(2)
-        };
-        let at = (r.gpu_ms, r.rel_mse_1);
-        let label = Text::new(r.mode.clone(), (7, -6), ("sans-serif", 11).into_font());
-        if r.di_reuse() {
-            chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at(at) + Circle::new((0, 0), 5, style) + label,
-                ))
-                .map_err(|e| e.to_string())?;
-        } else {
-            chart
-                .draw_series(std::iter::once(
-                    EmptyElement::at(at) + TriangleMarker::new((0, 0), 6, style) + label,
-                ))
-                .map_err(|e| e.to_string())?;
-        }
-    }
-    Ok(())
+    let points: Vec<Point> = rows
+        .iter()
+        .map(|r| Point {
+            x: r.gpu_ms,
+            y: r.rel_mse_1,
+            colour: colour(r.gi()),
+            filled: r.specular(),
+            triangle: !r.di_reuse(),
+            label: r.mode.clone(),
+        })
+        .collect();
+    scatter::panel(
+        area,
+        scene,
+        ("GPU ms per frame", "relMSE, one frame"),
+        &points,
+    )
 }
