@@ -163,12 +163,15 @@ pub fn gpu_lights(list: &LightList) -> (Vec<GpuLight>, Vec<GpuEmissiveTriangle>)
                     area,
                     radiance,
                     double_sided,
+                    mirrored,
                     emissive_texture,
                 } => {
                     g.radiance = radiance.into();
                     g.area = area;
+                    // LIGHT_FLAG_DOUBLE_SIDED, LIGHT_FLAG_TEXTURED, LIGHT_FLAG_MIRRORED.
                     g.kind = if double_sided { 0x100 } else { 0 }
-                        | if emissive_texture.is_some() { 0x200 } else { 0 };
+                        | if emissive_texture.is_some() { 0x200 } else { 0 }
+                        | if mirrored { 0x400 } else { 0 };
                     g.instance = instance;
                     g.first_triangle = first_triangle;
                     g.triangle_count = triangle_count;

@@ -114,6 +114,10 @@ pub enum Light {
         radiance: Vec3,
         /// Whether it emits from both faces (double-sided material).
         double_sided: bool,
+        /// Whether the instance's transform mirrors (negative determinant). Its triangles'
+        /// world-space edges then wind the other way, so the emitting (front) face, which is
+        /// the mesh's own winding, faces along −(e1 × e2) rather than e1 × e2.
+        mirrored: bool,
         /// The material's emissive texture, if any: the GPU's light readers multiply each
         /// sample's radiance by its texel (`light_emission.wesl`), and the light's power
         /// counts the texture's mean.
@@ -395,6 +399,7 @@ impl LightList {
                 area: area as f32,
                 radiance: material.emissive,
                 double_sided: material.double_sided,
+                mirrored: inst.transform.determinant() < 0.0,
                 emissive_texture,
             });
         }

@@ -175,6 +175,7 @@ impl LightList {
                 area,
                 radiance,
                 double_sided,
+                mirrored,
                 emissive_texture,
                 ..
             } => {
@@ -187,7 +188,10 @@ impl LightList {
                 let (b1, b2) = (su * (1.0 - point[1]), su * point[1]);
                 ResolvedLightSample {
                     position: tri.v0 + tri.e1 * b1 + tri.e2 * b2,
-                    normal: tri.e1.cross(tri.e2).normalize_or_zero(),
+                    // The emitting face: the mesh's own winding, which a mirrored
+                    // instance's world-space edges reverse.
+                    normal: tri.e1.cross(tri.e2).normalize_or_zero()
+                        * if *mirrored { -1.0 } else { 1.0 },
                     radiance: *radiance,
                     inverse_pdf: area / p_select,
                     directional: false,

@@ -57,9 +57,17 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
     let map = solari_scene::EnvironmentMap::new(32, 16, texels).expect("map");
     sky.environment_map = Some(std::sync::Arc::new(map));
     sky.environment_radiance = Vec3::splat(0.5);
-    let scenes = scenes()
-        .into_iter()
-        .chain([("cornell_box+sky".to_string(), sky)]);
+    // The emitter mirrored (negative determinant): its emitting face is -(e1 x e2).
+    let mut mirrored = solari_scene::default_scene::cornell_box();
+    for inst in &mut mirrored.instances {
+        if mirrored.materials[inst.material as usize].is_emissive() {
+            inst.transform = glam::Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)) * inst.transform;
+        }
+    }
+    let scenes = scenes().into_iter().chain([
+        ("cornell_box+sky".to_string(), sky),
+        ("cornell_box, mirrored light".to_string(), mirrored),
+    ]);
     for (name, scene) in scenes {
         let list = LightList::build(&scene);
         let (lo, hi) = scene.bounds();
@@ -129,9 +137,14 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                         ok &= (0..3).all(|i| rel(r.radiance[i], radiance[i], 1e-5));
                         let y = x + s.direction * s.distance;
                         let normal = match list.lights[s.light as usize] {
-                            Light::Emissive { first_triangle, .. } => {
+                            Light::Emissive {
+                                first_triangle,
+                                mirrored,
+                                ..
+                            } => {
                                 let t = list.triangles[first_triangle as usize];
-                                Some(t.e1.cross(t.e2).normalize())
+                                let side = if mirrored { -1.0 } else { 1.0 };
+                                Some(t.e1.cross(t.e2).normalize() * side)
                             }
                             Light::Point { position, .. } if !s.delta => {
                                 Some((y - position).normalize())

@@ -241,7 +241,6 @@ pub struct CpuTracer {
     meshes: Vec<(BinaryBvh, Vec<EdgeTriangle>)>,
     tlas: BinaryBvh,
     world_to_object: Vec<Mat4>,
-    mirrored: Vec<bool>,
     instance_mesh: Vec<u32>,
 }
 
@@ -277,11 +276,6 @@ impl CpuTracer {
                 .iter()
                 .map(|i| i.transform.inverse())
                 .collect(),
-            mirrored: scene
-                .instances
-                .iter()
-                .map(|i| i.transform.determinant() < 0.0)
-                .collect(),
             instance_mesh: scene.instances.iter().map(|i| i.mesh).collect(),
         }
     }
@@ -308,7 +302,11 @@ impl CpuTracer {
                     if let Some((t, u, v, det_pos)) =
                         intersect_triangle(&tris[tri as usize], o, d, t_min, tm)
                     {
-                        let front = det_pos != self.mirrored[inst as usize];
+                        // Facing is the mesh's own winding (object space), glTF's rule: a
+                        // mirroring transform reverses the world-space winding, and with it
+                        // which winding counts as front, so a mirrored mesh's outside stays
+                        // its front.
+                        let front = det_pos;
                         if flags & RAY_FLAG_CULL_BACK_FACING != 0 && !front {
                             return Some(tm);
                         }

@@ -154,6 +154,24 @@ fn raster_and_traced_gbuffers_agree() {
     let camera = cornell.camera(None).unwrap();
     compare(&gpu, "cornell_box", &[(cornell.clone(), camera.clone())]);
 
+    // Mirrored instances (both blocks, mirrored in x about their centres): the rasteriser's
+    // screen winding is reversed there, and facing must still be the mesh's own.
+    let mut mirrored = cornell.clone();
+    for k in [6, 7] {
+        let inst = &mut mirrored.instances[k];
+        let (lo, hi) = solari_scene::trace_cpu::instance_bounds(&cornell, &cornell.instances[k]);
+        let c = (lo + hi) * 0.5;
+        inst.transform = Mat4::from_translation(c)
+            * Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0))
+            * Mat4::from_translation(-c)
+            * inst.transform;
+    }
+    compare(
+        &gpu,
+        "cornell_box, mirrored blocks",
+        &[(mirrored, camera.clone())],
+    );
+
     let spheres = textured_scene::textured_spheres();
     let sphere_camera = spheres.camera(None).unwrap();
     compare(&gpu, "textured_spheres", &[(spheres, sphere_camera)]);

@@ -44,6 +44,8 @@ fn scenes() -> Vec<(String, Scene)> {
     block.transform = glam::Mat4::IDENTITY;
     single.instances = vec![block];
     out.push(("single untransformed instance".to_string(), single));
+    // Mirrored instances (negative determinants): facing is the mesh's own winding.
+    out.push(("mirrored instances".to_string(), mirrored_scene()));
     out.push((
         "textured spheres".to_string(),
         textured_scene::textured_spheres(),
@@ -567,6 +569,7 @@ fn merged_traversal_reports_what_the_two_level_one_reports_on_mirrored_instances
     // A merged BVH meets mirrored instances' triangles in world space, where they wind the
     // other way; traversal flips the front-face bit back (`MERGED_MIRRORED`), so hits and
     // back-face culling are those of the two-level traversal, which meets them in object space.
+    // (Both also agree with the CPU reference there: `mirrored instances` in `scenes`.)
     let Some(gpu) = test_gpu() else { return };
     let scene = mirrored_scene();
     let rays = make_rays(&scene, 5);
