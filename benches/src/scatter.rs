@@ -1,6 +1,6 @@
 //! One panel of a time-against-error scatter: a point per setting, coloured by one property,
 //! filled or hollow by a second and a circle or triangle by a third, each labelled. Shared by
-//! `plot-gi` and `plot-upscale`.
+//! `plot-gi` and `plot-upscale`, with the grid of one panel per scene around it.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -26,7 +26,7 @@ pub fn panel(
     area: &DrawingArea<BitMapBackend, Shift>,
     caption: &str,
     (x_desc, y_desc): (&str, &str),
-    points: &[Point],
+    points: &[&Point],
 ) -> Result<(), String> {
     let max_x = points.iter().map(|p| p.x).fold(0.0, f64::max) * 1.1;
     let min_x = points.iter().map(|p| p.x).fold(f64::INFINITY, f64::min) * 0.9;
@@ -64,5 +64,44 @@ pub fn panel(
         };
         drawn.map_err(|e| e.to_string())?;
     }
+    Ok(())
+}
+
+/// Draws one panel per scene (two across) into a PNG at `out` under `title`: `points` holds
+/// (scene, point) pairs; scenes come in name order. Fails when there are none.
+pub fn scene_grid(
+    out: &str,
+    title: (&str, u32),
+    points: Vec<(String, Point)>,
+) -> Result<(), String> {
+    let mut scenes: Vec<&str> = points.iter().map(|(s, _)| s.as_str()).collect();
+    scenes.sort();
+    scenes.dedup();
+    if scenes.is_empty() {
+        return Err("no rows with both a time and an error".into());
+    }
+    let cols = scenes.len().min(2);
+    let grid = scenes.len().div_ceil(cols);
+    let root =
+        BitMapBackend::new(out, (700 * cols as u32, 520 * grid as u32 + 40)).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let root = root
+        .titled(title.0, ("sans-serif", title.1))
+        .map_err(|e| e.to_string())?;
+    for (scene, area) in scenes.iter().zip(root.split_evenly((grid, cols)).iter()) {
+        let mine: Vec<&Point> = points
+            .iter()
+            .filter(|(s, _)| s == scene)
+            .map(|(_, p)| p)
+            .collect();
+        panel(
+            area,
+            scene,
+            ("GPU ms per frame", "relMSE, one frame"),
+            &mine,
+        )?;
+    }
+    root.present().map_err(|e| e.to_string())?;
+    eprintln!("wrote {out}");
     Ok(())
 }

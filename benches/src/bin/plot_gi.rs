@@ -5,10 +5,9 @@
 //!
 //! `cargo run -p solari-benches --bin plot-gi -- GI_TABLE.csv OUT.png [--font FONT.ttf]`
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 use solari_benches::font::PlotInput;
-use solari_benches::gi_table::{GiRow, parse_gi};
+use solari_benches::gi_table::parse_gi;
 use solari_benches::scatter::{self, Point};
 
 fn main() {
@@ -18,36 +17,23 @@ fn main() {
 fn run() -> Result<(), String> {
     let PlotInput { csv, text, out } =
         PlotInput::from_args("usage: plot-gi GI_TABLE.csv OUT.png [--font FONT.ttf]")?;
-    let (csv, out) = (&csv, &out);
-    let rows: Vec<GiRow> = parse_gi(&text)?
+    let points = parse_gi(&text)?
         .into_iter()
         .filter(|r| r.gpu_ms.is_finite() && r.rel_mse_1.is_finite() && r.rel_mse_1 > 0.0)
+        .map(|r| {
+            let point = Point {
+                x: r.gpu_ms,
+                y: r.rel_mse_1,
+                colour: colour(r.gi()),
+                filled: r.specular(),
+                triangle: !r.di_reuse(),
+                label: r.mode.clone(),
+            };
+            (r.scene, point)
+        })
         .collect();
-    let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
-    scenes.sort();
-    scenes.dedup();
-    if scenes.is_empty() {
-        return Err(format!("{csv}: no rows with both a time and an error"));
-    }
-    let cols = scenes.len().min(2);
-    let grid = scenes.len().div_ceil(cols);
-    let root =
-        BitMapBackend::new(out, (700 * cols as u32, 520 * grid as u32 + 40)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let root = root
-        .titled(
-            "GI modes: GPU frame time at 1920×1080 against one frame's relMSE",
-            ("sans-serif", 24),
-        )
-        .map_err(|e| e.to_string())?;
-    let panels = root.split_evenly((grid, cols));
-    for (scene, area) in scenes.iter().zip(panels.iter()) {
-        let mine: Vec<&GiRow> = rows.iter().filter(|r| r.scene == *scene).collect();
-        panel(area, scene, &mine)?;
-    }
-    root.present().map_err(|e| e.to_string())?;
-    eprintln!("wrote {out}");
-    Ok(())
+    let title = "GI modes: GPU frame time at 1920×1080 against one frame's relMSE";
+    scatter::scene_grid(&out, (title, 24), points).map_err(|e| format!("{csv}: {e}"))
 }
 
 /// The colour of a GI mode.
@@ -58,28 +44,4 @@ fn colour(gi: &str) -> RGBAColor {
         "restir" => RGBAColor(44, 160, 44, 1.0),
         _ => RGBAColor(120, 120, 120, 1.0),
     }
-}
-
-fn panel(
-    area: &DrawingArea<BitMapBackend, Shift>,
-    scene: &str,
-    rows: &[&GiRow],
-) -> Result<(), String> {
-    let points: Vec<Point> = rows
-        .iter()
-        .map(|r| Point {
-            x: r.gpu_ms,
-            y: r.rel_mse_1,
-            colour: colour(r.gi()),
-            filled: r.specular(),
-            triangle: !r.di_reuse(),
-            label: r.mode.clone(),
-        })
-        .collect();
-    scatter::panel(
-        area,
-        scene,
-        ("GPU ms per frame", "relMSE, one frame"),
-        &points,
-    )
 }

@@ -8,7 +8,7 @@
 
 use plotters::prelude::*;
 use solari_benches::font::PlotInput;
-use solari_benches::quality_table::{QualityRow, parse_quality};
+use solari_benches::quality_table::parse_quality;
 use solari_benches::scatter::{self, Point};
 
 fn main() {
@@ -29,49 +29,22 @@ fn colour(scale: &str) -> RGBAColor {
 fn run() -> Result<(), String> {
     let PlotInput { csv, text, out } =
         PlotInput::from_args("usage: plot-upscale QUALITY_TABLE.csv OUT.png [--font FONT.ttf]")?;
-    let rows: Vec<QualityRow> = parse_quality(&text)?
+    let points = parse_quality(&text)?
         .into_iter()
         .filter(|r| r.gpu_ms.is_finite() && r.rel_mse.is_finite() && r.rel_mse > 0.0)
-        .collect();
-    let mut scenes: Vec<&str> = rows.iter().map(|r| r.scene.as_str()).collect();
-    scenes.sort();
-    scenes.dedup();
-    if scenes.is_empty() {
-        return Err(format!("{csv}: no rows with both a time and an error"));
-    }
-    let cols = scenes.len().min(2);
-    let grid = scenes.len().div_ceil(cols);
-    let root =
-        BitMapBackend::new(&out, (700 * cols as u32, 520 * grid as u32 + 40)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| e.to_string())?;
-    let root = root
-        .titled(
-            "Internal scale: GPU frame time against one frame's relMSE, 1920×1080 output \
-             (purple 0.5, blue 0.67, red native, orange native AA)",
-            ("sans-serif", 20),
-        )
-        .map_err(|e| e.to_string())?;
-    for (scene, area) in scenes.iter().zip(root.split_evenly((grid, cols)).iter()) {
-        let points: Vec<Point> = rows
-            .iter()
-            .filter(|r| r.scene == *scene)
-            .map(|r| Point {
+        .map(|r| {
+            let point = Point {
                 x: r.gpu_ms,
                 y: r.rel_mse,
                 colour: colour(r.scale()),
                 filled: r.gi() != "cache",
                 triangle: !r.di_reuse(),
                 label: r.setting.clone(),
-            })
-            .collect();
-        scatter::panel(
-            area,
-            scene,
-            ("GPU ms per frame", "relMSE, one frame"),
-            &points,
-        )?;
-    }
-    root.present().map_err(|e| e.to_string())?;
-    eprintln!("wrote {out}");
-    Ok(())
+            };
+            (r.scene, point)
+        })
+        .collect();
+    let title = "Internal scale: GPU frame time against one frame's relMSE, 1920×1080 output \
+                 (purple 0.5, blue 0.67, red native, orange native AA)";
+    scatter::scene_grid(&out, (title, 20), points).map_err(|e| format!("{csv}: {e}"))
 }

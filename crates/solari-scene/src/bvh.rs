@@ -172,9 +172,19 @@ fn build_blas(
             }
         })
         .collect();
+    build_triangles(&tris, quality, |i| (i, 0))
+}
+
+/// Builds a CWBVH over `tris` and returns (nodes, triangles in leaf order); `ids` gives each
+/// input triangle's (mesh-local index, `e1.w` word).
+fn build_triangles(
+    tris: &[Triangle],
+    quality: BvhQuality,
+    ids: impl Fn(u32) -> (u32, u32),
+) -> (Vec<CwBvhNode>, Vec<GpuTriangle>) {
     let bvh = run_build(tris.len(), || {
         obvhs::cwbvh::builder::build_cwbvh_from_tris(
-            &tris,
+            tris,
             quality.params(),
             &mut Duration::default(),
         )
@@ -184,11 +194,12 @@ fn build_blas(
         .iter()
         .map(|&i| {
             let t = &tris[i as usize];
+            let (local, word) = ids(i);
             let e1 = Vec3::from(t.v1 - t.v0);
             let e2 = Vec3::from(t.v2 - t.v0);
             GpuTriangle {
-                v0: [t.v0.x, t.v0.y, t.v0.z, f32::from_bits(i)],
-                e1: e1.extend(0.0).into(),
+                v0: [t.v0.x, t.v0.y, t.v0.z, f32::from_bits(local)],
+                e1: e1.extend(f32::from_bits(word)).into(),
                 e2: e2.extend(0.0).into(),
             }
         })
@@ -256,31 +267,13 @@ impl SoftwareBvh {
                 ids.push((tag, t as u32));
             }
         }
-        let bvh = run_build(tris.len(), || {
-            obvhs::cwbvh::builder::build_cwbvh_from_tris(
-                &tris,
-                quality.params(),
-                &mut Duration::default(),
-            )
+        let (nodes, triangles) = build_triangles(&tris, quality, |i| {
+            let (tag, local) = ids[i as usize];
+            (local, tag)
         });
-        let triangles = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| {
-                let t = &tris[i as usize];
-                let (tag, local) = ids[i as usize];
-                let e1 = Vec3::from(t.v1 - t.v0);
-                let e2 = Vec3::from(t.v2 - t.v0);
-                GpuTriangle {
-                    v0: [t.v0.x, t.v0.y, t.v0.z, f32::from_bits(local)],
-                    e1: e1.extend(f32::from_bits(tag)).into(),
-                    e2: e2.extend(0.0).into(),
-                }
-            })
-            .collect();
         Self {
-            blas_node_count: bvh.nodes.len() as u32,
-            nodes: bvh.nodes,
+            blas_node_count: nodes.len() as u32,
+            nodes,
             triangles,
             tlas_instances: Vec::new(),
             blas_roots: vec![0; scene.meshes.len()],

@@ -344,12 +344,8 @@ impl CpuTracer {
             .try_normalize()
     }
 
-    /// How far `point` lies from one given triangle of one instance: the world-space
-    /// distance to its nearest point, in f64 (`None` if out of range). For arbitrating
-    /// rounding ties: where a rounding of the triangle (a merged BVH holds it in world space)
-    /// moves a hit at an edge, a vertex or along a grazing ray, the hit point must still lie
-    /// on the triangle up to that rounding.
-    pub fn point_distance(&self, instance: u32, primitive: u32, point: Vec3) -> Option<f64> {
+    // One triangle's world-space corners in f64 (`None` if out of range).
+    fn world_corners(&self, instance: u32, primitive: u32) -> Option<[glam::DVec3; 3]> {
         let o2w = self
             .world_to_object
             .get(instance as usize)?
@@ -360,6 +356,16 @@ impl CpuTracer {
         let a = o2w.transform_point3(tri.v0.as_dvec3());
         let b = a + o2w.transform_vector3(tri.e1.as_dvec3());
         let c = a + o2w.transform_vector3(tri.e2.as_dvec3());
+        Some([a, b, c])
+    }
+
+    /// How far `point` lies from one given triangle of one instance: the world-space
+    /// distance to its nearest point, in f64 (`None` if out of range). For arbitrating
+    /// rounding ties: where a rounding of the triangle (a merged BVH holds it in world space)
+    /// moves a hit at an edge, a vertex or along a grazing ray, the hit point must still lie
+    /// on the triangle up to that rounding.
+    pub fn point_distance(&self, instance: u32, primitive: u32, point: Vec3) -> Option<f64> {
+        let [a, b, c] = self.world_corners(instance, primitive)?;
         Some(closest_on_triangle(point.as_dvec3(), a, b, c).distance(point.as_dvec3()))
     }
 
@@ -367,16 +373,7 @@ impl CpuTracer {
     /// world units and f64 (`None` if out of range): whether a hit sits where rounding may
     /// let a ray slip past the triangle.
     pub fn edge_distance(&self, instance: u32, primitive: u32, point: Vec3) -> Option<f64> {
-        let o2w = self
-            .world_to_object
-            .get(instance as usize)?
-            .as_dmat4()
-            .inverse();
-        let (_, tris) = &self.meshes[self.instance_mesh[instance as usize] as usize];
-        let tri = tris.get(primitive as usize)?;
-        let a = o2w.transform_point3(tri.v0.as_dvec3());
-        let b = a + o2w.transform_vector3(tri.e1.as_dvec3());
-        let c = a + o2w.transform_vector3(tri.e2.as_dvec3());
+        let [a, b, c] = self.world_corners(instance, primitive)?;
         let p = point.as_dvec3();
         let segment = |s: glam::DVec3, e: glam::DVec3| {
             let k = ((p - s).dot(e - s) / (e - s).length_squared().max(f64::MIN_POSITIVE))
