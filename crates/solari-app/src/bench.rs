@@ -75,6 +75,11 @@ struct Measurement {
 }
 
 /// Times `frames` dispatches of the bench pass (after warm-up) and counts the rays traced.
+/// Frames run before `measure` times any.
+const WARM_UP_FRAMES: u32 = 10;
+/// Wall time spent warming up at least, so the GPU's clocks are up when timing starts.
+const WARM_UP_SECONDS: f64 = 0.5;
+
 fn measure(
     gpu: &Gpu,
     pass: &ViewPass,
@@ -86,8 +91,20 @@ fn measure(
     let counts = pass.run(gpu, scene, &target).map_err(|e| e.to_string())?;
     let rays_per_frame = ViewPass::bench_ray_count(&counts);
     let timer = PassTimer::new(gpu).map_err(|e| e.to_string())?;
+    // Warm up for at least WARM_UP_FRAMES frames and WARM_UP_SECONDS: after a long BVH build
+    // the GPU sat idle and its clocks came down; 10 frames of 0.4 ms did not bring them
+    // back, and the primary-ray median read 3x slow (metal_rough_spheres, very-slow build,
+    // H100).
+    let start = std::time::Instant::now();
+    let mut warm = 0u32;
+    while warm < WARM_UP_FRAMES || start.elapsed().as_secs_f64() < WARM_UP_SECONDS {
+        timer
+            .time(gpu, |e, ts| pass.encode(e, scene, &target, Some(ts)))
+            .map_err(|e| e.to_string())?;
+        warm += 1;
+    }
     let mut times = Vec::new();
-    for frame in 0..frames + 10 {
+    for frame in 0..frames {
         let mut v = *view;
         v.frame = frame;
         gpu.queue
@@ -95,9 +112,7 @@ fn measure(
         let ms = timer
             .time(gpu, |e, ts| pass.encode(e, scene, &target, Some(ts)))
             .map_err(|e| e.to_string())?;
-        if frame >= 10 {
-            times.push(ms);
-        }
+        times.push(ms);
     }
     times.sort_by(f64::total_cmp);
     Ok(Measurement {

@@ -411,6 +411,12 @@ pub struct RealtimeArgs {
     /// ReSTIR GI refuses reuse where a reconnection Jacobian exceeds this.
     #[arg(long, default_value_t = 2.0, value_parser = values::finite)]
     pub gi_jacobian_bound: f32,
+    /// ReSTIR GI's spatial reuse also traces whether the neighbour sees this pixel's own
+    /// sample (unbiased MIS, a third ray per pixel; `RestirGiSettings::unbiased_spatial`).
+    /// On by default; `off` saves the ray and darkens indirect light near occluders.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub gi_unbiased_spatial: bool,
     /// GI candidate rays per pixel (1–16), resampled to one by the target function: more
     /// samples per pixel for plain path GI, better initial samples for ReSTIR GI.
     #[arg(long, default_value_t = 1)]
@@ -521,6 +527,7 @@ impl RealtimeArgs {
                 jacobian_bound: self.gi_jacobian_bound,
                 permutation_sampling: self.gi_permutation,
                 initial_samples: self.gi_samples,
+                unbiased_spatial: self.gi_unbiased_spatial,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

@@ -235,8 +235,9 @@ impl SoftwareBvh {
 
     /// Builds one BVH over every instance's triangles in world space, each triangle tagged
     /// with its instance (`GpuTriangle::e1`'s w). Traversal then has no top level and no
-    /// object-space transform: on the H200 the 1,290-instance `interior` traces as fast as
-    /// the same triangles in one mesh (`benches/RESULTS.md`). The BVH holds every instance's
+    /// object-space transform: the 1,290-instance `interior` traces as one flat BVH (on an
+    /// H100 0.98 ms instead of 1.37 for its primary + hemisphere rays, `benches/RESULTS.md`).
+    /// The BVH holds every instance's
     /// copy of its mesh ([`merge_fits`] says when that is reasonable), and moving an
     /// instance means building it again ([`SoftwareBvh::traces_merged`]).
     pub fn build_merged(scene: &Scene, quality: BvhQuality) -> Self {
