@@ -435,6 +435,9 @@ impl GpuScene {
 
     /// Uploads instance transforms and rebuilds only the top level of the acceleration
     /// structure. Use after moving, adding or removing instances (meshes must be unchanged).
+    /// A merged scene ([`GpuSceneOptions::merge_instances`]) keeps its BVH when only
+    /// materials changed; otherwise it is split, once, into the two-level BVH (its passes
+    /// then need [`TraceVariant::for_scene`] again).
     pub fn set_instances(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
         self.generation += 1;
         if let Accel::Software { bvh, .. } = &self.accel
