@@ -409,7 +409,7 @@ fn pass_params(
     let atrous = dispatch >= 2;
     GpuPassParams {
         step: if atrous { 1 << iteration } else { 0 },
-        feedback: (atrous && iteration == 0 && settings.history_feedback) as u32,
+        _pad0: 0,
         last: (atrous && iteration + 1 == settings.atrous_iterations) as u32,
         signal: if split { slot + 1 } else { 0 },
         accumulate: (slot == 1) as u32,

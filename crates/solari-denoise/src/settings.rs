@@ -254,9 +254,9 @@ const _: () = assert!(size_of::<GpuDenoiseParams>() == 80);
 pub struct GpuPassParams {
     /// À-trous step in pixels (1, 2, 4, …; 0 for the temporal and variance passes).
     pub step: u32,
-    /// 1: write this iteration's result into the colour history (the first iteration with
-    /// [`FallbackSettings::history_feedback`], run by the `denoise_atrous_feedback` pipeline).
-    pub feedback: u32,
+    /// Padding (history feedback is the `denoise_atrous_feedback` pipeline's own job, so no
+    /// flag says it).
+    pub _pad0: u32,
     /// 1: the last iteration, which remodulates and writes the output.
     pub last: u32,
     /// 0 combined, 1 diffuse, 2 specular: which albedo demodulates.
