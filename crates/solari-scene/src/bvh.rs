@@ -117,21 +117,23 @@ pub fn merge_fits(scene: &Scene) -> bool {
 /// instance's triangles ([`SoftwareBvh::build_merged`]).
 #[derive(Clone, Debug, Default)]
 pub struct SoftwareBvh {
-    /// All nodes: each mesh's BLAS, then the TLAS. Indices inside are absolute.
+    /// All nodes: each mesh's BLAS, then the TLAS (merged: the one BVH). Indices inside are
+    /// absolute.
     pub nodes: Vec<CwBvhNode>,
-    /// Triangles of all meshes in BVH leaf order (with duplicates under spatial splits).
+    /// Triangles of all meshes (merged: of all instances, in world space) in BVH leaf order
+    /// (with duplicates under spatial splits).
     pub triangles: Vec<GpuTriangle>,
-    /// Instance index for each TLAS leaf slot.
+    /// Instance index for each TLAS leaf slot (merged: empty).
     pub tlas_instances: Vec<u32>,
-    /// Root node index of each mesh's BLAS.
+    /// Root node index of each mesh's BLAS (merged: 0, unused).
     pub blas_roots: Vec<u32>,
-    /// Root node index of the TLAS.
+    /// Root node index of the TLAS (merged: of the one BVH, where traversal starts).
     pub tlas_root: u32,
-    /// Node count of the BLASes (the TLAS follows them).
+    /// Node count of the BLASes (the TLAS follows them; merged: all nodes).
     pub blas_node_count: u32,
-    /// Time spent building the BLASes.
+    /// Time spent building the BLASes (merged: the whole build).
     pub blas_build_time: Duration,
-    /// Time spent building the TLAS.
+    /// Time spent building the TLAS (merged: zero).
     pub tlas_build_time: Duration,
     /// For a merged BVH, each instance's (mesh, transform) it was built from: the instances
     /// it can trace without a rebuild. `None` for the two-level BVH.
@@ -294,9 +296,12 @@ impl SoftwareBvh {
     }
 
     /// Rebuilds only the top level (after instances moved, were added or removed). A merged
-    /// BVH has no top level: build it again, or build the two-level one.
+    /// BVH has no top level: it is built again, whole, for `scene`'s instances.
     pub fn rebuild_tlas(&mut self, scene: &Scene, quality: BvhQuality) {
-        debug_assert!(self.merged_from.is_none(), "a merged BVH has no top level");
+        if self.is_merged() {
+            *self = Self::build_merged(scene, quality);
+            return;
+        }
         let start = Instant::now();
         self.nodes.truncate(self.blas_node_count as usize);
         let aabbs: Vec<Aabb> = scene
@@ -338,4 +343,36 @@ fn merged_layout(scene: &Scene) -> Vec<(u32, glam::Mat4)> {
         .iter()
         .map(|i| (i.mesh, i.transform))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rebuilding_the_top_level_of_a_merged_bvh_rebuilds_it_for_the_new_instances() {
+        let mut scene = crate::default_scene::cornell_box();
+        let mut bvh = SoftwareBvh::build_merged(&scene, BvhQuality::Fastest);
+        assert!(bvh.traces_merged(&scene));
+        scene.instances[7].transform = glam::Mat4::from_translation(glam::Vec3::Y);
+        assert!(
+            !bvh.traces_merged(&scene),
+            "a moved instance needs a new merged BVH"
+        );
+        bvh.rebuild_tlas(&scene, BvhQuality::Fastest);
+        assert!(bvh.is_merged() && bvh.traces_merged(&scene));
+        // The moved block's triangles are where its new transform puts them.
+        let mesh = &scene.meshes[scene.instances[7].mesh as usize];
+        let moved: Vec<&GpuTriangle> = bvh
+            .triangles
+            .iter()
+            .filter(|t| t.e1[3].to_bits() & !MERGED_MIRRORED == 7)
+            .collect();
+        assert_eq!(moved.len(), mesh.triangle_count());
+        for t in moved {
+            let local = t.v0[3].to_bits() as usize;
+            let want = mesh.triangle(local)[0] + glam::Vec3::Y;
+            assert!((glam::Vec3::new(t.v0[0], t.v0[1], t.v0[2]) - want).length() < 1e-5);
+        }
+    }
 }
