@@ -9,6 +9,7 @@ GROUPS = {
     "denoiser": ("denoise_temporal", "denoise_variance", "denoise_atrous"),
     "atrous": ("denoise_atrous",),
     "DI": ("di_initial_temporal", "di_spatial_shade"),
+    "GI": ("gi_initial_temporal", "gi_spatial_shade"),
     "G-buffer": ("gbuffer",),
     "frame": None,
 }

@@ -13,7 +13,12 @@
 //!    ([`RestirGiSettings::confidence_cap`]).
 //! 3. **Spatial reuse** of one neighbour ([`RestirGiSettings::spatial_radius`], up to
 //!    [`RestirGiSettings::spatial_tries`] tries with the radius halved), whose sample point
-//!    must be visible from the pixel (one ray).
+//!    must be visible from the pixel (one ray). The tries trace nothing: the chosen
+//!    neighbour's rays are traced after them, from one call site, so a warp whose pixels
+//!    settle on different tries traces once; and a ray whose answer cannot change the merge
+//!    (the pixel's own Jacobian refuses it, or the sample's value there is zero) is not
+//!    traced. Together 23–35% off ReSTIR GI on an H100 (`benches/RESULTS.md`, "Spatial reuse
+//!    without divergent rays").
 //! 4. **Merges** are generalised RIS with the balance heuristic over confidence-weighted
 //!    target functions (the sample's contribution through the whole BRDF, luminance of
 //!    L · f · cos, so that specular GI can reuse the reservoirs of rough pixels), made

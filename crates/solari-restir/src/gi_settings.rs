@@ -33,7 +33,8 @@ pub struct RestirGiSettings {
     pub max_ray_distance: f32,
     /// In spatial reuse, also trace whether the neighbour sees this pixel's own sample, and
     /// count the neighbour in that sample's MIS weight only if it does (default on). Costs
-    /// a third ray per pixel. Off, the neighbour counts as if it could have produced every
+    /// a third ray per pixel (skipped where that sample's value at the neighbour is zero or
+    /// the merge is refused anyway). Off, the neighbour counts as if it could have produced every
     /// sample, which darkens indirect light near occluders.
     pub unbiased_spatial: bool,
     /// Candidate rays per pixel for the initial sample (default 1, Solari's; 1 to
