@@ -42,6 +42,9 @@ for scene in sorted({s for s, _ in runs}):
         if not base or not new:
             continue
         b, n = statistics.mean(base), statistics.mean(new)
+        if not b > 0:
+            # The group did not run in this configuration (e.g. GI's passes under --gi cache).
+            continue
         print(f"| {scene} | {g} | {b:.4f} | {n:.4f} | {100 * (n / b - 1):+.1f}% |")
 
 print()
