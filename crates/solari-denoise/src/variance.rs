@@ -1,5 +1,6 @@
-//! Rust twin of the fallback denoiser's variance arithmetic (`denoise_variance_math.wesl`),
-//! held to the GPU by `tests/variance_twin.rs`.
+//! Rust twin of the fallback denoiser's variance arithmetic (`denoise_variance_math.wesl`):
+//! the variance pass's estimate and the per-pixel data the temporal pass leaves for it, held
+//! to the GPU by `tests/variance_twin.rs`.
 
 /// Weighted sums over a pixel's 5×5 window (WGSL `WindowSums`).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -51,6 +52,57 @@ pub fn pixel_variance(temporal: f32, window: Option<WindowSums>, length: f32, fr
     } else {
         variance.max(0.0)
     }
+}
+
+/// A penumbra narrower than this many pixels is a hard edge (WGSL `PENUMBRA_SHARP_PIXELS` in
+/// `denoise_variance_math.wesl`).
+pub const PENUMBRA_SHARP_PIXELS: f32 = 1.0;
+
+/// Albedos below this are raised to it before demodulating (WGSL `ALBEDO_FLOOR` in
+/// `denoise_variance_math.wesl`).
+pub const ALBEDO_FLOOR: f32 = 0.01;
+
+/// What the temporal pass stores of a pixel for the variance pass's windows, `[m1, m2,
+/// removed, w]` (WGSL `window_data`, which says what each part is): the history's luminance
+/// `moments` (w = −1 without history, `history_length` ≤ 0); with `shadow` (the renderer's
+/// pair for the pixel, unpacked: the luminance its shadow ray removed, the penumbra width in
+/// world units) the removed luminance over `albedo`'s, and w = 1 where the penumbra is
+/// narrower than [`PENUMBRA_SHARP_PIXELS`] pixels at `view_z`, a pixel's angle being that
+/// between the view directions `d0` and `d1`.
+pub fn window_data(
+    moments: [f32; 2],
+    history_length: f32,
+    shadow: Option<[f32; 2]>,
+    albedo: [f32; 3],
+    d0: [f32; 3],
+    d1: [f32; 3],
+    view_z: f32,
+) -> [f32; 4] {
+    if history_length <= 0.0 {
+        return [0.0, 0.0, 0.0, -1.0];
+    }
+    let Some([removed_light, penumbra]) = shadow else {
+        return [moments[0], moments[1], 0.0, 1.0];
+    };
+    // Rec. 709, as the WGSL `luminance`.
+    let luminance = 0.2126 * albedo[0] + 0.7152 * albedo[1] + 0.0722 * albedo[2];
+    let removed = removed_light / luminance.max(ALBEDO_FLOOR);
+    let unit = |d: [f32; 3]| {
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        d.map(|v| v / l)
+    };
+    let (a, b) = (unit(d0), unit(d1));
+    let pixel_angle = (0..3)
+        .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
+        .sum::<f32>()
+        .sqrt();
+    let sharp = penumbra < PENUMBRA_SHARP_PIXELS * pixel_angle * view_z;
+    [
+        moments[0],
+        moments[1],
+        removed,
+        if sharp { 1.0 } else { 0.0 },
+    ]
 }
 
 #[cfg(test)]

@@ -4,13 +4,17 @@
 //! 1e30, lengths of 0, fractional and far past the young window, one frame of young window).
 //! NaN inputs are left out: WGSL lets implementations assume none (`min` of a NaN is
 //! undefined), and the pass feeds none (the temporal pass rejects non-finite samples).
+//! Also the temporal pass's per-pixel window data (`window_data`, twin
+//! `solari_denoise::variance::window_data`): pixels with and without history and shadow data,
+//! penumbrae on both sides of the sharp limit, black albedo, a zero pixel step.
 
 use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_denoise::variance::{WindowSums, pixel_variance};
+use solari_denoise::variance::{PENUMBRA_SHARP_PIXELS, WindowSums, pixel_variance, window_data};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
+use solari_scene::packing::{pack_bf16x2_unsigned, unpack_bf16x2};
 
 /// WGSL twin: `Case` in `shaders/denoise_variance_test.wesl`.
 #[repr(C)]
@@ -130,4 +134,141 @@ fn variance_math_matches_its_rust_twin() {
         capped > 300 && mixed > 1000,
         "capped {capped}, mixed {mixed}"
     );
+}
+
+/// WGSL twin: `Case` in `shaders/denoise_window_test.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct WindowCase {
+    moments: [f32; 4],
+    albedo: [f32; 4],
+    d0: [f32; 4],
+    d1: [f32; 4],
+    shadow: [u32; 4],
+}
+
+// Pixels of views from 64 to 4096 pixels wide at view distances over seven decades, with
+// penumbrae around the sharp limit (a quarter to four times a pixel's footprint, exactly 0
+// now and then), no history, no shadow data, black albedo and a zero pixel step now and then.
+fn window_cases() -> Vec<WindowCase> {
+    let mut rng = Pcg32::seed_from_u64(19);
+    (0..6000)
+        .map(|k| {
+            let mean = magnitude(&mut rng);
+            let m2 = mean * mean * rng.random_range(0.5..3.0f32);
+            let length = match k % 4 {
+                0 => 0.0,
+                1 => rng.random_range(0.0..1.0),
+                _ => rng.random_range(1.0..64.0f32).floor(),
+            };
+            let has_shadow = k % 5 != 0;
+            let d0 = [
+                rng.random_range(-1.5..1.5f32),
+                rng.random_range(-1.5..1.5f32),
+                1.0,
+            ];
+            let step = if k % 13 == 0 {
+                0.0
+            } else {
+                2.0 / rng.random_range(64.0..4096.0f32)
+            };
+            let d1 = [d0[0] + step, d0[1], d0[2]];
+            let view_z = 10f32.powf(rng.random_range(-3.0..4.0));
+            let footprint = step / (d0[0] * d0[0] + d0[1] * d0[1] + 1.0).sqrt() * view_z;
+            let penumbra = if k % 6 == 0 {
+                0.0
+            } else {
+                footprint * 10f32.powf(rng.random_range(-0.6..0.6))
+            };
+            let removed = if k % 3 == 0 {
+                0.0
+            } else {
+                magnitude(&mut rng).min(1e30)
+            };
+            let albedo = if k % 7 == 0 {
+                [0.0; 3]
+            } else {
+                [0; 3].map(|_| rng.random_range(0.0..1.0f32))
+            };
+            WindowCase {
+                moments: [mean, m2, length, has_shadow as u32 as f32],
+                albedo: [albedo[0], albedo[1], albedo[2], view_z],
+                d0: [d0[0], d0[1], d0[2], 0.0],
+                d1: [d1[0], d1[1], d1[2], 0.0],
+                shadow: [pack_bf16x2_unsigned([removed, penumbra]), 0, 0, 0],
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn window_data_matches_its_rust_twin() {
+    let Some(gpu) = test_gpu() else { return };
+    let source = include_str!("../shaders/denoise_window_test.wesl");
+    let cases = window_cases();
+    let results: Vec<[f32; 4]> = CaseKernel::run_test_module(
+        &gpu,
+        solari_denoise::modules(),
+        "denoise_window_test",
+        source,
+        0,
+        &cases,
+    )
+    .expect("dispatch");
+    let (mut sharp, mut wide, mut near, mut empty) = (0, 0, 0, 0);
+    for (c, r) in cases.iter().zip(&results) {
+        let shadow = (c.moments[3] > 0.5).then(|| unpack_bf16x2(c.shadow[0]));
+        let [a, d0, d1] = [c.albedo, c.d0, c.d1].map(|v| [v[0], v[1], v[2]]);
+        let twin = window_data(
+            [c.moments[0], c.moments[1]],
+            c.moments[2],
+            shadow,
+            a,
+            d0,
+            d1,
+            c.albedo[3],
+        );
+        assert!(
+            r[0] == twin[0] && r[1] == twin[1],
+            "moments: GPU {r:?} CPU {twin:?} for {c:?}"
+        );
+        // WGSL's division is exact to 2.5 ulp.
+        assert!(
+            (r[2] - twin[2]).abs() <= 1e-6 * twin[2].abs(),
+            "removed: GPU {r:?} CPU {twin:?} for {c:?}"
+        );
+        // The sharpness test compares with a product of approximate square roots: a penumbra
+        // within 1e-5 of a positive limit may fall on either side (a zero limit, from a zero
+        // pixel step, is exact).
+        let limit = shadow.map(|s| {
+            let (u, v) = (norm(d0), norm(d1));
+            let angle =
+                ((v[0] - u[0]).powi(2) + (v[1] - u[1]).powi(2) + (v[2] - u[2]).powi(2)).sqrt();
+            let limit = PENUMBRA_SHARP_PIXELS * angle * c.albedo[3];
+            limit > 0.0 && (s[1] - limit).abs() <= 1e-5 * limit
+        });
+        if twin[3] < 0.0 {
+            empty += 1;
+        } else if limit == Some(true) {
+            near += 1;
+            continue;
+        } else if shadow.is_some() {
+            if twin[3] > 0.5 {
+                sharp += 1;
+            } else {
+                wide += 1;
+            }
+        }
+        assert!(r[3] == twin[3], "w: GPU {r:?} CPU {twin:?} for {c:?}");
+    }
+    // Both sides of the penumbra test, and the no-history case, come up often.
+    assert!(
+        sharp > 800 && wide > 800 && empty > 1000 && near < 60,
+        "sharp {sharp}, wide {wide}, no history {empty}, near the limit {near}"
+    );
+}
+
+fn norm(d: [f32; 3]) -> [f32; 3] {
+    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    d.map(|v| v / l)
 }
