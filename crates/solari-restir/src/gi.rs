@@ -70,6 +70,10 @@ pub const GI_BINDINGS: BufferGroup = BufferGroup::new(
 /// Bind group 3 of the GI shaders: the image shading adds to.
 pub const GI_TARGET_BINDINGS: BufferGroup = BufferGroup::new(3, 0, &[("lit", Buf::ReadWrite)]);
 
+/// The pipeline constant that compiles reuse out of both GI passes (`@id(7120) override
+/// GI_REUSE` in `restir_gi.wesl`), for an instance built without reuse.
+const REUSE_OFF: (&str, f64) = ("7120", 0.0);
+
 /// Labels of the two dispatches (and profiler scopes).
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
 
@@ -116,9 +120,12 @@ impl RestirGi {
         let shared = PassLayouts::new(gpu, backend);
         let layouts = shared.with(&layout, &target_layout);
         let modules = crate::gi_modules();
-        let pipeline = |entry: &str| {
-            pass_pipeline(gpu, backend, &modules, &layouts, entry, variant.constants())
-        };
+        let mut constants = variant.constants().to_vec();
+        if !settings.reuse() {
+            constants.push(REUSE_OFF);
+        }
+        let pipeline =
+            |entry: &str| pass_pipeline(gpu, backend, &modules, &layouts, entry, &constants);
         let initial = pipeline("restir_gi_initial")?;
         let spatial = pipeline("restir_gi_spatial")?;
         let params = gpu.uniform_buffer("solari_restir/gi_params", &GpuGiParams::zeroed());
