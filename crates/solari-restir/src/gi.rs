@@ -17,7 +17,7 @@
 //!    neighbour's rays are traced after them, from one call site, so a warp whose pixels
 //!    settle on different tries traces once; and a ray whose answer cannot change the merge
 //!    (the pixel's own Jacobian refuses it, or the sample's value there is zero) is not
-//!    traced. Together 23–35% off ReSTIR GI on an H100 (`benches/RESULTS.md`, "Spatial reuse
+//!    traced. Together 11–35% off ReSTIR GI on an H100 (`benches/RESULTS.md`, "Spatial reuse
 //!    without divergent rays").
 //! 4. **Merges** are generalised RIS with the balance heuristic over confidence-weighted
 //!    target functions (the sample's contribution through the whole BRDF, luminance of
