@@ -62,6 +62,20 @@ pub const PENUMBRA_SHARP_PIXELS: f32 = 1.0;
 /// `denoise_variance_math.wesl`).
 pub const ALBEDO_FLOOR: f32 = 0.01;
 
+/// The angle (as the chord between unit vectors) between view directions `d0` and `d1`, as
+/// [`window_data`] measures a pixel's angle.
+pub fn pixel_angle(d0: [f32; 3], d1: [f32; 3]) -> f32 {
+    let unit = |d: [f32; 3]| {
+        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        d.map(|v| v / l)
+    };
+    let (a, b) = (unit(d0), unit(d1));
+    (0..3)
+        .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
+        .sum::<f32>()
+        .sqrt()
+}
+
 /// What the temporal pass stores of a pixel for the variance pass's windows, `[m1, m2,
 /// removed, w]` (WGSL `window_data`, which says what each part is): the history's luminance
 /// `moments` (w = −1 without history, `history_length` ≤ 0); with `shadow` (the renderer's
@@ -87,16 +101,7 @@ pub fn window_data(
     // Rec. 709, as the WGSL `luminance`.
     let luminance = 0.2126 * albedo[0] + 0.7152 * albedo[1] + 0.0722 * albedo[2];
     let removed = removed_light / luminance.max(ALBEDO_FLOOR);
-    let unit = |d: [f32; 3]| {
-        let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        d.map(|v| v / l)
-    };
-    let (a, b) = (unit(d0), unit(d1));
-    let pixel_angle = (0..3)
-        .map(|k| (b[k] - a[k]) * (b[k] - a[k]))
-        .sum::<f32>()
-        .sqrt();
-    let sharp = penumbra < PENUMBRA_SHARP_PIXELS * pixel_angle * view_z;
+    let sharp = penumbra < PENUMBRA_SHARP_PIXELS * pixel_angle(d0, d1) * view_z;
     [
         moments[0],
         moments[1],

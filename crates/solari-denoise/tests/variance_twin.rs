@@ -11,7 +11,9 @@
 use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_denoise::variance::{PENUMBRA_SHARP_PIXELS, WindowSums, pixel_variance, window_data};
+use solari_denoise::variance::{
+    PENUMBRA_SHARP_PIXELS, WindowSums, pixel_angle, pixel_variance, window_data,
+};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
 use solari_scene::packing::{pack_bf16x2_unsigned, unpack_bf16x2};
@@ -241,10 +243,7 @@ fn window_data_matches_its_rust_twin() {
         // within 1e-5 of a positive limit may fall on either side (a zero limit, from a zero
         // pixel step, is exact).
         let limit = shadow.map(|s| {
-            let (u, v) = (norm(d0), norm(d1));
-            let angle =
-                ((v[0] - u[0]).powi(2) + (v[1] - u[1]).powi(2) + (v[2] - u[2]).powi(2)).sqrt();
-            let limit = PENUMBRA_SHARP_PIXELS * angle * c.albedo[3];
+            let limit = PENUMBRA_SHARP_PIXELS * pixel_angle(d0, d1) * c.albedo[3];
             limit > 0.0 && (s[1] - limit).abs() <= 1e-5 * limit
         });
         if twin[3] < 0.0 {
@@ -266,9 +265,4 @@ fn window_data_matches_its_rust_twin() {
         sharp > 800 && wide > 800 && empty > 1000 && near < 60,
         "sharp {sharp}, wide {wide}, no history {empty}, near the limit {near}"
     );
-}
-
-fn norm(d: [f32; 3]) -> [f32; 3] {
-    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    d.map(|v| v / l)
 }
