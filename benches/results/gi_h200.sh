@@ -13,8 +13,10 @@
 # without it `--specular-gi off`, since specular GI is on by default from 5f47d02), +nodi
 # runs ReSTIR DI without reuse (`--di-reuse none`), +nopsr turns primary surface
 # replacement off (`--psr off`), +sN takes N GI candidates per pixel (`--gi-samples N`),
-# +biased drops ReSTIR GI's unbiased spatial MIS ray (`--gi-unbiased-spatial off`),
-# e.g. MODES="path path+spec path+spec+nodi path+spec+s4". PHASES="time
+# +biased drops ReSTIR GI's unbiased spatial MIS ray (`--gi-spatial-visibility neighbour`;
+# `--gi-unbiased-spatial off` before the twenty-first session), +chosen traces only the
+# chosen sample's ray (`--gi-spatial-visibility chosen`), e.g.
+# MODES="path path+spec path+spec+nodi path+spec+s4". PHASES="time
 # error" (default both) runs either half alone, so a long sweep can span two device commands.
 # Everything lands in $OUT/gi_h200.tar.gz, the table in $OUT/gi_table.csv.
 set -u
@@ -35,7 +37,8 @@ flags() {
   echo "--gi ${parts[0]}"
   for p in "${parts[@]:1}"; do
     case $p in spec) spec=on ;; nodi) echo "--di-reuse none" ;; nopsr) echo "--psr off" ;;
-      s[0-9]*) echo "--gi-samples ${p#s}" ;; biased) echo "--gi-unbiased-spatial off" ;;
+      s[0-9]*) echo "--gi-samples ${p#s}" ;; biased) echo "--gi-spatial-visibility neighbour" ;;
+      chosen) echo "--gi-spatial-visibility chosen" ;;
       *) echo "unknown mode suffix +$p" >&2; exit 2 ;; esac
   done
   echo "--specular-gi $spec"

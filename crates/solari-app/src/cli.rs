@@ -15,7 +15,7 @@ use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
     CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
 };
-use solari_restir::{RestirDiSettings, RestirGiSettings, SpecularGiSettings};
+use solari_restir::{RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings};
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
@@ -411,12 +411,13 @@ pub struct RealtimeArgs {
     /// ReSTIR GI refuses reuse where a reconnection Jacobian exceeds this.
     #[arg(long, default_value_t = 2.0, value_parser = values::finite)]
     pub gi_jacobian_bound: f32,
-    /// ReSTIR GI's spatial reuse also traces whether the neighbour sees this pixel's own
-    /// sample (unbiased MIS, a third ray per pixel; `RestirGiSettings::unbiased_spatial`).
-    /// On by default; `off` saves the ray and darkens indirect light near occluders.
-    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
-          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
-    pub gi_unbiased_spatial: bool,
+    /// Which visibility rays ReSTIR GI's spatial reuse traces: chosen (one ray, for the
+    /// sample the merge chooses; unbiased), both (the neighbour's sample from the pixel and
+    /// the pixel's from the neighbour; unbiased, the same error as chosen for one more ray)
+    /// or neighbour (one ray, the neighbour's sample; biased, darkens indirect light near
+    /// occluders). `RestirGiSettings::spatial_visibility` gives the measurements.
+    #[arg(long, default_value = "chosen", value_parser = values::gi_spatial_visibility)]
+    pub gi_spatial_visibility: SpatialVisibility,
     /// GI candidate rays per pixel (1–16), resampled to one by the target function: more
     /// samples per pixel for plain path GI, better initial samples for ReSTIR GI.
     #[arg(long, default_value_t = 1)]
@@ -527,7 +528,7 @@ impl RealtimeArgs {
                 jacobian_bound: self.gi_jacobian_bound,
                 permutation_sampling: self.gi_permutation,
                 initial_samples: self.gi_samples,
-                unbiased_spatial: self.gi_unbiased_spatial,
+                spatial_visibility: self.gi_spatial_visibility,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

@@ -5,6 +5,7 @@
 use solari_denoise::DenoiserKind;
 use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode, QualityTier};
+use solari_restir::SpatialVisibility;
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
@@ -149,9 +150,14 @@ pub fn gbuffer(s: &str) -> Result<GBufferChoice, String> {
     named(s, GBufferChoice::parse(s), "raster, traced or auto")
 }
 
-/// `off` or `cache`.
+/// `off`, `cache`, `path` or `restir`.
 pub fn gi(s: &str) -> Result<GiMode, String> {
     named(s, GiMode::parse(s), "off, cache, path or restir")
+}
+
+/// `both`, `chosen` or `neighbour` (`--gi-spatial-visibility`).
+pub fn gi_spatial_visibility(s: &str) -> Result<SpatialVisibility, String> {
+    named(s, SpatialVisibility::parse(s), "both, chosen or neighbour")
 }
 
 /// `--quality`: a tier, or automatic.

@@ -189,7 +189,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "seconds": elapsed, "gi": format!("{:?}", applied.gi),
             "specular_gi": applied.specular_gi, "psr": applied.psr,
             "gi_samples": applied.restir_gi.initial_samples,
-            "gi_unbiased_spatial": applied.restir_gi.unbiased_spatial,
+            "gi_spatial_visibility": applied.restir_gi.spatial_visibility.name(),
             "di_reuse": match (applied.di.temporal, applied.di.spatial) {
                 (true, true) => "all", (true, false) => "temporal",
                 (false, true) => "spatial", (false, false) => "none" },

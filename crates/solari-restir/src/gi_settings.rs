@@ -31,18 +31,66 @@ pub struct RestirGiSettings {
     pub jacobian_bound: f32,
     /// Longest GI ray (default unbounded); a miss is lit by the scene's environment.
     pub max_ray_distance: f32,
-    /// In spatial reuse, also trace whether the neighbour sees this pixel's own sample, and
-    /// count the neighbour in that sample's MIS weight only if it does (default on). Costs
-    /// a third ray per pixel (skipped where that sample's value at the neighbour is zero or
-    /// the merge is refused anyway). Off, the neighbour counts as if it could have produced every
-    /// sample, which darkens indirect light near occluders.
-    pub unbiased_spatial: bool,
+    /// Which visibility rays spatial reuse traces (default [`SpatialVisibility::Chosen`]: one
+    /// ray, unbiased; the error of two rays at about the cost of the biased one ray).
+    pub spatial_visibility: SpatialVisibility,
     /// Candidate rays per pixel for the initial sample (default 1, Solari's; 1 to
     /// [`MAX_GI_INITIAL_SAMPLES`]), combined by resampled importance sampling with the
     /// target function: the pixel keeps one of them, weighted as if sampled in proportion to
     /// the target. Each costs a ray and a cache query; with plain path GI this is how more
     /// samples per pixel are bought.
     pub initial_samples: u32,
+}
+
+/// Which visibility rays ReSTIR GI's spatial reuse traces between the pixel (`c`, its own
+/// sample y_c) and the chosen neighbour (`o`, its sample y_o). Reuse weighs the two samples
+/// by balance-heuristic MIS weights, which need to know whether each pixel could have
+/// produced the other's sample, that is, whether it sees it.
+///
+/// Measured on an H100 at 1920×1080 (`benches/RESULTS.md`, "One visibility ray in ReSTIR
+/// GI's spatial reuse"; error at 960×540 against a 1024-spp full-bounce reference, fallback
+/// denoiser): `Chosen` takes 18–34% off the spatial pass against `Both` (ReSTIR GI 0.61 ms on
+/// the Cornell box, 0.91 on sun_boxes, 1.16 on many_lights, 2.31 on interior), its spatial
+/// pass within 4% of `Neighbour`'s time, with `Both`'s error (relMSE of one frame within
+/// ±2.4% of it, of a 16-frame mean within −1.3% to +3.1%, on all four scenes; `Neighbour`'s
+/// is 21–29% higher on three of them and darkens interior by 3.5%).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum SpatialVisibility {
+    /// Two rays: y_o from the pixel (a hidden y_o cannot be chosen) and y_c from the
+    /// neighbour (a neighbour that cannot see y_c does not count in y_c's MIS weight).
+    /// Unbiased, and the weights are exact before the choice (each ray is skipped where its
+    /// answer cannot change the merge).
+    Both,
+    /// One ray, for the sample the merge chooses (the default): the choice is made as if
+    /// both pixels saw both samples, then the chosen sample's ray corrects its weight (y_c
+    /// hidden from the neighbour: its MIS weight becomes 1; y_o hidden from the pixel: the
+    /// pixel's light is zero this frame and it keeps an empty reservoir). Unbiased: over the
+    /// choice, its expectation is `Both`'s. The empty reservoirs make a pixel's frames a
+    /// little more alike: on the 48² Cornell box of `tests/gi.rs` a 256-frame mean is
+    /// 0–6% further from the reference than with two rays (one frame: no difference).
+    #[default]
+    Chosen,
+    /// One ray, y_o from the pixel; the neighbour counts in y_c's MIS weight as if it saw
+    /// y_c. Biased: darkens indirect light near occluders.
+    Neighbour,
+}
+
+impl SpatialVisibility {
+    /// The name the CLI and reports use (`both`, `chosen`, `neighbour`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Both => "both",
+            Self::Chosen => "chosen",
+            Self::Neighbour => "neighbour",
+        }
+    }
+
+    /// The setting [`SpatialVisibility::name`] names, if any.
+    pub fn parse(name: &str) -> Option<Self> {
+        [Self::Both, Self::Chosen, Self::Neighbour]
+            .into_iter()
+            .find(|v| v.name() == name)
+    }
 }
 
 /// Most initial GI candidates per pixel (the shader loop's bound).
@@ -59,7 +107,7 @@ impl Default for RestirGiSettings {
             spatial_tries: 5,
             jacobian_bound: 2.0,
             max_ray_distance: f32::MAX,
-            unbiased_spatial: true,
+            spatial_visibility: SpatialVisibility::Chosen,
             initial_samples: 1,
         }
     }
@@ -114,10 +162,13 @@ impl RestirGiSettings {
 /// `GI_FLAG_*` in `restir_gi.wesl` beyond the reuse bits shared with DI
 /// (`settings::flags::reuse`).
 pub(crate) mod flags {
+    /// [`super::SpatialVisibility::Both`]: the neighbour's view of the pixel's sample too.
     pub const UNBIASED_SPATIAL: u32 = 16;
     /// Plain path GI on one reservoir buffer: the shade pass writes its pixel's reservoir
     /// back into `gi_initial` (no history buffer is allocated).
     pub const IN_PLACE: u32 = 32;
+    /// [`super::SpatialVisibility::Chosen`]: one ray, for the chosen sample.
+    pub const CHOSEN_VISIBILITY: u32 = 64;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.

@@ -10,7 +10,7 @@ mod common;
 use common::{
     DirectLight, di_settings, frame_mean, reference, rmse, tile_settings, total_light_bias,
 };
-use solari_restir::{RestirGi, RestirGiSettings, gi_reservoir_check};
+use solari_restir::{RestirGi, RestirGiSettings, SpatialVisibility, gi_reservoir_check};
 use solari_scene::finite_check::{FiniteChecker, RecordLayout, first_offender};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::TraceVariant;
@@ -167,9 +167,10 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         ("cache", Mode::Cache),
         ("plain", Mode::Gi(RestirGiSettings::plain())),
         (
-            "restir",
+            "restir, two spatial rays",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
+                spatial_visibility: SpatialVisibility::Both,
                 ..Default::default()
             }),
         ),
@@ -177,7 +178,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             "restir, biased spatial",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
-                unbiased_spatial: false,
+                spatial_visibility: SpatialVisibility::Neighbour,
                 ..Default::default()
             }),
         ),
@@ -194,6 +195,14 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             Mode::Gi(RestirGiSettings {
                 initial_samples: 4,
                 ..RestirGiSettings::plain()
+            }),
+        ),
+        (
+            "restir, chosen sample's ray",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                spatial_visibility: SpatialVisibility::Chosen,
+                ..Default::default()
             }),
         ),
     ];
@@ -214,32 +223,48 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // the spatial pass's second visibility ray -0.74%; with temporal permutation -0.9 to -1.0%.
     // One-frame RMSE plain 0.044, ReSTIR 0.023. Since emissive hits' reflected light counts
     // (the light's own albedo), one run: plain +0.07%, ReSTIR +0.11%.
-    let (cache, plain, restir, plain4) = (results[0], results[1], results[2], results[5]);
-    for gi in [plain, restir, plain4] {
-        // Both estimate the cache-terminated bounce without bias.
+    // The default one spatial ray (`SpatialVisibility::Chosen`), four runs: total light
+    // -0.28 to -0.17%, one-frame RMSE 0.0233-0.0249, 256-frame mean 0.0054-0.0056 (two rays,
+    // three runs: -0.26 to -0.22%, 0.0235-0.0250, 0.0053-0.0054). Where it chooses the
+    // neighbour's sample and finds it hidden, the pixel keeps an empty reservoir that its
+    // next frames inherit, so its frames are more alike and their mean converges a little
+    // more slowly.
+    let (cache, plain, restir, plain4, chosen) =
+        (results[0], results[1], results[2], results[5], results[6]);
+    for (gi, mean_bound) in [
+        (plain, 1.15),
+        (restir, 1.15),
+        (plain4, 1.15),
+        (chosen, 1.25),
+    ] {
+        // All estimate the cache-terminated bounce without bias.
         assert!(
             gi.3.abs() < 0.005,
             "{}: total light off by {:+.2}%",
             gi.0,
             gi.3 * 100.0
         );
-        // And their means are as close to the full reference as cache GI's (the remaining
-        // error is mostly the reference's own noise at 512 paths).
+        // And their means are about as close to the full reference as cache GI's (the
+        // remaining error is mostly the reference's own noise at 512 paths).
         assert!(
-            gi.2 < 1.15 * cache.2,
+            gi.2 < mean_bound * cache.2,
             "{}: 256-frame mean RMSE {} against cache GI's {}",
             gi.0,
             gi.2,
             cache.2
         );
     }
-    // Reuse is what ReSTIR is for: a single frame is less noisy than plain sampling.
-    assert!(
-        restir.1 < 0.7 * plain.1,
-        "one frame: ReSTIR GI {} vs plain {}",
-        restir.1,
-        plain.1
-    );
+    // Reuse is what ReSTIR is for: a single frame is less noisy than plain sampling, with
+    // either unbiased choice of spatial rays.
+    for gi in [restir, chosen] {
+        assert!(
+            gi.1 < 0.7 * plain.1,
+            "one frame: {} {} vs plain {}",
+            gi.0,
+            gi.1,
+            plain.1
+        );
+    }
     // Four candidates resampled by the target: less noise than one, still unbiased (above).
     assert!(
         plain4.1 < 0.8 * plain.1,
@@ -277,6 +302,14 @@ fn gi_converges_to_the_sphere_furnace_closed_form() {
             "restir",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
+                ..Default::default()
+            }),
+        ),
+        (
+            "restir, chosen sample's ray",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                spatial_visibility: SpatialVisibility::Chosen,
                 ..Default::default()
             }),
         ),
