@@ -109,6 +109,37 @@ pub fn merge_weights(c: MergeSide, o: MergeSide, bound: f32) -> Option<(f32, f32
     ))
 }
 
+/// [`crate::SpatialVisibility::Chosen`]'s merge (WGSL twin `gi_chosen_sum`): the merge chose
+/// side `o` (`pick_o`) or `c` with [`merge_weights`], which assume each pixel sees both
+/// samples, and the chosen sample's ray found it visible from the other pixel (`seen`) or
+/// not. Returns the sum the chosen sample's W is made of (W = sum / its target at `c`'s
+/// pixel): the weights' sum times the chosen side's weight with the visibility found over
+/// its assumed weight; 0 where `o`'s sample is chosen and hidden; `None` where the merge is
+/// refused. Over the choice, each side then gets its weight with true visibility on average
+/// (the tests below check that identity), which is what keeps the one-ray merge unbiased.
+pub fn chosen_weight_sum(
+    c: MergeSide,
+    o: MergeSide,
+    bound: f32,
+    pick_o: bool,
+    seen: bool,
+) -> Option<f32> {
+    let (wc, wo) = merge_weights(c, o, bound)?;
+    let sum = wc + wo;
+    Some(match (pick_o, seen) {
+        (true, false) => 0.0,
+        (true, true) | (false, true) => sum,
+        (false, false) => {
+            let hidden = MergeSide {
+                target_there: 0.0,
+                ..c
+            };
+            let (true_wc, _) = merge_weights(hidden, o, bound)?;
+            sum * (true_wc / wc)
+        }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -145,5 +176,75 @@ mod tests {
         };
         let (wc, wo) = merge_weights(c, none, 2.0).unwrap();
         assert_eq!((wc, wo), (1.0, 0.0));
+    }
+
+    /// The identity behind the one-ray merge: the expected weight each side gets over the
+    /// choice (chosen with probability w / sum, then given `chosen_weight_sum`) is its
+    /// weight in the two-ray merge, which knows both visibilities before choosing (a hidden
+    /// `o` sample there has no weight; a `c` sample hidden from `o`'s pixel loses `o` from
+    /// its MIS weight). Random sides, all four visibility cases.
+    #[test]
+    fn the_chosen_merge_gives_each_side_its_two_ray_weight_on_average() {
+        let mut state = 0x9e3779b97f4a7c15u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 40) as f32) / (1u64 << 24) as f32
+        };
+        let mut checked = 0;
+        for _ in 0..20_000 {
+            let mut side = |weight_zero: bool| MergeSide {
+                confidence: 0.5 + 10.0 * next(),
+                weight: if weight_zero { 0.0 } else { 4.0 * next() },
+                target_here: 3.0 * next(),
+                target_there: if next() < 0.1 { 0.0 } else { 3.0 * next() },
+                jacobian: 2.5 * next(),
+            };
+            let c = side(false);
+            let o_empty = c.confidence < 1.5;
+            let o = side(o_empty);
+            let bound = 2.0;
+            let Some((wc, wo)) = merge_weights(c, o, bound) else {
+                assert_eq!(chosen_weight_sum(c, o, bound, false, true), None);
+                continue;
+            };
+            let sum = wc + wo;
+            if !(sum > 0.0) {
+                continue;
+            }
+            for (c_seen, o_seen) in [(true, true), (true, false), (false, true), (false, false)] {
+                // The two-ray merge's weights with these visibilities.
+                let c_true = MergeSide {
+                    target_there: if c_seen { c.target_there } else { 0.0 },
+                    ..c
+                };
+                let o_true = if o_seen {
+                    o
+                } else {
+                    MergeSide {
+                        weight: 0.0,
+                        target_here: 0.0,
+                        target_there: 0.0,
+                        jacobian: 0.0,
+                        ..o
+                    }
+                };
+                let (true_wc, true_wo) = merge_weights(c_true, o_true, bound).unwrap();
+                let expected_c = wc / sum * chosen_weight_sum(c, o, bound, false, c_seen).unwrap();
+                let expected_o = wo / sum * chosen_weight_sum(c, o, bound, true, o_seen).unwrap();
+                let near = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1e-20);
+                assert!(
+                    near(expected_c, true_wc),
+                    "c: {expected_c} vs {true_wc} ({c:?}, {o:?}, seen {c_seen})"
+                );
+                assert!(
+                    near(expected_o, true_wo),
+                    "o: {expected_o} vs {true_wo} ({c:?}, {o:?}, seen {o_seen})"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked > 40_000, "only {checked} cases merged");
     }
 }

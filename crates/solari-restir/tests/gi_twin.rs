@@ -1,12 +1,14 @@
 //! ReSTIR GI's reuse math on the GPU (`restir_gi_math.wesl`, run by `restir_gi_test.wesl`)
 //! against its Rust twins (`solari_restir::gi_reservoir`): the reconnection Jacobian and the
-//! merge weights on random and adversarial cases (coincident points, samples behind a surface,
+//! merge weights, and the one-ray merge's weight sum, on random and adversarial cases (coincident points, samples behind a surface,
 //! empty reservoirs, zero and huge targets, Jacobians at and over the bound).
 
 use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_restir::gi_reservoir::{MergeSide, merge_weights, reconnection_jacobian};
+use solari_restir::gi_reservoir::{
+    MergeSide, chosen_weight_sum, merge_weights, reconnection_jacobian,
+};
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
 
@@ -21,6 +23,14 @@ struct Case {
     c: [f32; 4],
     o: [f32; 4],
     jacobians: [f32; 4],
+}
+
+/// WGSL twin: `Output` in `restir_gi_test.wesl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct Output {
+    weights: [f32; 4],
+    chosen: [f32; 4],
 }
 
 fn point(rng: &mut Pcg32) -> [f32; 3] {
@@ -95,7 +105,7 @@ fn gi_reuse_math_matches_its_rust_twin() {
     let Some(gpu) = test_gpu() else { return };
     let source = include_str!("../shaders/restir_gi_test.wesl");
     let cases = cases();
-    let results: Vec<[f32; 4]> = CaseKernel::run_test_module(
+    let results: Vec<Output> = CaseKernel::run_test_module(
         &gpu,
         solari_restir::gi_modules(),
         "restir_gi_test",
@@ -104,8 +114,9 @@ fn gi_reuse_math_matches_its_rust_twin() {
         &cases,
     )
     .expect("dispatch");
-    let (mut refused, mut merged) = (0, 0);
-    for (k, r) in cases.iter().zip(&results) {
+    let (mut refused, mut merged, mut corrected) = (0, 0, 0);
+    for (k, out) in cases.iter().zip(&results) {
+        let r = out.weights;
         let xyz = |v: [f32; 4]| [v[0], v[1], v[2]];
         let j = reconnection_jacobian(xyz(k.sample), xyz(k.normal), xyz(k.source), xyz(k.dest));
         // inverseSqrt on the GPU may differ from 1/sqrt in the last bits.
@@ -132,10 +143,35 @@ fn gi_reuse_math_matches_its_rust_twin() {
                     r[3], 1.0,
                     "GPU merged where the twin refused: {k:?} -> {r:?}"
                 );
+                assert_eq!(out.chosen, [0.0; 4], "a refused merge has no weight: {k:?}");
                 refused += 1;
             }
             Some((wc, wo)) => {
                 assert_eq!(r[3], 0.0, "GPU refused where the twin merged: {k:?}");
+                // The one-ray merge's sums, chosen side by visibility found.
+                for (i, (pick_o, seen)) in
+                    [(false, true), (false, false), (true, true), (true, false)]
+                        .into_iter()
+                        .enumerate()
+                {
+                    let cpu = chosen_weight_sum(
+                        side(k.c, k.jacobians[0]),
+                        side(k.o, k.jacobians[1]),
+                        k.sample[3],
+                        pick_o,
+                        seen,
+                    )
+                    .expect("merged");
+                    // A NaN sum (no weight at all) is NaN on both sides.
+                    assert!(
+                        close(out.chosen[i], cpu, 1e-5) || (cpu.is_nan() && out.chosen[i].is_nan()),
+                        "chosen sum (pick o {pick_o}, seen {seen}): GPU {} CPU {cpu} for {k:?}",
+                        out.chosen[i]
+                    );
+                }
+                if out.chosen[1] != out.chosen[0] && out.chosen[1].is_finite() {
+                    corrected += 1;
+                }
                 assert!(
                     close(r[1], wc, 1e-5),
                     "w_c: GPU {} CPU {wc} for {k:?}",
@@ -150,9 +186,9 @@ fn gi_reuse_math_matches_its_rust_twin() {
             }
         }
     }
-    // Both branches were exercised.
+    // Both branches were exercised, and the one-ray correction changed many sums.
     assert!(
-        refused > 100 && merged > 1000,
-        "refused {refused}, merged {merged}"
+        refused > 100 && merged > 1000 && corrected > 500,
+        "refused {refused}, merged {merged}, corrected {corrected}"
     );
 }
