@@ -210,7 +210,7 @@ mod tests {
                 continue;
             };
             let sum = wc + wo;
-            if !(sum > 0.0) {
+            if sum.is_nan() || sum <= 0.0 {
                 continue;
             }
             for (c_seen, o_seen) in [(true, true), (true, false), (false, true), (false, false)] {
