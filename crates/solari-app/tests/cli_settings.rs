@@ -100,6 +100,28 @@ fn psr_and_gi_candidates_reach_the_settings() {
     assert!(err.contains("initial_samples"), "{err}");
 }
 
+/// `--gi-spatial-visibility` reaches ReSTIR GI's settings (default: one ray, for the chosen
+/// sample), and a bad name is refused with the choices named.
+#[test]
+fn gi_spatial_visibility_reaches_the_settings() {
+    use solari_restir::SpatialVisibility;
+    let vis = |args: &[&str]| settings(args).restir_gi.spatial_visibility;
+    assert_eq!(vis(&[]), SpatialVisibility::Chosen);
+    assert_eq!(vis(&[]), SpatialVisibility::default());
+    for v in [
+        SpatialVisibility::Both,
+        SpatialVisibility::Chosen,
+        SpatialVisibility::Neighbour,
+    ] {
+        assert_eq!(vis(&["--gi-spatial-visibility", v.name()]), v);
+        assert_eq!(SpatialVisibility::parse(v.name()), Some(v));
+    }
+    let err = Cli::try_parse_from(["solari", "render", "--gi-spatial-visibility", "half"])
+        .expect_err("unknown names are refused")
+        .to_string();
+    assert!(err.contains("both, chosen or neighbour"), "{err}");
+}
+
 /// `--brdf` reaches the scene's upload options, the library's default when absent, and a bad
 /// name is refused with the choices named.
 #[test]

@@ -244,7 +244,7 @@ pub struct RealtimeSettings {
     /// matrix"): on the H200 at 1080p with the fallback denoiser its one-frame relMSE was
     /// within 4% of the best GI mode's on cornell_box, sun_boxes, many_lights and interior
     /// (lowest on interior); ReSTIR GI's was within ±3% of it on all four for 0.3–0.5 ms
-    /// more per frame (1.1 ms on interior; H100, "One visibility ray in ReSTIR GI's spatial
+    /// more per frame (1.2 ms on interior; H100, "One visibility ray in ReSTIR GI's spatial
     /// reuse"), cache-only GI's 21% higher on interior.
     pub gi: GiMode,
     /// The world cache's knobs (used with any GI mode or [`FrameView::WorldCache`]).

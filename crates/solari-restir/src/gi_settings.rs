@@ -9,7 +9,8 @@ use solari_scene::GpuError;
 pub struct RestirGiSettings {
     /// Reuse last frame's reservoir at the reprojected pixel (default on).
     pub temporal: bool,
-    /// Reuse one neighbour's reservoir (default on). Costs one visibility ray per pixel.
+    /// Reuse one neighbour's reservoir (default on). Costs one visibility ray per pixel (two
+    /// with [`SpatialVisibility::Both`]).
     pub spatial: bool,
     /// Permute the temporal source pixel within 4×4 blocks each frame (default off). Solari
     /// 0.17 found that DLSS-RR turns unpermuted GI reuse into blotches, so turn it on for
