@@ -147,6 +147,10 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/denoise_history.wesl"),
     ),
     (
+        "denoise_plane",
+        include_str!("../shaders/denoise_plane.wesl"),
+    ),
+    (
         "denoise_variance_math",
         include_str!("../shaders/denoise_variance_math.wesl"),
     ),
