@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The device commands behind benches/RESULTS.md, "The denoiser's plane distance without the
+# tap's position" (twenty-second session; one `device` call each, carrying .gl,
+# .dev/bins.tar.xz and .dev/SOLARI_COMMIT). .dev/bins.tar.xz held stripped release builds:
+# `solari_base` (3845149) and `solari` (the change).
+set -u
+case "${1:-}" in
+time)
+  # Per-pass GPU ms, 1920x1080, 300 frames, default settings with the fallback denoiser, two
+  # interleaved reps (ab.tar.gz, ab_variants.txt).
+  RESULTS=/root/ab BINS="solari_base solari" FLAGS="--denoiser fallback" REPS=2 BVH_SCENES=" " \
+    SCENES="cornell_box sun_boxes many_lights interior" bash benches/results/ab_passes_h200.sh
+  python3 benches/results/memory_scratch_2026-11-26/ab_variants.py /root/ab "solari_base solari" \
+    | tee "$OUT/ab_variants.txt" ;;
+image)
+  # The same frames through both: frame 120 at 1920x1080 (default settings, fallback
+  # denoiser) twice with the base binary and once with the change; each compared with the
+  # base's first (the base against itself is the run-to-run floor: the world cache's atomics
+  # sum in no fixed order). image.txt.
+  source benches/results/device_env.sh
+  unpack_bins
+  mkdir -p /root/img
+  for s in cornell_box sun_boxes many_lights interior; do
+    f=$(scene_file "$s")
+    for run in base_a:solari_base base_b:solari_base new:solari; do
+      /root/bins/${run#*:} render "$f" --mode realtime --denoiser fallback --frames 120 \
+        --size 1920x1080 --out /root/img/${s}_${run%%:*}.exr > /dev/null 2>&1
+    done
+    for t in base_b new; do
+      echo "$s $t against base_a: $(/root/bins/solari compare /root/img/${s}_$t.exr /root/img/${s}_base_a.exr | tr '\n' ' ')"
+    done
+  done | tee "$OUT/image.txt" ;;
+*) echo "usage: $0 time|image" >&2; exit 2 ;;
+esac
