@@ -10,7 +10,7 @@
 use crate::cli_values::{self as values, QualityArg, ViewArg};
 use crate::output::{ImageOutputs, check_writable};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use solari_denoise::{DenoiserKind, DlssAvailability, FallbackSettings};
+use solari_denoise::{AtrousKernel, DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
     CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
@@ -481,6 +481,10 @@ pub struct RealtimeArgs {
     /// Fallback denoiser: à-trous iterations (1–8).
     #[arg(long, default_value_t = 5)]
     pub denoise_iterations: u32,
+    /// Fallback denoiser: the taps of each à-trous iteration, diamond (13 taps of the 5×5
+    /// B3 kernel, within two steps by Manhattan distance) or full (all 25, as SVGF).
+    #[arg(long, default_value = "diamond", value_parser = values::atrous_kernel)]
+    pub denoise_kernel: AtrousKernel,
     /// Fallback denoiser: most frames the temporal average spans.
     #[arg(long, default_value_t = 32.0, value_parser = values::finite, allow_hyphen_values = true)]
     pub denoise_max_history: f32,
@@ -552,6 +556,7 @@ impl RealtimeArgs {
             denoiser: self.denoiser,
             denoise: FallbackSettings {
                 atrous_iterations: self.denoise_iterations,
+                atrous_kernel: self.denoise_kernel,
                 max_history: self.denoise_max_history,
                 firefly_clamp: self.firefly_clamp,
                 ..Default::default()

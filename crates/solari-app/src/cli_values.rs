@@ -2,7 +2,7 @@
 //! arguments are parsed, so a bad value is refused (with the accepted values named) before
 //! any file is read or any GPU work starts.
 
-use solari_denoise::DenoiserKind;
+use solari_denoise::{AtrousKernel, DenoiserKind};
 use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode, QualityTier};
 use solari_restir::SpatialVisibility;
@@ -158,6 +158,11 @@ pub fn gi(s: &str) -> Result<GiMode, String> {
 /// `both`, `chosen` or `neighbour` (`--gi-spatial-visibility`).
 pub fn gi_spatial_visibility(s: &str) -> Result<SpatialVisibility, String> {
     named(s, SpatialVisibility::parse(s), "both, chosen or neighbour")
+}
+
+/// `diamond` or `full` (`--denoise-kernel`).
+pub fn atrous_kernel(s: &str) -> Result<AtrousKernel, String> {
+    named(s, AtrousKernel::parse(s), "diamond or full")
 }
 
 /// `--quality`: a tier, or automatic.

@@ -179,7 +179,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
                 "empty_cells": g.empty_cells, "truncated_cells": g.truncated_cells,
                 "build_s": g.build_seconds})
         });
-        let v = serde_json::json!({"scene": name, "mode": "realtime", "files": files,
+        let mut v = serde_json::json!({"scene": name, "mode": "realtime", "files": files,
             "width": ow, "height": oh, "frames": args.frames,
             "camera_path": format!("{path:?}").to_lowercase(),
             "candidates": applied.di.initial_candidates, "tiles": format!("{}x{}",
@@ -213,6 +213,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "triangles": scene.stats().triangles, "instances": scene.instances.len(),
             "finite_checked": args.realtime.check_finite,
             "light_grid": grid_json});
+        // (Outside the macro, which reaches its recursion limit with one more field.)
+        v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
         println!("{v}");
     } else {
         println!(

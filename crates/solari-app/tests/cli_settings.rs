@@ -122,6 +122,24 @@ fn gi_spatial_visibility_reaches_the_settings() {
     assert!(err.contains("both, chosen or neighbour"), "{err}");
 }
 
+/// `--denoise-kernel` reaches the fallback denoiser's settings (default: the 13-tap diamond,
+/// the library's default), and a bad name is refused with the choices named.
+#[test]
+fn denoise_kernel_reaches_the_settings() {
+    use solari_denoise::AtrousKernel;
+    let kernel = |args: &[&str]| settings(args).denoise.atrous_kernel;
+    assert_eq!(kernel(&[]), AtrousKernel::Diamond);
+    assert_eq!(kernel(&[]), AtrousKernel::default());
+    for k in [AtrousKernel::Diamond, AtrousKernel::Full] {
+        assert_eq!(kernel(&["--denoise-kernel", k.name()]), k);
+        assert_eq!(AtrousKernel::parse(k.name()), Some(k));
+    }
+    let err = Cli::try_parse_from(["solari", "render", "--denoise-kernel", "wide"])
+        .expect_err("unknown names are refused")
+        .to_string();
+    assert!(err.contains("diamond or full"), "{err}");
+}
+
 /// `--brdf` reaches the scene's upload options, the library's default when absent, and a bad
 /// name is refused with the choices named.
 #[test]

@@ -3,7 +3,7 @@
 
 use crate::denoiser::{Denoiser, DenoiserInputs, Encoded, Inputs, Lighting, Requirements};
 use crate::history::PackedHistory;
-use crate::settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
+use crate::settings::{AtrousKernel, FallbackSettings, GpuDenoiseParams, GpuPassParams};
 use bytemuck::Zeroable;
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
@@ -178,9 +178,15 @@ impl FallbackDenoiser {
         };
         let temporal = pipeline("denoise_temporal", &[])?;
         let variance = pipeline("denoise_variance", &[])?;
-        let atrous = pipeline("denoise_atrous", &[])?;
+        // The pipeline constant `ATROUS_DIAMOND` (`@id(7130)` in `denoise_atrous_filter.wesl`;
+        // WESL renames declarations, so constants go by id).
+        let kernel = [(
+            "7130",
+            (settings.atrous_kernel == AtrousKernel::Diamond) as u32 as f64,
+        )];
+        let atrous = pipeline("denoise_atrous", &kernel)?;
         let atrous_first = if settings.history_feedback {
-            pipeline("denoise_atrous_feedback", &[])?
+            pipeline("denoise_atrous_feedback", &kernel)?
         } else {
             atrous.clone()
         };

@@ -59,8 +59,11 @@
 //!    four 3×3 corners, meant to keep hard shadow edges; at 1080p on the H200 it made the
 //!    first frame worse in the Cornell box (RMSE 0.00073 → 0.00094) and in many_lights
 //!    (0.071 → 0.110, energy −5% → −10%) for a small gain on sun_boxes (0.026 → 0.020).
-//! 7. **À-trous**: [`FallbackSettings::atrous_iterations`] passes of a 5×5 B3 kernel with
-//!    steps 1, 2, 4, …, weighted by tangent-plane distance, shading-normal angle (also
+//! 7. **À-trous**: [`FallbackSettings::atrous_iterations`] passes of a B3-spline kernel with
+//!    steps 1, 2, 4, … (by default the 13 taps of the 5×5 kernel within two steps by
+//!    Manhattan distance, [`AtrousKernel::Diamond`]; all 25 with [`AtrousKernel::Full`]: on
+//!    an H100 at 1080p the 13 took 27–30% less time at the same error against full-bounce
+//!    references, `benches/RESULTS.md`), weighted by tangent-plane distance, shading-normal angle (also
 //!    against the specular lobe's width, [`FallbackSettings::phi_lobe`], for the specular
 //!    share of the pixel) and luminance difference in units of the local standard deviation; variance is filtered
 //!    alongside (weights squared). Optionally ([`FallbackSettings::history_feedback`], off
@@ -129,7 +132,7 @@ pub use denoiser::{
 };
 pub use fallback::{FallbackDenoiser, GpuHistory};
 pub use select::{Created, DlssAvailability, create, create_gpu};
-pub use settings::{FallbackSettings, GpuDenoiseParams, GpuPassParams};
+pub use settings::{AtrousKernel, FallbackSettings, GpuDenoiseParams, GpuPassParams};
 pub use upscale::{TemporalUpscaler, UpscaleSettings};
 
 /// The crate's importable WGSL modules, by module name.

@@ -8,7 +8,9 @@
 
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
-use solari_denoise::{DenoiserKind, DlssAvailability, FallbackDenoiser, FallbackSettings, create};
+use solari_denoise::{
+    AtrousKernel, DenoiserKind, DlssAvailability, FallbackDenoiser, FallbackSettings, create,
+};
 
 mod common;
 
@@ -506,4 +508,39 @@ fn images_over_the_binding_limit_are_refused_by_name() {
     }
     FallbackDenoiser::new(&small, 45, 45, settings).expect("45×45 fits");
     small.check_errors().expect("no wgpu error");
+}
+
+/// One à-trous iteration on the first frame spreads a single lit pixel on a flat wall over
+/// exactly its kernel's taps: the diamond reaches the pixels within two steps by
+/// Manhattan distance and no corner of the 5×5 square, the full kernel reaches the corners
+/// too, and neither reaches three steps.
+#[test]
+fn each_kernel_spreads_a_lit_pixel_over_its_taps() {
+    let Some(mut h) = Harness::new() else { return };
+    let n = (SIZE * SIZE) as usize;
+    // Pixel (14, 14): on the back wall, three pixels or more from any edge.
+    let centre = 14i32;
+    let mut input = vec![[0.0f32, 0.0, 0.0, 1.0]; n];
+    input[(centre * SIZE as i32 + centre) as usize] = [1.0, 1.0, 1.0, 1.0];
+    for kernel in [AtrousKernel::Diamond, AtrousKernel::Full] {
+        let settings = FallbackSettings {
+            atrous_iterations: 1,
+            atrous_kernel: kernel,
+            ..FallbackSettings::default()
+        };
+        let mut d = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
+        let out = h.frame(&mut d, &input, true);
+        for dy in -3i32..=3 {
+            for dx in -3i32..=3 {
+                let p = out[((centre + dy) * SIZE as i32 + centre + dx) as usize];
+                assert_eq!(p[3], 1.0, "({dx}, {dy}) is not on a surface");
+                let lit = p[0] > 0.0;
+                let reached = match kernel {
+                    AtrousKernel::Diamond => dx.abs() + dy.abs() <= 2,
+                    AtrousKernel::Full => dx.abs() <= 2 && dy.abs() <= 2,
+                };
+                assert_eq!(lit, reached, "{kernel:?}: ({dx}, {dy}) reads {p:?}");
+            }
+        }
+    }
 }
