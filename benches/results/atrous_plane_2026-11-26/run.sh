@@ -2,7 +2,14 @@
 # The device commands behind benches/RESULTS.md, "The denoiser's plane distance without the
 # tap's position" (twenty-second session; one `device` call each, carrying .gl,
 # .dev/bins.tar.xz and .dev/SOLARI_COMMIT). .dev/bins.tar.xz held stripped release builds:
-# `solari_base` (3845149) and `solari` (the change).
+# `solari_base` (3845149) and `solari` (c69a11b) for `time` and `image`; for `kernel-time`
+# and `kernel-error`, `solari_c69` (c69a11b), `solari_dk` (a732f7f, the diamond kernel the
+# default) and a wrapper running it with the full kernel:
+#   printf '#!/bin/sh\nexec /root/bins/solari_dk "$@" --denoise-kernel full\n' > solari_dk_full
+# (The experiment builds before a732f7f, in kernel/experiment_*, hard-coded the diamond
+# (`solari_k13`) or the 5x5 square without its corners (`solari_k21`); `solari_i4` was a
+# wrapper adding --denoise-iterations 4; their commands were these with BINS="solari
+# solari_k21 solari_k13 solari_i4", RUNS as default and "1:1 8:1".)
 set -u
 case "${1:-}" in
 time)
@@ -30,5 +37,17 @@ image)
       echo "$s $t against base_a: $(/root/bins/solari compare /root/img/${s}_$t.exr /root/img/${s}_base_a.exr | tr '\n' ' ')"
     done
   done | tee "$OUT/image.txt" ;;
-*) echo "usage: $0 time|image" >&2; exit 2 ;;
+kernel-time)
+  # The kernels' time: as `time` (kernel/time_variants.txt, kernel/time.tar.gz).
+  RESULTS=/root/ab BINS="solari_c69 solari_dk solari_dk_full" FLAGS="--denoiser fallback" REPS=2 \
+    BVH_SCENES=" " SCENES="cornell_box sun_boxes many_lights interior" \
+    bash benches/results/ab_passes_h200.sh
+  python3 benches/results/memory_scratch_2026-11-26/ab_variants.py /root/ab \
+    "solari_c69 solari_dk solari_dk_full" | tee "$OUT/ab_variants.txt" ;;
+kernel-error)
+  # The kernels' error against full-bounce references at 960x540: frames 1 and 8 (young
+  # histories), frame 136 and the mean of 16 after 120 (kernel/error.csv).
+  RUNS="1:1 8:1 136:1 136:16" BINS="solari_dk solari_dk_full" \
+    bash benches/results/atrous_plane_2026-11-26/kernel_error.sh ;;
+*) echo "usage: $0 time|image|kernel-time|kernel-error" >&2; exit 2 ;;
 esac
