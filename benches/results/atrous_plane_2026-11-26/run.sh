@@ -49,5 +49,12 @@ kernel-error)
   # histories), frame 136 and the mean of 16 after 120 (kernel/error.csv).
   RUNS="1:1 8:1 136:1 136:16" BINS="solari_dk solari_dk_full" \
     bash benches/results/atrous_plane_2026-11-26/kernel_error.sh ;;
-*) echo "usage: $0 time|image|kernel-time|kernel-error" >&2; exit 2 ;;
+cache-gi)
+  # Issue 17's "DI + cache GI + fallback denoiser" with a732f7f alone (`solari` in the tar):
+  # the same command with cache GI, two reps (cache_gi/).
+  RESULTS=/root/ab BINS="solari" FLAGS="--gi cache --denoiser fallback" REPS=2 BVH_SCENES=" " \
+    SCENES="cornell_box sun_boxes many_lights interior" bash benches/results/ab_passes_h200.sh
+  python3 benches/results/memory_scratch_2026-11-26/ab_variants.py /root/ab "solari" \
+    | tee "$OUT/cache_gi_passes.txt" ;;
+*) echo "usage: $0 time|image|kernel-time|kernel-error|cache-gi" >&2; exit 2 ;;
 esac
