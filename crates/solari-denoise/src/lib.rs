@@ -63,7 +63,8 @@
 //!    steps 1, 2, 4, … (by default the 13 taps of the 5×5 kernel within two steps by
 //!    Manhattan distance, [`AtrousKernel::Diamond`]; all 25 with [`AtrousKernel::Full`]: on
 //!    an H100 at 1080p the 13 took 27–30% less time at the same error against full-bounce
-//!    references, `benches/RESULTS.md`), weighted by tangent-plane distance, shading-normal angle (also
+//!    references, `benches/RESULTS.md`), weighted by tangent-plane distance (found from each
+//!    tap's depth alone, `denoise_plane.wesl`), shading-normal angle (also
 //!    against the specular lobe's width, [`FallbackSettings::phi_lobe`], for the specular
 //!    share of the pixel) and luminance difference in units of the local standard deviation; variance is filtered
 //!    alongside (weights squared). Optionally ([`FallbackSettings::history_feedback`], off
