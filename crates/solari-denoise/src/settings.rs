@@ -48,8 +48,9 @@ pub struct FallbackSettings {
     /// and slower to follow changes that the fast-history test misses. At most
     /// [`MAX_HISTORY_LIMIT`] (the stored length is an f16).
     pub max_history: f32,
-    /// Edge-aware à-trous iterations, with steps 1, 2, 4, … pixels (default 5: a 5×5 kernel
-    /// spread to 125×125 pixels). 1–8. Each costs one full-screen pass.
+    /// Edge-aware à-trous iterations, with steps 1, 2, 4, … pixels (default 5: taps up to
+    /// 62 pixels from the centre, inside a 125×125 square, or the diamond within it with
+    /// [`AtrousKernel::Diamond`]). 1–8. Each costs one full-screen pass.
     pub atrous_iterations: u32,
     /// Which taps each à-trous iteration reads (default [`AtrousKernel::Diamond`], 13).
     pub atrous_kernel: AtrousKernel,
