@@ -54,7 +54,7 @@ pub struct RestirGiSettings {
 /// the Cornell box, 0.91 on sun_boxes, 1.16 on many_lights, 2.31 on interior), its spatial
 /// pass within 4% of `Neighbour`'s time, with `Both`'s error (relMSE of one frame within
 /// ±2.4% of it, of a 16-frame mean within −1.3% to +3.1%, on all four scenes; `Neighbour`'s
-/// is 21–29% higher on three of them and darkens interior by 3.5%).
+/// is 20–31% higher on three of them and darkens interior by 3.5%).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SpatialVisibility {
     /// Two rays: y_o from the pixel (a hidden y_o cannot be chosen) and y_c from the
