@@ -5,7 +5,9 @@
 # fallback denoiser. RUNS lists frames:mean-of pairs (default "136:1 136:16": the last frame
 # and the mean of 16 after 120, as gi_h200.sh; "1:1 8:1" are the first frame and the eighth,
 # whose histories are young, so the spatial filter does most of the work). Table:
-# $OUT/kernel_error.csv.
+# $OUT/kernel_error.csv. It does what reuse_denoise_2026-11-26/error_ab.sh did for a fixed
+# pair of binaries and frame counts, with both as lists: use this one for new comparisons
+# (the older one stays as the record of its session's figures).
 set -u
 source benches/results/device_env.sh
 unpack_bins
