@@ -131,6 +131,12 @@ impl BinaryBvh {
             .collect();
         let bounds = &bounds[..];
         let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+        if bounds.is_empty() {
+            return Self {
+                nodes: Vec::new(),
+                order,
+            };
+        }
         let mut nodes = vec![Node {
             lo: Vec3::ZERO,
             hi: Vec3::ZERO,
@@ -196,7 +202,12 @@ impl BinaryBvh {
         mut visit: impl FnMut(u32, f32) -> Option<f32>,
     ) {
         let inv = Vec3::ONE / dir;
-        let mut stack = vec![0usize];
+        // An empty tree (a scene without instances, a mesh without triangles) has no root.
+        let mut stack = if self.nodes.is_empty() {
+            Vec::new()
+        } else {
+            vec![0usize]
+        };
         while let Some(ni) = stack.pop() {
             let n = self.nodes[ni];
             let t0 = (n.lo - origin) * inv;
@@ -476,6 +487,20 @@ fn closest_on_triangle(
 mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn a_scene_without_instances_has_no_hits() {
+        // An empty tree has no root node to visit (the emitter reference of a scene whose
+        // lights are all off is one).
+        let mut scene = crate::default_scene::cornell_box();
+        scene.instances.clear();
+        let tracer = CpuTracer::new(&scene);
+        assert!(
+            tracer
+                .trace(Vec3::splat(1.0), Vec3::X, 0.0, f32::MAX, 0)
+                .is_none()
+        );
+    }
 
     #[test]
     fn bvh_traversal_equals_brute_force() {
