@@ -38,7 +38,8 @@ pub struct RestirDiSettings {
     /// BRDF-sampled candidates per pixel, beside the tile candidates (default 1, at most
     /// [`MAX_BRDF_CANDIDATES`]). Each draws a direction from the pixel's BRDF: with an
     /// environment map that is a light it is that map's sample (no ray); otherwise one ray
-    /// along it, and the emissive triangle it meets is the sample. The sample joins initial
+    /// along it through the scene's emitters alone, and the first emissive triangle it meets,
+    /// occluded or not, is the sample. The sample joins initial
     /// RIS, weighted against the tile candidates by the balance heuristic. Glossy surfaces then reflect lights and the sky in DI, which
     /// light sampling alone finds only by chance. Only pixels of roughness at most
     /// [`BRDF_CANDIDATE_MAX_ROUGHNESS`] trace them (rougher ones gain little), and never

@@ -49,7 +49,8 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
                 direction: dir.into(),
                 t_max: f32::MAX,
                 flags: 0,
-                _pad: [0; 3],
+                emitters_only: 0,
+                _pad: [0; 2],
             }
         })
         .collect();

@@ -117,11 +117,11 @@ pub fn merge_fits(scene: &Scene) -> bool {
 /// instance's triangles ([`SoftwareBvh::build_merged`]).
 #[derive(Clone, Debug, Default)]
 pub struct SoftwareBvh {
-    /// All nodes: each mesh's BLAS, then the TLAS (merged: the one BVH). Indices inside are
-    /// absolute.
+    /// All nodes: each mesh's BLAS (merged: the one BVH), the emitter BVH, then the TLAS (none
+    /// when merged). Indices inside are absolute.
     pub nodes: Vec<CwBvhNode>,
     /// Triangles of all meshes (merged: of all instances, in world space) in BVH leaf order
-    /// (with duplicates under spatial splits).
+    /// (with duplicates under spatial splits), then the emitter BVH's.
     pub triangles: Vec<GpuTriangle>,
     /// Instance index for each TLAS leaf slot (merged: empty).
     pub tlas_instances: Vec<u32>,
@@ -129,7 +129,8 @@ pub struct SoftwareBvh {
     pub blas_roots: Vec<u32>,
     /// Root node index of the TLAS (merged: of the one BVH, where traversal starts).
     pub tlas_root: u32,
-    /// Node count of the BLASes (the TLAS follows them; merged: all nodes).
+    /// Node count of the BLASes and the emitter BVH (the TLAS follows them; merged: all
+    /// nodes).
     pub blas_node_count: u32,
     /// Time spent building the BLASes (merged: the whole build).
     pub blas_build_time: Duration,
@@ -138,6 +139,70 @@ pub struct SoftwareBvh {
     /// For a merged BVH, each instance's (mesh, transform) it was built from: the instances
     /// it can trace without a rebuild. `None` for the two-level BVH.
     pub merged_from: Option<Vec<(u32, glam::Mat4)>>,
+    /// Root node of the emitter BVH ([`NO_EMITTERS`] when no instance emits): one world-space
+    /// level over the triangles of the instances whose material emits, tagged as in a merged
+    /// BVH. Rays that look only for emitters (ReSTIR DI's BRDF-sampled candidates, WGSL
+    /// `trace_emitters`) start there and skip every other surface. Its nodes and triangles
+    /// follow the main BVH's (before the TLAS, whose nodes come last).
+    pub emitter_root: u32,
+    /// Where the emitter BVH's nodes and triangles start in [`SoftwareBvh::nodes`] and
+    /// [`SoftwareBvh::triangles`].
+    pub emitter_start: (u32, u32),
+    /// The emissive instances the emitter BVH was built from: (instance, mesh, transform).
+    pub emitters_from: Vec<(u32, u32, glam::Mat4)>,
+}
+
+/// [`SoftwareBvh::emitter_root`] of a scene without emissive instances. WGSL twin:
+/// `NO_EMITTERS` in `trace.wesl`.
+pub const NO_EMITTERS: u32 = u32::MAX;
+
+/// The instances whose material emits, with their mesh and transform: what the emitter BVH
+/// holds ([`SoftwareBvh::emitter_root`]).
+pub fn emitter_layout(scene: &Scene) -> Vec<(u32, u32, glam::Mat4)> {
+    scene
+        .instances
+        .iter()
+        .enumerate()
+        .filter(|(_, i)| {
+            scene
+                .materials
+                .get(i.material as usize)
+                .is_some_and(|m| m.is_emissive())
+        })
+        .map(|(k, i)| (k as u32, i.mesh, i.transform))
+        .collect()
+}
+
+/// World-space triangles of `instances` (index into `scene.instances` each), with each one's
+/// (instance tag, mesh-local index): the input of a merged or emitter BVH.
+fn world_triangles(
+    scene: &Scene,
+    instances: impl Iterator<Item = u32>,
+) -> (Vec<Triangle>, Vec<(u32, u32)>) {
+    let (mut tris, mut ids) = (Vec::new(), Vec::new());
+    for k in instances {
+        let inst = &scene.instances[k as usize];
+        let m = inst.transform.as_dmat4();
+        let tag = k | if m.determinant() < 0.0 {
+            MERGED_MIRRORED
+        } else {
+            0
+        };
+        let mesh = &scene.meshes[inst.mesh as usize];
+        for t in 0..mesh.triangle_count() {
+            // World positions in f64, rounded once: as close to the mesh as f32 allows.
+            let [a, b, c] = mesh
+                .triangle(t)
+                .map(|p| m.transform_point3(p.as_dvec3()).as_vec3());
+            tris.push(Triangle {
+                v0: a.into(),
+                v1: b.into(),
+                v2: c.into(),
+            });
+            ids.push((tag, t as u32));
+        }
+    }
+    (tris, ids)
 }
 
 /// Meshes with fewer triangles than this build on one thread. obvhs's parallel build (its
@@ -229,7 +294,7 @@ impl SoftwareBvh {
             out.nodes.extend(nodes);
             out.triangles.extend(tris);
         }
-        out.blas_node_count = out.nodes.len() as u32;
+        out.append_emitters(scene, quality);
         out.blas_build_time = start.elapsed();
         out.rebuild_tlas(scene, quality);
         out
@@ -244,47 +309,61 @@ impl SoftwareBvh {
     /// instance means building it again ([`SoftwareBvh::traces_merged`]).
     pub fn build_merged(scene: &Scene, quality: BvhQuality) -> Self {
         let start = Instant::now();
-        let (count, _) = merge_triangle_counts(scene);
-        let mut tris = Vec::with_capacity(count);
-        // (instance tag, mesh-local triangle) per entry of `tris`.
-        let mut ids = Vec::with_capacity(count);
-        for (k, inst) in scene.instances.iter().enumerate() {
-            let m = inst.transform.as_dmat4();
-            let tag = k as u32
-                | if m.determinant() < 0.0 {
-                    MERGED_MIRRORED
-                } else {
-                    0
-                };
-            let mesh = &scene.meshes[inst.mesh as usize];
-            for t in 0..mesh.triangle_count() {
-                // World positions in f64, rounded once: as close to the mesh as f32 allows.
-                let [a, b, c] = mesh
-                    .triangle(t)
-                    .map(|p| m.transform_point3(p.as_dvec3()).as_vec3());
-                tris.push(Triangle {
-                    v0: a.into(),
-                    v1: b.into(),
-                    v2: c.into(),
-                });
-                ids.push((tag, t as u32));
-            }
-        }
+        let (tris, ids) = world_triangles(scene, 0..scene.instances.len() as u32);
         let (nodes, triangles) = build_triangles(&tris, quality, |i| {
             let (tag, local) = ids[i as usize];
             (local, tag)
         });
-        Self {
-            blas_node_count: nodes.len() as u32,
+        let mut out = Self {
             nodes,
             triangles,
             tlas_instances: Vec::new(),
             blas_roots: vec![0; scene.meshes.len()],
             tlas_root: 0,
-            blas_build_time: start.elapsed(),
-            tlas_build_time: Duration::ZERO,
             merged_from: Some(merged_layout(scene)),
+            ..Self::default()
+        };
+        out.append_emitters(scene, quality);
+        out.blas_build_time = start.elapsed();
+        out
+    }
+
+    /// Whether the emitter BVH holds exactly `scene`'s emissive instances where they are.
+    pub fn emitters_match(&self, scene: &Scene) -> bool {
+        self.emitters_from == emitter_layout(scene)
+    }
+
+    /// Builds the emitter BVH again for `scene`'s emissive instances (after a material or an
+    /// instance changed), and the TLAS after it for a two-level BVH.
+    pub fn rebuild_emitters(&mut self, scene: &Scene, quality: BvhQuality) {
+        let (nodes, triangles) = self.emitter_start;
+        self.nodes.truncate(nodes as usize);
+        self.triangles.truncate(triangles as usize);
+        self.append_emitters(scene, quality);
+        if !self.is_merged() {
+            self.rebuild_tlas(scene, quality);
         }
+    }
+
+    // Appends the emitter BVH after the nodes and triangles built so far (each mesh's BLAS or
+    // the merged level); the TLAS, if any, is built after it.
+    fn append_emitters(&mut self, scene: &Scene, quality: BvhQuality) {
+        self.emitter_start = (self.nodes.len() as u32, self.triangles.len() as u32);
+        self.emitters_from = emitter_layout(scene);
+        self.emitter_root = NO_EMITTERS;
+        if !self.emitters_from.is_empty() {
+            let (tris, ids) = world_triangles(scene, self.emitters_from.iter().map(|e| e.0));
+            let (mut nodes, triangles) = build_triangles(&tris, quality, |i| {
+                let (tag, local) = ids[i as usize];
+                (local, tag)
+            });
+            let (node_offset, prim_offset) = self.emitter_start;
+            offset_nodes(&mut nodes, node_offset, prim_offset);
+            self.emitter_root = node_offset;
+            self.nodes.extend(nodes);
+            self.triangles.extend(triangles);
+        }
+        self.blas_node_count = self.nodes.len() as u32;
     }
 
     /// Whether this is a merged BVH that traces `scene`'s instances as they are: the same

@@ -383,7 +383,8 @@ impl GpuScene {
             brdf_model: options.brdf.gpu_id(),
             environment_sampled: scene.environment_is_light() as u32,
             merged: 0,
-            _pad: [0; 3],
+            emitter_root: crate::bvh::NO_EMITTERS,
+            _pad: [0; 2],
         };
         let info = gpu.uniform_buffer("solari_scene/scene_info", &info_data);
         let accel = match backend {
@@ -451,6 +452,15 @@ impl GpuScene {
             );
             self.accel = upload_software(gpu, SoftwareBvh::build(scene, self.options.bvh_quality))?;
         }
+        if let Accel::Software { bvh, .. } = &mut self.accel
+            && !bvh.emitters_match(scene)
+        {
+            // Which instances emit, or where, changed (a light switched, an emitter moved):
+            // the emitter BVH sits before the top level, so everything is uploaded again.
+            let mut bvh = std::mem::take(bvh);
+            bvh.rebuild_emitters(scene, self.options.bvh_quality);
+            self.accel = upload_software(gpu, bvh)?;
+        }
         let blas_root = |mesh: u32| match &self.accel {
             Accel::Software { bvh, .. } => bvh.blas_roots[mesh as usize],
             Accel::RayQuery { .. } => 0,
@@ -490,6 +500,7 @@ impl GpuScene {
             Accel::Software { bvh, .. } if bvh.is_merged() => {
                 self.info_data.tlas_root = bvh.tlas_root;
                 self.info_data.merged = 1;
+                self.info_data.emitter_root = bvh.emitter_root;
             }
             Accel::Software {
                 bvh,
@@ -498,6 +509,7 @@ impl GpuScene {
                 ..
             } => {
                 self.info_data.merged = 0;
+                self.info_data.emitter_root = bvh.emitter_root;
                 bvh.rebuild_tlas(scene, self.options.bvh_quality);
                 let node_bytes: &[u8] = cast_slice(&bvh.nodes);
                 if (node_bytes.len() as u64) <= nodes.size() {
@@ -541,7 +553,12 @@ impl GpuScene {
                             let r = rows(inst.transform);
                             let flat: [f32; 12] =
                                 [r[0], r[1], r[2]].concat().try_into().expect("12 floats");
-                            wgpu::TlasInstance::new(&blas[inst.mesh as usize], flat, i as u32, 0xff)
+                            wgpu::TlasInstance::new(
+                                &blas[inst.mesh as usize],
+                                flat,
+                                i as u32,
+                                instance_mask(scene, inst),
+                            )
                         });
                 }
                 let mut encoder = gpu.device.create_command_encoder(&Default::default());
@@ -665,6 +682,22 @@ impl GpuScene {
             Accel::RayQuery { .. } => None,
         }
     }
+}
+
+/// Ray-query instance mask bit of every instance: plain rays (cull mask 0xff) see them all.
+pub const MASK_ALL: u8 = 0x01;
+
+/// Ray-query instance mask bit of instances whose material emits: `trace_emitters` (WGSL,
+/// cull mask `EMITTER_MASK` in trace.wesl) sees only these, as the software backend's
+/// emitter BVH holds only these (`bvh::emitter_layout`).
+pub const MASK_EMITTER: u8 = 0x02;
+
+fn instance_mask(scene: &Scene, inst: &crate::model::Instance) -> u8 {
+    let emits = scene
+        .materials
+        .get(inst.material as usize)
+        .is_some_and(|m| m.is_emissive());
+    MASK_ALL | if emits { MASK_EMITTER } else { 0 }
 }
 
 fn build_ray_query(

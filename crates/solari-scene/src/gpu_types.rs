@@ -99,8 +99,11 @@ pub struct GpuSceneInfo {
     /// 1 when the software BVH is merged (`bvh::SoftwareBvh::build_merged`): one world-space
     /// level whose triangles name their instance.
     pub merged: u32,
+    /// Root node of the software backend's emitter BVH (`bvh::SoftwareBvh::emitter_root`;
+    /// `bvh::NO_EMITTERS` when no instance emits or with ray queries).
+    pub emitter_root: u32,
     /// Uniform buffers are sized in 16 bytes.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 const _: () = assert!(size_of::<GpuSceneInfo>() == 48);
 
@@ -212,8 +215,11 @@ pub struct GpuRay {
     pub t_max: f32,
     /// Ray flags (`trace_cpu::RAY_FLAG_*`).
     pub flags: u32,
+    /// 1: trace only the instances whose material emits (WGSL `trace_emitters`, which
+    /// ignores `flags`); 0: the whole scene (`trace_ray`).
+    pub emitters_only: u32,
     /// Padding.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 const _: () = assert!(size_of::<GpuRay>() == 48);
 

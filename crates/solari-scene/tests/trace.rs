@@ -66,7 +66,8 @@ fn ray(o: Vec3, d: Vec3, t_min: f32, flags: u32) -> GpuRay {
         direction: d.into(),
         t_max: f32::MAX,
         flags,
-        _pad: [0; 3],
+        emitters_only: 0,
+        _pad: [0; 2],
     }
 }
 
@@ -531,6 +532,212 @@ fn a_merged_scene_keeps_its_bvh_for_material_changes_and_splits_when_instances_m
     gs.set_instances(&gpu, &scene).unwrap();
     assert_eq!(gs.software_bvh().unwrap().blas_node_count, blas_nodes);
     check(&gs, &scene, &general, "two-level after a second move");
+}
+
+/// `scene` with only the instances whose material emits, and each one's index in `scene`.
+fn emitters_only(scene: &Scene) -> (Scene, Vec<u32>) {
+    let kept: Vec<u32> = solari_scene::bvh::emitter_layout(scene)
+        .iter()
+        .map(|e| e.0)
+        .collect();
+    let mut out = scene.clone();
+    out.instances = kept
+        .iter()
+        .map(|&k| scene.instances[k as usize].clone())
+        .collect();
+    (out, kept)
+}
+
+/// Emitter-only rays: `make_rays`' rays (flags cleared: `trace_emitters` has none), then rays
+/// from random surface points aimed at random points on emitters, through whatever occludes
+/// them. Returns the rays and where the aimed ones start.
+fn emitter_rays(scene: &Scene, emitters: &Scene, seed: u64) -> (Vec<GpuRay>, usize) {
+    let mut rays = make_rays(scene, seed);
+    let aimed = rays.len();
+    let mut rng = rand_pcg::Pcg64::seed_from_u64(seed + 1);
+    if !emitters.instances.is_empty() {
+        for _ in 0..1500 {
+            let (o, n, _) = surface_point(scene, &mut rng);
+            let (target, _, _) = surface_point(emitters, &mut rng);
+            // Off the surface along its normal, so the start is not on an emitter's plane.
+            let o = o + n * 1e-3;
+            rays.push(ray(o, target - o, 0.0, 0));
+        }
+    }
+    for r in &mut rays {
+        r.flags = 0;
+        r.emitters_only = 1;
+    }
+    (rays, aimed)
+}
+
+#[test]
+fn emitter_rays_see_only_emitters_through_occluders_and_follow_light_switches() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut report = Vec::new();
+    for backend in backends(&gpu) {
+        let merges: &[bool] = match backend {
+            Backend::Software => &[false, true],
+            Backend::RayQuery => &[false],
+        };
+        let general = TraceRaysPass::new(&gpu, backend, TraceVariant::General).unwrap();
+        let merged = TraceRaysPass::new(&gpu, backend, TraceVariant::Merged).unwrap();
+        for (name, original) in [
+            ("built-in".to_string(), default_scene::cornell_box()),
+            (
+                "many_lights".to_string(),
+                load_gltf(solari_testdata::scene("many_lights")).unwrap(),
+            ),
+            (
+                "emissive_strength_test".to_string(),
+                load_gltf(solari_testdata::scene("emissive_strength_test")).unwrap(),
+            ),
+        ] {
+            for &merge in merges {
+                let mut scene = original.clone();
+                let mut gs = GpuScene::new(
+                    &gpu,
+                    &scene,
+                    backend,
+                    &GpuSceneOptions {
+                        max_texture_size: 16,
+                        merge_instances: merge,
+                        ..Default::default()
+                    },
+                )
+                .unwrap();
+                let emissive: Vec<usize> = solari_scene::bvh::emitter_layout(&scene)
+                    .iter()
+                    .map(|e| e.0 as usize)
+                    .collect();
+                let dark = scene
+                    .instances
+                    .iter()
+                    .position(|i| !scene.materials[i.material as usize].is_emissive())
+                    .unwrap();
+                assert!(!emissive.is_empty(), "{name}: has emitters");
+                // As loaded; with the first emitter switched off and a plain instance
+                // switched on; with every emitter off (nothing to find).
+                for state in ["as loaded", "switched", "all off"] {
+                    match state {
+                        "switched" => {
+                            let (lit, off) = (
+                                scene.instances[emissive[0]].material,
+                                scene.instances[dark].material,
+                            );
+                            scene.instances[emissive[0]].material = off;
+                            scene.instances[dark].material = lit;
+                        }
+                        "all off" => {
+                            let off = scene.instances[emissive[0]].material;
+                            for i in &mut scene.instances {
+                                if scene.materials[i.material as usize].is_emissive() {
+                                    i.material = off;
+                                }
+                            }
+                        }
+                        _ => {}
+                    }
+                    if state != "as loaded" {
+                        gs.set_instances(&gpu, &scene).unwrap();
+                    }
+                    assert_eq!(
+                        gs.is_merged(),
+                        merge,
+                        "{name} {state}: material changes keep the BVH's kind"
+                    );
+                    let (emitters, kept) = emitters_only(&scene);
+                    let cpu_emitters = CpuTracer::new(&emitters);
+                    let cpu_all = CpuTracer::new(&scene);
+                    let (rays, aimed) = emitter_rays(&scene, &emitters, 5);
+                    let passes: &[&TraceRaysPass] = if gs.is_merged() {
+                        &[&general, &merged]
+                    } else {
+                        &[&general]
+                    };
+                    for (k, pass) in passes.iter().enumerate() {
+                        let mut hits = pass.trace(&gpu, &gs, &rays).unwrap();
+                        // The GPU names the scene's instances, the reference the emitters'.
+                        for h in hits.iter_mut().filter(|h| h.instance != NO_HIT) {
+                            h.instance =
+                                kept.iter()
+                                    .position(|&k| k == h.instance)
+                                    .unwrap_or_else(|| {
+                                        panic!(
+                                            "{name} {state}: hit instance {} emits nothing",
+                                            h.instance
+                                        )
+                                    }) as u32;
+                        }
+                        let (_, bad) = compare(&cpu_emitters, &rays, &hits);
+                        let budget = if backend == Backend::RayQuery {
+                            rays.len() / 200
+                        } else {
+                            0
+                        };
+                        assert!(
+                            bad.len() <= budget,
+                            "{backend:?} {name} {state} merged {merge}: {} mismatches of {}:\n{}",
+                            bad.len(),
+                            rays.len(),
+                            bad[..bad.len().min(5)].join("\n")
+                        );
+                        let hits_aimed = hits[aimed..]
+                            .iter()
+                            .filter(|h| h.instance != NO_HIT)
+                            .count();
+                        // Aimed rays whose first surface in the whole scene emits nothing: the
+                        // emitter ray must pass such occluders.
+                        let occluded = rays[aimed..]
+                            .iter()
+                            .zip(&hits[aimed..])
+                            .filter(|(r, h)| {
+                                h.instance != NO_HIT
+                                    && cpu_all
+                                        .trace(
+                                            r.origin.into(),
+                                            r.direction.into(),
+                                            0.0,
+                                            f32::MAX,
+                                            0,
+                                        )
+                                        .is_some_and(|c| {
+                                            !scene.materials[scene.instances[c.instance as usize]
+                                                .material
+                                                as usize]
+                                                .is_emissive()
+                                        })
+                            })
+                            .count();
+                        report.push(format!(
+                            "{backend:?} {name} {state} merged {merge} ({} traversal): {} rays, {} mismatches, aimed {hits_aimed}/{} hit ({occluded} through an occluder)",
+                            ["general", "merged"][k],
+                            rays.len(),
+                            bad.len(),
+                            rays.len() - aimed
+                        ));
+                        if state == "all off" {
+                            assert!(
+                                hits.iter().all(|h| h.instance == NO_HIT),
+                                "{name}: no emitter left, no hit"
+                            );
+                        } else {
+                            assert!(
+                                hits_aimed * 100 >= (rays.len() - aimed) * 95,
+                                "{backend:?} {name} {state}: only {hits_aimed} of {} rays aimed at emitters found one",
+                                rays.len() - aimed
+                            );
+                            assert!(
+                                occluded * 20 >= rays.len() - aimed,
+                                "{name} {state}: too few occluded emitter rays ({occluded}) for a meaningful test"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    eprintln!("{}", report.join("\n"));
 }
 
 #[test]
