@@ -71,7 +71,8 @@ enum Accel {
         tlas: wgpu::Tlas,
     },
     Software {
-        bvh: SoftwareBvh,
+        // Boxed: the CPU-side BVH is far larger than the ray-query variant.
+        bvh: Box<SoftwareBvh>,
         nodes: wgpu::Buffer,
         triangles: wgpu::Buffer,
         tlas_instances: wgpu::Buffer,
@@ -166,7 +167,7 @@ fn upload_software(gpu: &Gpu, bvh: SoftwareBvh) -> Result<Accel, GpuError> {
             cast_slice(&bvh.tlas_instances),
             wgpu::BufferUsages::empty(),
         )?,
-        bvh,
+        bvh: Box::new(bvh),
     })
 }
 
@@ -456,8 +457,9 @@ impl GpuScene {
             && !bvh.emitters_match(scene)
         {
             // Which instances emit, or where, changed (a light switched, an emitter moved):
-            // the emitter BVH sits before the top level, so everything is uploaded again.
-            let mut bvh = std::mem::take(bvh);
+            // the emitter BVH sits before the top level, so everything is uploaded again. On a
+            // copy, so a failed upload leaves the scene as it was (and the next call retries).
+            let mut bvh = (**bvh).clone();
             bvh.rebuild_emitters(scene, self.options.bvh_quality);
             self.accel = upload_software(gpu, bvh)?;
         }
