@@ -33,7 +33,7 @@ impl TracedProducer {
         layouts: [&wgpu::BindGroupLayout; 2],
         targets: &[GBufferTargets; 2],
     ) -> Result<Self, GpuError> {
-        let out_layout = out_layout(gpu, "solari_scene/gbuffer_traced_out");
+        let out_layout = traced_layout(gpu);
         let wgsl = compose("gbuffer_traced", backend, &[])?;
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let pipeline = gpu.compute_pipeline(
@@ -48,7 +48,7 @@ impl TracedProducer {
             ShaderChecks::BoundsOnly,
             variant.constants(),
         )?;
-        let out_groups = out_groups(gpu, &out_layout, targets);
+        let out_groups = traced_groups(gpu, &out_layout, targets);
         Ok(Self {
             pipeline,
             variant,
@@ -64,7 +64,7 @@ impl TracedProducer {
 
     /// New target sets (a resize).
     pub(crate) fn retarget(&mut self, gpu: &Gpu, targets: &[GBufferTargets; 2]) {
-        self.out_groups = out_groups(gpu, &self.out_layout, targets);
+        self.out_groups = traced_groups(gpu, &self.out_layout, targets);
     }
 
     /// Traces every pixel of the target set `parity`.
@@ -87,6 +87,62 @@ impl TracedProducer {
         pass.set_bind_group(3, &self.out_groups[parity], &[]);
         pass.dispatch_workgroups(width.div_ceil(8), height.div_ceil(8), 1);
     }
+}
+
+// Binding of `depth_before` in the traced producer's group 3: the other target set's depth,
+// last frame's, whose distances bound each ray's first try (`gbuffer_traced.wesl`).
+const DEPTH_BEFORE_BINDING: u32 = 4;
+
+// The traced producer's group 3: `out_layout`'s four storage textures and last frame's depth.
+fn traced_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
+    let mut entries = OUTPUT_FORMATS
+        .iter()
+        .zip(0..)
+        .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
+        .collect::<Vec<_>>();
+    entries.push(wgpu::BindGroupLayoutEntry {
+        binding: DEPTH_BEFORE_BINDING,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    });
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("solari_scene/gbuffer_traced_out"),
+            entries: &entries,
+        })
+}
+
+// One `traced_layout` group per target set: its outputs, and the other set's depth.
+fn traced_groups(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    targets: &[GBufferTargets; 2],
+) -> [wgpu::BindGroup; 2] {
+    [0, 1].map(|parity| {
+        let mut entries: Vec<_> = targets[parity]
+            .views
+            .iter()
+            .zip(0..)
+            .map(|(view, binding)| wgpu::BindGroupEntry {
+                binding,
+                resource: wgpu::BindingResource::TextureView(view),
+            })
+            .collect();
+        entries.push(wgpu::BindGroupEntry {
+            binding: DEPTH_BEFORE_BINDING,
+            resource: wgpu::BindingResource::TextureView(&targets[parity ^ 1].views[3]),
+        });
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_scene/gbuffer_traced_out"),
+            layout,
+            entries: &entries,
+        })
+    })
 }
 
 /// The layout of a group of one target set's four storage textures, in the order

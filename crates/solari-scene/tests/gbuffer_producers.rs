@@ -219,3 +219,72 @@ fn a_traced_gbuffer_specialised_for_one_instance_refuses_a_grown_scene() {
         grown.instances.len()
     );
 }
+
+#[test]
+fn a_first_try_within_last_frames_depth_finds_what_an_unbounded_ray_finds() {
+    // The traced producer bounds each ray's first try by last frame's distance at its pixel
+    // (plus 0.5%) and tries again, unbounded, after a miss. Its second frame must equal, texel
+    // for texel, a first frame of the same view (no depth before it: every ray unbounded):
+    // with the camera stepping back (most surfaces now farther: second tries), forward (all
+    // nearer) and sideways past a moved block (some of each).
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let camera = scene.camera(None).unwrap();
+    let step = |v: Vec3| {
+        let mut c = camera.clone();
+        c.transform = camera.transform * Mat4::from_translation(v);
+        c
+    };
+    let mut moved = scene.clone();
+    moved.instances[7].transform =
+        Mat4::from_translation(Vec3::new(0.35, 0.2, -0.25)) * moved.instances[7].transform;
+    let cases = [
+        ("back", scene.clone(), step(Vec3::Z * 1.5)),
+        ("forward", scene.clone(), step(Vec3::Z * -1.5)),
+        (
+            "sideways, block moved",
+            moved,
+            step(Vec3::new(0.6, -0.1, 0.0)),
+        ),
+    ];
+    for (name, next, next_camera) in cases {
+        let mut gs = GpuScene::new(&gpu, &scene, Backend::Software, &Default::default()).unwrap();
+        let mut warm = gbuffer(&gpu, GBufferProducer::Traced, TraceVariant::General);
+        render(&gpu, &mut warm, &gs, &scene, &camera);
+        let before = read(&gpu, warm.current());
+        gs.set_instances(&gpu, &next).unwrap();
+        render(&gpu, &mut warm, &gs, &next, &next_camera);
+        let mut cold = gbuffer(&gpu, GBufferProducer::Traced, TraceVariant::General);
+        render(&gpu, &mut cold, &gs, &next, &next_camera);
+        let (w, c) = (read(&gpu, warm.current()), read(&gpu, cold.current()));
+        // How the depth moved between the frames, per covered pixel (reversed-Z: a smaller
+        // value is farther): farther by over the margin means a second try.
+        let (mut farther, mut nearer) = (0, 0);
+        for i in 0..c.depth.len() {
+            if before.depth[i] > 0.0 && c.depth[i] > 0.0 {
+                if before.depth[i] > c.depth[i] * 1.005 {
+                    farther += 1;
+                } else {
+                    nearer += 1;
+                }
+            }
+        }
+        eprintln!("{name}: {farther} pixels retried, {nearer} found within the bound");
+        assert!(farther + nearer > c.depth.len() / 3, "{name}: coverage");
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&w.depth), bits(&c.depth), "{name}: depth");
+        assert!(w.gbuffer == c.gbuffer, "{name}: material and normals");
+        assert!(w.emission == c.emission, "{name}: emission");
+        match name {
+            "back" => assert!(
+                farther * 2 > farther + nearer,
+                "{name}: too few second tries"
+            ),
+            "forward" => assert!(
+                nearer * 2 > farther + nearer,
+                "{name}: too few bounded hits"
+            ),
+            _ => assert!(farther > 0 && nearer > 0, "{name}: both kinds"),
+        }
+    }
+}
