@@ -151,24 +151,31 @@ fn log_bvh(bvh: &SoftwareBvh) {
 }
 
 fn upload_software(gpu: &Gpu, bvh: SoftwareBvh) -> Result<Accel, GpuError> {
+    let [nodes, triangles, tlas_instances] = software_buffers(gpu, &bvh)?;
     Ok(Accel::Software {
-        nodes: gpu.storage_buffer(
-            "solari_scene/bvh_nodes",
-            cast_slice(&bvh.nodes),
-            wgpu::BufferUsages::empty(),
-        )?,
-        triangles: gpu.storage_buffer(
-            "solari_scene/bvh_triangles",
-            cast_slice(&bvh.triangles),
-            wgpu::BufferUsages::empty(),
-        )?,
-        tlas_instances: gpu.storage_buffer(
-            "solari_scene/tlas_instances",
-            cast_slice(&bvh.tlas_instances),
-            wgpu::BufferUsages::empty(),
-        )?,
+        nodes,
+        triangles,
+        tlas_instances,
         bvh: Box::new(bvh),
     })
+}
+
+// The software BVH's buffers: nodes, triangles, TLAS leaf instances.
+fn software_buffers(gpu: &Gpu, bvh: &SoftwareBvh) -> Result<[wgpu::Buffer; 3], GpuError> {
+    let usage = wgpu::BufferUsages::empty();
+    Ok([
+        gpu.storage_buffer("solari_scene/bvh_nodes", cast_slice(&bvh.nodes), usage)?,
+        gpu.storage_buffer(
+            "solari_scene/bvh_triangles",
+            cast_slice(&bvh.triangles),
+            usage,
+        )?,
+        gpu.storage_buffer(
+            "solari_scene/tlas_instances",
+            cast_slice(&bvh.tlas_instances),
+            usage,
+        )?,
+    ])
 }
 
 fn normal_rows(m: Mat4) -> [[f32; 4]; 3] {
@@ -453,15 +460,29 @@ impl GpuScene {
             );
             self.accel = upload_software(gpu, SoftwareBvh::build(scene, self.options.bvh_quality))?;
         }
-        if let Accel::Software { bvh, .. } = &mut self.accel
+        if let Accel::Software {
+            bvh,
+            nodes,
+            triangles,
+            tlas_instances,
+        } = &mut self.accel
             && !bvh.emitters_match(scene)
         {
             // Which instances emit, or where, changed (a light switched, an emitter moved):
-            // the emitter BVH sits before the top level, so everything is uploaded again. On a
-            // copy, so a failed upload leaves the scene as it was (and the next call retries).
-            let mut bvh = (**bvh).clone();
+            // the emitter BVH sits before the top level, so everything is uploaded again. In
+            // place: rebuilding a copy of the scene's BVH grew a soak's process by 11 MB over
+            // its first light switches (benches/RESULTS.md).
             bvh.rebuild_emitters(scene, self.options.bvh_quality);
-            self.accel = upload_software(gpu, bvh)?;
+            match software_buffers(gpu, bvh) {
+                Ok([n, t, i]) => (*nodes, *triangles, *tlas_instances) = (n, t, i),
+                Err(e) => {
+                    // The old buffers stay bound and consistent with the old `scene_info`;
+                    // forget the new emitter set so the next call builds it again.
+                    bvh.emitters_from.clear();
+                    bvh.emitters_from.push((u32::MAX, u32::MAX, Mat4::ZERO));
+                    return Err(e);
+                }
+            }
         }
         let blas_root = |mesh: u32| match &self.accel {
             Accel::Software { bvh, .. } => bvh.blas_roots[mesh as usize],
