@@ -95,26 +95,7 @@ const DEPTH_BEFORE_BINDING: u32 = 4;
 
 // The traced producer's group 3: `out_layout`'s four storage textures and last frame's depth.
 fn traced_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-    let mut entries = OUTPUT_FORMATS
-        .iter()
-        .zip(0..)
-        .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
-        .collect::<Vec<_>>();
-    entries.push(wgpu::BindGroupLayoutEntry {
-        binding: DEPTH_BEFORE_BINDING,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    });
-    gpu.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("solari_scene/gbuffer_traced_out"),
-            entries: &entries,
-        })
+    layout_of(gpu, "solari_scene/gbuffer_traced_out", true)
 }
 
 // One `traced_layout` group per target set: its outputs, and the other set's depth.
@@ -122,6 +103,58 @@ fn traced_groups(
     gpu: &Gpu,
     layout: &wgpu::BindGroupLayout,
     targets: &[GBufferTargets; 2],
+) -> [wgpu::BindGroup; 2] {
+    groups_of(gpu, layout, targets, true)
+}
+
+/// The layout of a group of one target set's four storage textures, in the order
+/// `gbuffer_out`, `emission_out`, `motion_out`, `depth_out` (bindings 0-3): the override
+/// pass's group 1 (the traced producer's group 3 adds last frame's depth).
+pub(crate) fn out_layout(gpu: &Gpu, label: &str) -> wgpu::BindGroupLayout {
+    layout_of(gpu, label, false)
+}
+
+/// One [`out_layout`] group per target set (frame parity).
+pub(crate) fn out_groups(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    targets: &[GBufferTargets; 2],
+) -> [wgpu::BindGroup; 2] {
+    groups_of(gpu, layout, targets, false)
+}
+
+// The four outputs' layout, and with `depth_before` last frame's depth as binding 4.
+fn layout_of(gpu: &Gpu, label: &str, depth_before: bool) -> wgpu::BindGroupLayout {
+    let mut entries = OUTPUT_FORMATS
+        .iter()
+        .zip(0..)
+        .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
+        .collect::<Vec<_>>();
+    if depth_before {
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: DEPTH_BEFORE_BINDING,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        });
+    }
+    gpu.device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &entries,
+        })
+}
+
+// One `layout_of` group per target set; with `depth_before`, the other set's depth.
+fn groups_of(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    targets: &[GBufferTargets; 2],
+    depth_before: bool,
 ) -> [wgpu::BindGroup; 2] {
     [0, 1].map(|parity| {
         let mut entries: Vec<_> = targets[parity]
@@ -133,50 +166,12 @@ fn traced_groups(
                 resource: wgpu::BindingResource::TextureView(view),
             })
             .collect();
-        entries.push(wgpu::BindGroupEntry {
-            binding: DEPTH_BEFORE_BINDING,
-            resource: wgpu::BindingResource::TextureView(&targets[parity ^ 1].views[3]),
-        });
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("solari_scene/gbuffer_traced_out"),
-            layout,
-            entries: &entries,
-        })
-    })
-}
-
-/// The layout of a group of one target set's four storage textures, in the order
-/// `gbuffer_out`, `emission_out`, `motion_out`, `depth_out` (bindings 0-3): the traced
-/// producer's group 3 and the override pass's group 1.
-pub(crate) fn out_layout(gpu: &Gpu, label: &str) -> wgpu::BindGroupLayout {
-    let entries = OUTPUT_FORMATS
-        .iter()
-        .zip(0..)
-        .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
-        .collect::<Vec<_>>();
-    gpu.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries: &entries,
-        })
-}
-
-/// One [`out_layout`] group per target set (frame parity).
-pub(crate) fn out_groups(
-    gpu: &Gpu,
-    layout: &wgpu::BindGroupLayout,
-    targets: &[GBufferTargets; 2],
-) -> [wgpu::BindGroup; 2] {
-    [0, 1].map(|parity| {
-        let entries: Vec<_> = targets[parity]
-            .views
-            .iter()
-            .zip(0..)
-            .map(|(view, binding)| wgpu::BindGroupEntry {
-                binding,
-                resource: wgpu::BindingResource::TextureView(view),
-            })
-            .collect();
+        if depth_before {
+            entries.push(wgpu::BindGroupEntry {
+                binding: DEPTH_BEFORE_BINDING,
+                resource: wgpu::BindingResource::TextureView(&targets[parity ^ 1].views[3]),
+            });
+        }
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_scene/gbuffer_traced_out"),
             layout,

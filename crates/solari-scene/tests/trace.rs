@@ -314,6 +314,21 @@ fn compare(cpu: &CpuTracer, rays: &[GpuRay], hits: &[GpuRayHit]) -> (Vec<usize>,
     (ties, bad)
 }
 
+/// `scene` on the GPU with tiny textures (traversal reads none), merged or two-level.
+fn upload(
+    gpu: &Gpu,
+    scene: &Scene,
+    backend: Backend,
+    merge: bool,
+) -> Result<GpuScene, solari_scene::GpuError> {
+    let options = GpuSceneOptions {
+        max_texture_size: 16,
+        merge_instances: merge,
+        ..Default::default()
+    };
+    GpuScene::new(gpu, scene, backend, &options)
+}
+
 fn backends(gpu: &Gpu) -> Vec<Backend> {
     let mut v = vec![Backend::Software];
     if gpu.has_ray_query() {
@@ -344,17 +359,7 @@ fn both_backends_agree_with_the_cpu_reference_on_every_scene() {
             .flat_map(|s| merges.iter().map(move |m| (s.clone(), m)))
         {
             let cpu = CpuTracer::new(&scene);
-            let gs = GpuScene::new(
-                &gpu,
-                &scene,
-                backend,
-                &GpuSceneOptions {
-                    max_texture_size: 16,
-                    merge_instances: merge,
-                    ..Default::default()
-                },
-            )
-            .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let gs = upload(&gpu, &scene, backend, merge).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(
                 gs.is_merged(),
                 merge,
@@ -595,17 +600,7 @@ fn emitter_rays_see_only_emitters_through_occluders_and_follow_light_switches() 
         ] {
             for &merge in merges {
                 let mut scene = original.clone();
-                let mut gs = GpuScene::new(
-                    &gpu,
-                    &scene,
-                    backend,
-                    &GpuSceneOptions {
-                        max_texture_size: 16,
-                        merge_instances: merge,
-                        ..Default::default()
-                    },
-                )
-                .unwrap();
+                let mut gs = upload(&gpu, &scene, backend, merge).unwrap();
                 let emissive: Vec<usize> = solari_scene::bvh::emitter_layout(&scene)
                     .iter()
                     .map(|e| e.0 as usize)
