@@ -130,16 +130,10 @@ impl DlssTextures {
                     label: Some("solari_denoise/dlss_output"),
                     entries: &[
                         buffer(0, wgpu::BufferBindingType::Uniform),
-                        wgpu::BindGroupLayoutEntry {
-                            binding: 1,
-                            visibility: wgpu::ShaderStages::COMPUTE,
-                            ty: wgpu::BindingType::Texture {
-                                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                                view_dimension: wgpu::TextureViewDimension::D2,
-                                multisampled: false,
-                            },
-                            count: None,
-                        },
+                        solari_scene::gpu::loaded_texture_layout_entry(
+                            1,
+                            wgpu::ShaderStages::COMPUTE,
+                        ),
                         buffer(2, wgpu::BufferBindingType::Storage { read_only: false }),
                     ],
                 });

@@ -132,7 +132,7 @@ pub struct SoftwareBvh {
     /// Node count of the BLASes and the emitter BVH (the TLAS follows them; merged: all
     /// nodes).
     pub blas_node_count: u32,
-    /// Time spent building the BLASes (merged: the whole build).
+    /// Time spent building the BLASes and the emitter BVH (merged: the whole build).
     pub blas_build_time: Duration,
     /// Time spent building the TLAS (merged: zero).
     pub tlas_build_time: Duration,

@@ -6,7 +6,7 @@ use crate::error::GpuError;
 use crate::gbuffer::{
     DEPTH_FORMAT, EMISSION_FORMAT, GBUFFER_FORMAT, GBufferTargets, MOTION_FORMAT, PASS_LABELS,
 };
-use crate::gpu::{Gpu, ShaderChecks, storage_texture_layout_entry};
+use crate::gpu::{Gpu, ShaderChecks, loaded_texture_layout_entry, storage_texture_layout_entry};
 use crate::gpu_scene::{GpuScene, TraceVariant};
 use crate::shaders::{Backend, compose};
 
@@ -131,16 +131,10 @@ fn layout_of(gpu: &Gpu, label: &str, depth_before: bool) -> wgpu::BindGroupLayou
         .map(|(&format, binding)| storage_texture_layout_entry(binding, format))
         .collect::<Vec<_>>();
     if depth_before {
-        entries.push(wgpu::BindGroupLayoutEntry {
-            binding: DEPTH_BEFORE_BINDING,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        });
+        entries.push(loaded_texture_layout_entry(
+            DEPTH_BEFORE_BINDING,
+            wgpu::ShaderStages::COMPUTE,
+        ));
     }
     gpu.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

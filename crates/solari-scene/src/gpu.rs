@@ -57,6 +57,23 @@ pub fn storage_texture_layout_entry(
     }
 }
 
+/// A 2D float texture read with `textureLoad` (unfilterable), visible to `visibility`.
+pub fn loaded_texture_layout_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: false },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
 /// A whole-buffer bind group layout entry (no dynamic offset, no minimum size).
 pub fn buffer_layout_entry(
     binding: u32,

@@ -269,15 +269,11 @@ impl GpuScene {
             Backend::Software => entries.extend([storage(8), storage(9), storage(10)]),
         }
         // Read with textureLoad (filtered by hand, as the CPU twins do).
-        let unfiltered = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
+        let unfiltered = |binding| {
+            crate::gpu::loaded_texture_layout_entry(
+                binding,
+                wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+            )
         };
         entries.extend([unfiltered(11), unfiltered(12)]);
         debug_assert!(
