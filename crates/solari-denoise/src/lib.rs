@@ -133,7 +133,9 @@ pub use denoiser::{
 };
 pub use fallback::{FallbackDenoiser, GpuHistory};
 pub use select::{Created, DlssAvailability, create, create_gpu};
-pub use settings::{AtrousKernel, FallbackSettings, GpuDenoiseParams, GpuPassParams};
+pub use settings::{
+    AtrousKernel, FallbackSettings, GpuDenoiseParams, GpuPassParams, PHI_MAX, PHI_MIN,
+};
 pub use upscale::{TemporalUpscaler, UpscaleSettings};
 
 /// The crate's importable WGSL modules, by module name.

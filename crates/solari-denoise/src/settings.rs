@@ -66,7 +66,7 @@ pub struct FallbackSettings {
     /// default 128: 20° apart weighs 0.0004).
     pub phi_normal: f32,
     /// Depth edge-stopping: distance from the centre pixel's tangent plane, as a fraction of
-    /// its view distance, that weighs 1/e (default 0.005).
+    /// its view distance, that weighs 1/e (default 0.005; at least [`PHI_MIN`]).
     pub phi_depth: f32,
     /// Specular-lobe edge-stopping (default 8; 0: off). Glossy reflections change with the
     /// normal far faster than diffuse light: a neighbour whose shading normal is δ radians
@@ -140,6 +140,17 @@ impl Default for FallbackSettings {
     }
 }
 
+/// Smallest `phi_depth` [`FallbackSettings::validate`] accepts: below it the depth weight's
+/// divisor (phi_depth times a view depth) can underflow, and a tap exactly on the centre's
+/// plane then weighs 0 × ∞ = NaN. At 1e-6 the depth weight already
+/// keeps only taps within a millionth of the view distance of the plane.
+pub const PHI_MIN: f32 = 1e-6;
+
+/// Largest edge-stopping factor (`phi_*`) [`FallbackSettings::validate`] accepts. phi_lobe's
+/// product overflows f32 to infinity near 1e38, and times the zero of exactly matching normals
+/// that is NaN; the other factors share the bound, far above any useful value.
+pub const PHI_MAX: f32 = 1e30;
+
 impl FallbackSettings {
     /// Refuses values that make no sense, naming the knob.
     pub fn validate(&self) -> Result<(), GpuError> {
@@ -180,8 +191,27 @@ impl FallbackSettings {
                 &format!("must be 1–8, got {}", self.atrous_iterations),
             );
         }
-        if self.phi_luminance <= 0.0 || self.phi_depth <= 0.0 {
-            return bad("phi_luminance/phi_depth", "must be > 0");
+        if self.phi_luminance <= 0.0 {
+            return bad("phi_luminance", "must be > 0");
+        }
+        // The depth weight divides by phi_depth times a view depth, and the weights multiply
+        // the phi factors by terms that can be exactly zero: a tiny divisor or a huge factor
+        // overflows to infinity, and infinity times zero is NaN.
+        if self.phi_depth < PHI_MIN {
+            return bad(
+                "phi_depth",
+                &format!("must be at least {PHI_MIN:e}, got {}", self.phi_depth),
+            );
+        }
+        for (name, v) in [
+            ("phi_luminance", self.phi_luminance),
+            ("phi_normal", self.phi_normal),
+            ("phi_depth", self.phi_depth),
+            ("phi_lobe", self.phi_lobe),
+        ] {
+            if v > PHI_MAX {
+                return bad(name, &format!("must be at most {PHI_MAX:e}, got {v}"));
+            }
         }
         if self.fast_history < 1.0 {
             return bad("fast_history", "must be at least 1 frame");

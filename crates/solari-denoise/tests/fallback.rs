@@ -338,7 +338,7 @@ fn fast_reset_follows_a_light_switch() {
 
 #[test]
 fn bad_settings_are_refused_with_the_knob_named() {
-    let cases: [(FallbackSettings, &str); 7] = [
+    let cases: [(FallbackSettings, &str); 10] = [
         (
             FallbackSettings {
                 atrous_iterations: 0,
@@ -388,6 +388,29 @@ fn bad_settings_are_refused_with_the_knob_named() {
                 ..Default::default()
             },
             "phi_depth",
+        ),
+        // Positive but so small that phi_depth × view depth underflows (a NaN weight).
+        (
+            FallbackSettings {
+                phi_depth: 1e-39,
+                ..Default::default()
+            },
+            "phi_depth",
+        ),
+        // Finite but so large that the weights' products overflow (∞ × 0 = NaN).
+        (
+            FallbackSettings {
+                phi_lobe: 3e38,
+                ..Default::default()
+            },
+            "phi_lobe",
+        ),
+        (
+            FallbackSettings {
+                phi_normal: 1e31,
+                ..Default::default()
+            },
+            "phi_normal",
         ),
     ];
     for (settings, knob) in cases {
