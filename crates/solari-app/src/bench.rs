@@ -186,6 +186,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                         bvh_quality: quality,
                         max_texture_size: 256,
                         merge_instances: merge,
+                        emitter_bvh: args.scene.emitter_bvh,
                         ..Default::default()
                     },
                 )

@@ -140,6 +140,12 @@ pub struct SceneArgs {
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub merge_instances: bool,
+    /// Software backend: a small BVH over the emissive instances for rays that look only
+    /// for emitters (ReSTIR DI's BRDF-sampled candidates; on by default, within a size rule:
+    /// see `GpuSceneOptions::emitter_bvh`). `off` traces those rays through the whole scene.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub emitter_bvh: bool,
     /// BRDF for every pass and the reference: layered (energy-conserving: a white furnace
     /// reads 1 at every roughness) or gltf-spec (the glTF specification's Appendix B, for
     /// comparisons with other glTF renderers).
@@ -294,6 +300,18 @@ impl SceneArgs {
         Ok((gpu, backend, dlss))
     }
 
+    /// The upload settings these arguments choose (`--bvh-quality`, `--brdf`,
+    /// `--merge-instances`, `--emitter-bvh`).
+    pub fn gpu_scene_options(&self) -> GpuSceneOptions {
+        GpuSceneOptions {
+            bvh_quality: self.bvh_quality,
+            brdf: self.brdf,
+            merge_instances: self.merge_instances,
+            emitter_bvh: self.emitter_bvh,
+            ..Default::default()
+        }
+    }
+
     /// Loads the scene (logging its import warnings), picks its camera, opens the device and
     /// uploads the scene: what every rendering command starts with.
     pub fn prepare(&self) -> Result<Prepared, String> {
@@ -305,12 +323,7 @@ impl SceneArgs {
         }
         let camera = self.pick_camera(&name, &scene)?;
         let (gpu, backend, dlss) = self.device_with_dlss()?;
-        let options = GpuSceneOptions {
-            bvh_quality: self.bvh_quality,
-            brdf: self.brdf,
-            merge_instances: self.merge_instances,
-            ..Default::default()
-        };
+        let options = self.gpu_scene_options();
         let start = std::time::Instant::now();
         let gpu_scene =
             GpuScene::new(&gpu, &scene, backend, &options).map_err(|e| e.to_string())?;

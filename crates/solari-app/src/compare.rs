@@ -21,6 +21,7 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         camera: args.camera.clone(),
         bvh_quality: solari_scene::bvh::BvhQuality::Medium,
         merge_instances: true,
+        emitter_bvh: true,
         // Emission is seen directly (no bounce): the BRDF does not enter.
         brdf: Default::default(),
         // Point lights have no surface a camera sees.

@@ -234,11 +234,7 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             &gpu,
             &scene,
             backend,
-            &solari_scene::gpu_scene::GpuSceneOptions {
-                bvh_quality: args.scene.bvh_quality,
-                brdf: args.scene.brdf,
-                ..Default::default()
-            },
+            &args.scene.gpu_scene_options(),
         )
         .map_err(|e| e.to_string())?;
     }

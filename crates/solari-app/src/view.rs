@@ -15,7 +15,7 @@ use solari_denoise::DenoiserKind;
 use solari_reference::image_io::encode_png_rgb8;
 use solari_renderer::{QualityTier, RealtimeRenderer, RealtimeSettings};
 use solari_scene::gpu::Gpu;
-use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
+use solari_scene::gpu_scene::GpuScene;
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, Scene};
 use std::collections::{HashSet, VecDeque};
@@ -148,11 +148,7 @@ impl Session {
             log::warn!("{name}: {warning}");
         }
         let start = args.pick_camera(&name, &scene)?;
-        let options = GpuSceneOptions {
-            bvh_quality: args.bvh_quality,
-            brdf: args.brdf,
-            ..Default::default()
-        };
+        let options = args.gpu_scene_options();
         let gpu_scene =
             GpuScene::new(gpu, &scene, backend, &options).map_err(|e| format!("{name}: {e}"))?;
         let target = Target {

@@ -110,7 +110,31 @@ pub fn merge_triangle_counts(scene: &Scene) -> (usize, usize) {
 /// Whether a merged BVH of `scene` stays within the size rule of [`MERGE_MAX_TRIANGLES`].
 pub fn merge_fits(scene: &Scene) -> bool {
     let (merged, meshes) = merge_triangle_counts(scene);
-    merged <= MERGE_MAX_TRIANGLES || merged <= meshes.saturating_mul(MERGE_MAX_COPY_FACTOR)
+    copies_fit(merged, meshes)
+}
+
+// The size rule of `MERGE_MAX_TRIANGLES` for `copies` world-space triangles of a scene whose
+// meshes hold `meshes`.
+fn copies_fit(copies: usize, meshes: usize) -> bool {
+    copies <= MERGE_MAX_TRIANGLES || copies <= meshes.saturating_mul(MERGE_MAX_COPY_FACTOR)
+}
+
+/// Triangles the emitter BVH of `scene` would hold: every emissive instance's copy of its
+/// mesh ([`emitter_layout`]).
+pub fn emitter_triangle_count(scene: &Scene) -> usize {
+    emitter_layout(scene)
+        .iter()
+        .map(|&(_, mesh, _)| scene.meshes[mesh as usize].triangle_count())
+        .sum()
+}
+
+/// Whether the emitter BVH of `scene` stays within the size rule of [`MERGE_MAX_TRIANGLES`]
+/// (the copies it makes against the meshes' own triangles). Beyond it, emitter rays trace
+/// the whole scene instead ([`EMITTERS_IN_SCENE`]): thousands of instanced lamps would
+/// otherwise copy millions of triangles for one ray of ReSTIR DI.
+pub fn emitters_fit(scene: &Scene) -> bool {
+    let meshes = scene.meshes.iter().map(|m| m.triangle_count()).sum();
+    copies_fit(emitter_triangle_count(scene), meshes)
 }
 
 /// The flattened two-level BVH, ready to upload; or, merged, one world-space BVH over every
@@ -150,11 +174,21 @@ pub struct SoftwareBvh {
     pub emitter_start: (u32, u32),
     /// The emissive instances the emitter BVH was built from: (instance, mesh, transform).
     pub emitters_from: Vec<(u32, u32, glam::Mat4)>,
+    // Set by `set_emitter_bvh(false, ..)`: every rebuild leaves the emitter BVH out.
+    emitter_bvh_off: bool,
 }
 
 /// [`SoftwareBvh::emitter_root`] of a scene without emissive instances. WGSL twin:
 /// `NO_EMITTERS` in `trace.wesl`.
 pub const NO_EMITTERS: u32 = u32::MAX;
+
+/// [`SoftwareBvh::emitter_root`] of a scene whose instances emit but which has no emitter BVH
+/// (over [`emitters_fit`]'s size rule or the device's binding limit, or turned off with
+/// [`SoftwareBvh::set_emitter_bvh`]): emitter rays trace the whole scene and return its
+/// first surface when that emits, a miss otherwise. ReSTIR DI's BRDF-sampled candidates
+/// then see only the emitters visible along their ray, as before the emitter BVH existed.
+/// WGSL twin: `EMITTERS_IN_SCENE` in `trace.wesl`.
+pub const EMITTERS_IN_SCENE: u32 = u32::MAX - 1;
 
 /// The instances whose material emits, with their mesh and transform: what the emitter BVH
 /// holds ([`SoftwareBvh::emitter_root`]).
@@ -345,13 +379,46 @@ impl SoftwareBvh {
         }
     }
 
+    /// Builds the emitter BVH (`on`, the default) or leaves it out for good, emitter rays
+    /// then tracing the whole scene ([`EMITTERS_IN_SCENE`]); rebuilds what follows it when
+    /// that changes. Off saves the emitter copies' memory and build time (on each light
+    /// switch), at the cost of slower emitter rays and ReSTIR DI's visibility-dependent
+    /// BRDF candidates.
+    pub fn set_emitter_bvh(&mut self, on: bool, scene: &Scene, quality: BvhQuality) {
+        if self.emitter_bvh_off != on {
+            return;
+        }
+        self.emitter_bvh_off = !on;
+        self.rebuild_emitters(scene, quality);
+    }
+
+    /// Whether emitter rays traverse an emitter BVH (else [`SoftwareBvh::emitter_root`] is
+    /// [`NO_EMITTERS`] or [`EMITTERS_IN_SCENE`]).
+    pub fn has_emitter_bvh(&self) -> bool {
+        self.emitter_root < EMITTERS_IN_SCENE
+    }
+
     // Appends the emitter BVH after the nodes and triangles built so far (each mesh's BLAS or
     // the merged level); the TLAS, if any, is built after it.
     fn append_emitters(&mut self, scene: &Scene, quality: BvhQuality) {
         self.emitter_start = (self.nodes.len() as u32, self.triangles.len() as u32);
         self.emitters_from = emitter_layout(scene);
         self.emitter_root = NO_EMITTERS;
-        if !self.emitters_from.is_empty() {
+        if !self.emitters_from.is_empty() && (self.emitter_bvh_off || !emitters_fit(scene)) {
+            if !self.emitter_bvh_off {
+                log::info!(
+                    "no emitter BVH: {} triangles in emissive instances against {} in the \
+                     meshes (bvh::emitters_fit); emitter rays trace the whole scene",
+                    emitter_triangle_count(scene),
+                    scene
+                        .meshes
+                        .iter()
+                        .map(|m| m.triangle_count())
+                        .sum::<usize>()
+                );
+            }
+            self.emitter_root = EMITTERS_IN_SCENE;
+        } else if !self.emitters_from.is_empty() {
             let (tris, ids) = world_triangles(scene, self.emitters_from.iter().map(|e| e.0));
             let (mut nodes, triangles) = build_triangles(&tris, quality, |i| {
                 let (tag, local) = ids[i as usize];

@@ -34,6 +34,29 @@ pub struct GpuSceneOptions {
     /// the two-level BVH for good, since a scene that moved once will move again. Material
     /// changes keep it merged.
     pub merge_instances: bool,
+    /// Software backend: build the emitter BVH, a world-space BVH over the instances whose
+    /// material emits, so that rays looking only for emitters (ReSTIR DI's BRDF-sampled
+    /// candidates, WGSL `trace_emitters`) pass every other surface and skip most of the
+    /// scene (on an H100, ReSTIR DI's first pass on `interior` took 0.95 ms instead of
+    /// 1.28, `benches/RESULTS.md`). Default on. It copies each emissive instance's triangles,
+    /// so it applies only within `bvh::emitters_fit`'s size rule and the device's binding
+    /// limit; without it ([`EmitterTracing::FirstSurface`]) emitter rays trace the whole
+    /// scene and find only emitters they see.
+    pub emitter_bvh: bool,
+}
+
+/// How rays that look only for emitters (WGSL `trace_emitters`) are traced in a
+/// [`GpuScene`] ([`GpuScene::emitter_tracing`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EmitterTracing {
+    /// No instance emits: emitter rays miss.
+    NoEmitters,
+    /// The first emitter along the ray, through any other surface: the emitter BVH, or with
+    /// ray queries the instances' emitter mask ([`MASK_EMITTER`]).
+    EmittersOnly,
+    /// The first surface along the ray if it emits, else a miss: software tracing without an
+    /// emitter BVH ([`GpuSceneOptions::emitter_bvh`], `bvh::EMITTERS_IN_SCENE`).
+    FirstSurface,
 }
 
 impl Default for GpuSceneOptions {
@@ -43,6 +66,7 @@ impl Default for GpuSceneOptions {
             max_texture_size: 1024,
             brdf: crate::brdf::BrdfModel::default(),
             merge_instances: true,
+            emitter_bvh: true,
         }
     }
 }
@@ -101,6 +125,8 @@ pub struct GpuScene {
     info_data: GpuSceneInfo,
     // Whether instance 0's transform is exactly the identity (`TraceVariant::SingleUntransformed`).
     first_instance_identity: bool,
+    // Whether any instance's material emits (after the last `set_instances`).
+    emits: bool,
     generation: u64,
 }
 
@@ -113,9 +139,9 @@ fn rows(m: Mat4) -> [[f32; 4]; 3] {
 // device's binding limit allow, else two-level.
 fn software_accel(gpu: &Gpu, scene: &Scene, options: &GpuSceneOptions) -> Result<Accel, GpuError> {
     if options.merge_instances && merge_fits(scene) {
-        let bvh = SoftwareBvh::build_merged(scene, options.bvh_quality);
-        log_bvh(&bvh);
-        match upload_software(gpu, bvh) {
+        let mut bvh = SoftwareBvh::build_merged(scene, options.bvh_quality);
+        bvh.set_emitter_bvh(options.emitter_bvh, scene, options.bvh_quality);
+        match upload_software(gpu, bvh, scene, options.bvh_quality) {
             Ok(accel) => return Ok(accel),
             Err(e @ GpuError::OverLimit { .. }) => {
                 log::info!("merged BVH over the device's limits ({e}): two-level instead")
@@ -129,18 +155,23 @@ fn software_accel(gpu: &Gpu, scene: &Scene, options: &GpuSceneOptions) -> Result
              (bvh::merge_fits); two-level BVH"
         );
     }
-    let bvh = SoftwareBvh::build(scene, options.bvh_quality);
-    log_bvh(&bvh);
-    upload_software(gpu, bvh)
+    let mut bvh = SoftwareBvh::build(scene, options.bvh_quality);
+    bvh.set_emitter_bvh(options.emitter_bvh, scene, options.bvh_quality);
+    upload_software(gpu, bvh, scene, options.bvh_quality)
 }
 
 fn log_bvh(bvh: &SoftwareBvh) {
     log::info!(
-        "software BVH ({}): {} nodes, {} triangles, {:.1} MiB, BLAS {:?}, TLAS {:?}",
+        "software BVH ({}, {}): {} nodes, {} triangles, {:.1} MiB, BLAS {:?}, TLAS {:?}",
         if bvh.is_merged() {
             "merged"
         } else {
             "two-level"
+        },
+        match bvh.emitter_root {
+            crate::bvh::NO_EMITTERS => "no emitters",
+            crate::bvh::EMITTERS_IN_SCENE => "no emitter BVH",
+            _ => "emitter BVH",
         },
         bvh.nodes.len(),
         bvh.triangles.len(),
@@ -150,8 +181,24 @@ fn log_bvh(bvh: &SoftwareBvh) {
     );
 }
 
-fn upload_software(gpu: &Gpu, bvh: SoftwareBvh) -> Result<Accel, GpuError> {
-    let [nodes, triangles, tlas_instances] = software_buffers(gpu, &bvh)?;
+// Uploads `bvh` (built for `scene`); over the device's binding limit with an emitter BVH, it
+// tries once more without one.
+fn upload_software(
+    gpu: &Gpu,
+    mut bvh: SoftwareBvh,
+    scene: &Scene,
+    quality: BvhQuality,
+) -> Result<Accel, GpuError> {
+    log_bvh(&bvh);
+    let [nodes, triangles, tlas_instances] = match software_buffers(gpu, &bvh) {
+        Err(e @ GpuError::OverLimit { .. }) if bvh.has_emitter_bvh() => {
+            log::info!("BVH with its emitter BVH over the device's limits ({e}): without it");
+            bvh.set_emitter_bvh(false, scene, quality);
+            log_bvh(&bvh);
+            software_buffers(gpu, &bvh)?
+        }
+        other => other?,
+    };
     Ok(Accel::Software {
         nodes,
         triangles,
@@ -432,6 +479,7 @@ impl GpuScene {
             options: options.clone(),
             info_data,
             first_instance_identity: false,
+            emits: false,
             generation: 0,
         };
         this.set_instances(gpu, scene)?;
@@ -454,7 +502,10 @@ impl GpuScene {
                 "instances changed in a merged scene: splitting it into per-mesh BVHs under a \
                  top level (two-level traversal from now on)"
             );
-            self.accel = upload_software(gpu, SoftwareBvh::build(scene, self.options.bvh_quality))?;
+            let q = self.options.bvh_quality;
+            let mut bvh = SoftwareBvh::build(scene, q);
+            bvh.set_emitter_bvh(self.options.emitter_bvh, scene, q);
+            self.accel = upload_software(gpu, bvh, scene, q)?;
         }
         if let Accel::Software {
             bvh,
@@ -469,7 +520,15 @@ impl GpuScene {
             // place: rebuilding a copy of the scene's BVH grew a soak's process by 11 MB over
             // its first light switches (benches/RESULTS.md).
             bvh.rebuild_emitters(scene, self.options.bvh_quality);
-            match software_buffers(gpu, bvh) {
+            let mut buffers = software_buffers(gpu, bvh);
+            if matches!(buffers, Err(GpuError::OverLimit { .. })) && bvh.has_emitter_bvh() {
+                log::info!(
+                    "emitter BVH over the device's limits: emitter rays trace the whole scene"
+                );
+                bvh.set_emitter_bvh(false, scene, self.options.bvh_quality);
+                buffers = software_buffers(gpu, bvh);
+            }
+            match buffers {
                 Ok([n, t, i]) => (*nodes, *triangles, *tlas_instances) = (n, t, i),
                 Err(e) => {
                     // The old buffers stay bound and consistent with the old `scene_info`;
@@ -514,6 +573,7 @@ impl GpuScene {
             .instances
             .first()
             .is_some_and(|i| i.transform == Mat4::IDENTITY);
+        self.emits = !crate::bvh::emitter_layout(scene).is_empty();
         match &mut self.accel {
             // A merged BVH traces these instances as it is (checked above): nothing to rebuild.
             Accel::Software { bvh, .. } if bvh.is_merged() => {
@@ -682,6 +742,19 @@ impl GpuScene {
     /// world-space level over every instance's triangles.
     pub fn is_merged(&self) -> bool {
         matches!(&self.accel, Accel::Software { bvh, .. } if bvh.is_merged())
+    }
+
+    /// How rays that look only for emitters are traced now ([`GpuSceneOptions::emitter_bvh`]).
+    pub fn emitter_tracing(&self) -> EmitterTracing {
+        match &self.accel {
+            Accel::Software { bvh, .. } => match bvh.emitter_root {
+                crate::bvh::NO_EMITTERS => EmitterTracing::NoEmitters,
+                crate::bvh::EMITTERS_IN_SCENE => EmitterTracing::FirstSurface,
+                _ => EmitterTracing::EmittersOnly,
+            },
+            Accel::RayQuery { .. } if self.emits => EmitterTracing::EmittersOnly,
+            Accel::RayQuery { .. } => EmitterTracing::NoEmitters,
+        }
     }
 
     /// Instances in the scene as uploaded now (after the last [`GpuScene::set_instances`]).

@@ -100,7 +100,8 @@ pub struct GpuSceneInfo {
     /// level whose triangles name their instance.
     pub merged: u32,
     /// Root node of the software backend's emitter BVH (`bvh::SoftwareBvh::emitter_root`;
-    /// `bvh::NO_EMITTERS` when no instance emits or with ray queries).
+    /// `bvh::NO_EMITTERS` when no instance emits or with ray queries,
+    /// `bvh::EMITTERS_IN_SCENE` when instances emit but it was left out).
     pub emitter_root: u32,
     /// Uniform buffers are sized in 16 bytes.
     pub _pad: [u32; 2],

@@ -45,6 +45,74 @@ fn scenes_over_buffer_and_layer_limits_are_refused() {
     gpu.check_errors().unwrap();
 }
 
+/// The built-in Cornell box with its light turned into a 400-triangle grid, instanced
+/// `lights` times: its BVH fits `small_gpu`'s 64 KiB bindings, and so does an emitter BVH
+/// of one light, but not of four (1,600 copied triangles of 48 bytes).
+fn cornell_with_grid_lights(lights: usize) -> Scene {
+    let mut scene = default_scene::cornell_box();
+    let light = solari_scene::bvh::emitter_layout(&scene)[0].0 as usize;
+    let (n, m) = (10u32, 20u32);
+    let mesh = &mut scene.meshes[scene.instances[light].mesh as usize];
+    mesh.positions = (0..=m)
+        .flat_map(|y| {
+            (0..=n).map(move |x| glam::Vec3::new(2.0 + x as f32 * 0.1, 5.0, 2.0 + y as f32 * 0.05))
+        })
+        .collect();
+    mesh.normals = vec![-glam::Vec3::Y; mesh.positions.len()];
+    mesh.uvs = vec![glam::Vec2::ZERO; mesh.positions.len()];
+    mesh.tangents = vec![glam::Vec4::X; mesh.positions.len()];
+    mesh.indices = (0..m)
+        .flat_map(|y| (0..n).map(move |x| y * (n + 1) + x))
+        .flat_map(|i| [i, i + n + 2, i + 1, i, i + n + 1, i + n + 2])
+        .collect();
+    let inst = scene.instances[light].clone();
+    for k in 1..lights {
+        let mut copy = inst.clone();
+        copy.transform = glam::Mat4::from_translation(glam::Vec3::new(0.0, -0.1 * k as f32, 0.0));
+        scene.instances.push(copy);
+    }
+    scene
+}
+
+#[test]
+fn an_emitter_bvh_over_the_binding_limit_falls_back_to_the_first_surface() {
+    use solari_scene::gpu_scene::EmitterTracing;
+    let Some(small) = small_gpu() else { return };
+    let Some(gpu) = test_gpu() else { return };
+    let options = GpuSceneOptions {
+        max_texture_size: 16,
+        ..Default::default()
+    };
+    let four = cornell_with_grid_lights(4);
+    // A device with room for it traces emitters alone.
+    let gs = GpuScene::new(&gpu, &four, Backend::Software, &options).unwrap();
+    assert_eq!(gs.emitter_tracing(), EmitterTracing::EmittersOnly);
+    // 64 KiB bindings: neither the merged BVH nor the emitter BVH fits; the two-level BVH
+    // without an emitter BVH does.
+    let gs = GpuScene::new(&small, &four, Backend::Software, &options).unwrap();
+    assert!(!gs.is_merged());
+    assert_eq!(gs.emitter_tracing(), EmitterTracing::FirstSurface);
+    // One light's emitter BVH fits; switching three more on outgrows it at `set_instances`,
+    // which falls back the same way instead of failing.
+    let mut scene = four.clone();
+    let dark = scene.instances[0].material;
+    let lit = scene.instances[scene.instances.len() - 1].material;
+    assert!(!scene.materials[dark as usize].is_emissive());
+    let first_light = scene.instances.len() - 4;
+    for i in &mut scene.instances[first_light + 1..] {
+        i.material = dark;
+    }
+    let mut gs = GpuScene::new(&small, &scene, Backend::Software, &options).unwrap();
+    assert_eq!(gs.emitter_tracing(), EmitterTracing::EmittersOnly);
+    for i in &mut scene.instances[first_light + 1..] {
+        i.material = lit;
+    }
+    gs.set_instances(&small, &scene).unwrap();
+    assert_eq!(gs.emitter_tracing(), EmitterTracing::FirstSurface);
+    small.check_errors().unwrap();
+    gpu.check_errors().unwrap();
+}
+
 #[test]
 fn textures_over_the_size_limit_are_resampled_and_images_refused() {
     let Some(gpu) = small_gpu() else { return };

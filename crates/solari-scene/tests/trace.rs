@@ -736,6 +736,156 @@ fn emitter_rays_see_only_emitters_through_occluders_and_follow_light_switches() 
 }
 
 #[test]
+fn emitter_rays_without_an_emitter_bvh_see_the_first_surface_only_where_it_emits() {
+    // Without an emitter BVH (turned off here; over its size rule or the binding limit in
+    // use) `trace_emitters` returns the scene's closest hit when that emits and a miss
+    // otherwise: the plain closest-hit ray of the same traversal, filtered by material.
+    let Some(gpu) = test_gpu() else { return };
+    use solari_scene::gpu_scene::EmitterTracing;
+    let general = TraceRaysPass::new(&gpu, Backend::Software, TraceVariant::General).unwrap();
+    let mut report = Vec::new();
+    for (name, original) in [
+        ("built-in", default_scene::cornell_box()),
+        (
+            "many_lights",
+            load_gltf(solari_testdata::scene("many_lights")).unwrap(),
+        ),
+    ] {
+        for merge in [false, true] {
+            let mut scene = original.clone();
+            let options = GpuSceneOptions {
+                max_texture_size: 16,
+                merge_instances: merge,
+                emitter_bvh: false,
+                ..Default::default()
+            };
+            let mut gs = GpuScene::new(&gpu, &scene, Backend::Software, &options).unwrap();
+            let lit = solari_scene::bvh::emitter_layout(&scene)[0].0 as usize;
+            let dark = scene
+                .instances
+                .iter()
+                .position(|i| !scene.materials[i.material as usize].is_emissive())
+                .unwrap();
+            for state in ["as loaded", "switched", "all off"] {
+                match state {
+                    "switched" => {
+                        let (on, off) = (
+                            scene.instances[lit].material,
+                            scene.instances[dark].material,
+                        );
+                        scene.instances[lit].material = off;
+                        scene.instances[dark].material = on;
+                    }
+                    "all off" => {
+                        let off = scene.instances[lit].material;
+                        for i in &mut scene.instances {
+                            if scene.materials[i.material as usize].is_emissive() {
+                                i.material = off;
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+                if state != "as loaded" {
+                    gs.set_instances(&gpu, &scene).unwrap();
+                }
+                let expected_tracing = if state == "all off" {
+                    EmitterTracing::NoEmitters
+                } else {
+                    EmitterTracing::FirstSurface
+                };
+                assert_eq!(gs.emitter_tracing(), expected_tracing, "{name} {state}");
+                let (emitters, _) = emitters_only(&scene);
+                let (rays, aimed) = emitter_rays(&scene, &emitters, 7);
+                let hits = general.trace(&gpu, &gs, &rays).unwrap();
+                let plain: Vec<GpuRay> = rays
+                    .iter()
+                    .map(|r| GpuRay {
+                        emitters_only: 0,
+                        ..*r
+                    })
+                    .collect();
+                let closest = general.trace(&gpu, &gs, &plain).unwrap();
+                let emits = |h: &GpuRayHit| {
+                    h.instance != NO_HIT
+                        && scene.materials[scene.instances[h.instance as usize].material as usize]
+                            .is_emissive()
+                };
+                for (i, (h, c)) in hits.iter().zip(&closest).enumerate() {
+                    if emits(c) {
+                        assert_eq!(h, c, "{name} {state} merged {merge}: ray {i}");
+                    } else {
+                        assert_eq!(
+                            h.instance, NO_HIT,
+                            "{name} {state} merged {merge}: ray {i} {h:?}"
+                        );
+                    }
+                }
+                let seen = hits[aimed..]
+                    .iter()
+                    .filter(|h| h.instance != NO_HIT)
+                    .count();
+                let hidden = closest[aimed..].iter().filter(|c| !emits(c)).count();
+                report.push(format!(
+                    "{name} {state} merged {merge}: {} rays, aimed at emitters {seen} hit, {hidden} hidden",
+                    rays.len()
+                ));
+                if state != "all off" {
+                    // Both kinds occur, so the filter is exercised both ways.
+                    assert!(
+                        seen > 0 && hidden > 0,
+                        "{name} {state}: {seen} seen, {hidden} hidden"
+                    );
+                }
+            }
+        }
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+#[test]
+fn the_emitter_bvh_follows_its_size_rule() {
+    use solari_scene::bvh::{
+        BvhQuality, EMITTERS_IN_SCENE, MERGE_MAX_TRIANGLES, SoftwareBvh, emitter_triangle_count,
+        emitters_fit,
+    };
+    let mut scene = default_scene::cornell_box();
+    assert!(emitters_fit(&scene));
+    // The light becomes a 301,088-triangle grid, instanced until its copies pass both
+    // bounds: more than MERGE_MAX_TRIANGLES and more than twice the meshes' triangles.
+    let light = solari_scene::bvh::emitter_layout(&scene)[0].0 as usize;
+    let n = 388u32;
+    let mesh = &mut scene.meshes[scene.instances[light].mesh as usize];
+    mesh.positions = (0..=n)
+        .flat_map(|y| (0..=n).map(move |x| Vec3::new(x as f32, 5.0, y as f32) / n as f32))
+        .collect();
+    mesh.normals = vec![-Vec3::Y; mesh.positions.len()];
+    mesh.uvs = vec![Vec2::ZERO; mesh.positions.len()];
+    mesh.tangents = vec![glam::Vec4::X; mesh.positions.len()];
+    mesh.indices = (0..n)
+        .flat_map(|y| (0..n).map(move |x| y * (n + 1) + x))
+        .flat_map(|i| [i, i + 1, i + n + 2, i, i + n + 2, i + n + 1])
+        .collect();
+    let copies = MERGE_MAX_TRIANGLES / mesh.triangle_count() + 1;
+    let inst = scene.instances[light].clone();
+    scene
+        .instances
+        .extend(std::iter::repeat_n(inst, copies - 1));
+    assert!(!emitters_fit(&scene), "{}", emitter_triangle_count(&scene));
+    // Over the rule the BVH has no emitter BVH (and no copies): emitters in the scene.
+    let bvh = SoftwareBvh::build(&scene, BvhQuality::Fastest);
+    assert_eq!(bvh.emitter_root, EMITTERS_IN_SCENE);
+    assert!(!bvh.has_emitter_bvh());
+    assert_eq!(
+        bvh.triangles.len(),
+        bvh.emitter_start.1 as usize,
+        "no emitter copies"
+    );
+    scene.instances.pop();
+    assert!(emitters_fit(&scene), "{}", emitter_triangle_count(&scene));
+}
+
+#[test]
 fn merging_follows_its_size_rule() {
     use solari_scene::bvh::{MERGE_MAX_TRIANGLES, merge_fits, merge_triangle_counts};
     let mut scene = default_scene::cornell_box();
