@@ -537,6 +537,11 @@ fn images_over_the_binding_limit_are_refused_by_name() {
 /// exactly its kernel's taps: the diamond reaches the pixels within two steps by
 /// Manhattan distance and no corner of the 5×5 square, the full kernel reaches the corners
 /// too, and neither reaches three steps.
+/// One à-trous iteration over one lit pixel on a flat wall reaches exactly the kernel's taps,
+/// each with its B3 weight: with the luminance weight made flat (a huge `phi_luminance`) and
+/// coplanar, parallel taps, a pixel q near the centre reads K(centre − q) / ΣK, so its output
+/// over the centre's is K(centre − q) / K(0) (the taps are spelled out one by one in
+/// `denoise_atrous_filter.wesl`: a wrong offset or weight among them shows here).
 #[test]
 fn each_kernel_spreads_a_lit_pixel_over_its_taps() {
     let Some(mut h) = Harness::new() else { return };
@@ -545,10 +550,12 @@ fn each_kernel_spreads_a_lit_pixel_over_its_taps() {
     let centre = 14i32;
     let mut input = vec![[0.0f32, 0.0, 0.0, 1.0]; n];
     input[(centre * SIZE as i32 + centre) as usize] = [1.0, 1.0, 1.0, 1.0];
+    let b3 = |d: i32| [0.375f32, 0.25, 0.0625][d.unsigned_abs() as usize];
     for kernel in [AtrousKernel::Diamond, AtrousKernel::Full] {
         let settings = FallbackSettings {
             atrous_iterations: 1,
             atrous_kernel: kernel,
+            phi_luminance: 1e6,
             ..FallbackSettings::default()
         };
         let mut d = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
@@ -564,6 +571,25 @@ fn each_kernel_spreads_a_lit_pixel_over_its_taps() {
                 };
                 assert_eq!(lit, reached, "{kernel:?}: ({dx}, {dy}) reads {p:?}");
             }
+        }
+        // Pixels whose own taps all lie on the wall (within three of the centre).
+        let at = |dx: i32, dy: i32| out[((centre + dy) * SIZE as i32 + centre + dx) as usize][0];
+        for (dx, dy) in [
+            (1, 0),
+            (-1, 0),
+            (0, 1),
+            (0, -1),
+            (1, 1),
+            (-1, 1),
+            (1, -1),
+            (-1, -1),
+        ] {
+            let ratio = at(dx, dy) / at(0, 0);
+            let expected = b3(dx) * b3(dy) / (b3(0) * b3(0));
+            assert!(
+                (ratio - expected).abs() <= 1e-4 * expected,
+                "{kernel:?}: ({dx}, {dy}) reads {ratio} of the centre, the kernel {expected}"
+            );
         }
     }
 }
