@@ -215,6 +215,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "light_grid": grid_json});
         // (Outside the macro, which reaches its recursion limit with one more field.)
         v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
+        v["gi_half_rate"] = applied.restir_gi.half_rate.into();
         println!("{v}");
     } else {
         println!(

@@ -342,7 +342,8 @@ impl RealtimeSettings {
             self.cache.validate().map_err(|e| e.to_string())?;
         }
         if self.gi.traced() {
-            self.restir_gi.validate().map_err(|e| e.to_string())?;
+            // As the mode runs them: path GI's reuse is off whatever `restir_gi` says.
+            self.gi_settings().validate().map_err(|e| e.to_string())?;
         }
         if self.specular_gi {
             self.specular.validate().map_err(|e| e.to_string())?;

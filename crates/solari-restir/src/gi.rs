@@ -308,6 +308,9 @@ impl RestirGi {
         if self.in_place {
             bits |= flags::IN_PLACE;
         }
+        if s.half_rate {
+            bits |= flags::HALF_RATE;
+        }
         let params = GpuGiParams {
             width: self.size.0,
             height: self.size.1,

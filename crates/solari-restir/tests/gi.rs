@@ -205,6 +205,13 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
                 ..Default::default()
             }),
         ),
+        (
+            "plain, half rate",
+            Mode::Gi(RestirGiSettings {
+                half_rate: true,
+                ..RestirGiSettings::plain()
+            }),
+        ),
     ];
     for (name, mode) in modes {
         let mut s = setup(&gpu, &scene, size, mode);
@@ -229,13 +236,17 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // neighbour's sample and finds it hidden, the pixel keeps an empty reservoir that its
     // next frames inherit, so its frames are more alike and their mean converges a little
     // more slowly.
-    let (cache, plain, restir, plain4, chosen) =
-        (results[0], results[1], results[2], results[5], results[6]);
+    // Half rate (each pixel traced every other frame at twice the weight): unbiased, with
+    // twice the variance per traced frame, so its 256-frame mean is noisier than plain's.
+    let (cache, plain, restir, plain4, chosen, half) = (
+        results[0], results[1], results[2], results[5], results[6], results[7],
+    );
     for (gi, mean_bound) in [
         (plain, 1.15),
         (restir, 1.15),
         (plain4, 1.15),
         (chosen, 1.25),
+        (half, 1.5),
     ] {
         // All estimate the cache-terminated bounce without bias.
         assert!(
@@ -300,6 +311,13 @@ fn gi_converges_to_the_sphere_furnace_closed_form() {
     };
     let modes = [
         ("plain", Mode::Gi(RestirGiSettings::plain())),
+        (
+            "plain, half rate",
+            Mode::Gi(RestirGiSettings {
+                half_rate: true,
+                ..RestirGiSettings::plain()
+            }),
+        ),
         (
             "restir, two spatial rays",
             Mode::Gi(RestirGiSettings {
@@ -377,6 +395,11 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
             spatial_radius: f32::INFINITY,
             ..Default::default()
         },
+        // Half rate leaves half the reservoirs empty each frame: reuse would carry them.
+        RestirGiSettings {
+            half_rate: true,
+            ..Default::default()
+        },
     ];
     for s in cases {
         let e = s.validate().expect_err("refused").to_string();
@@ -384,6 +407,12 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
     }
     RestirGiSettings::default().validate().unwrap();
     RestirGiSettings::plain().validate().unwrap();
+    RestirGiSettings {
+        half_rate: true,
+        ..RestirGiSettings::plain()
+    }
+    .validate()
+    .unwrap();
 }
 
 /// Plain path GI keeps one reservoir buffer (the shade stores each pixel's reservoir back
