@@ -44,12 +44,13 @@ pub struct RestirGiSettings {
     /// Plain path GI only (no reuse): each frame only half the pixels trace, a checkerboard
     /// that flips every frame, at twice the weight; the others have no GI sample that frame
     /// (default off). Unbiased, and the denoiser's filters fill the gaps. The tracing pixels
-    /// are packed into whole warps, so the pass does half the work: on an H100 at 1080p GI's
-    /// first pass took 0.60 ms instead of 1.02 on `interior` (frame 4.47 ms instead of 4.88)
-    /// and 0.32 instead of 0.50 on many_lights. The cost is noise where the history is
-    /// young: relMSE against the full-bounce reference (960×540, fallback denoiser) rose 14%
-    /// on interior's 8th frame and 3.5% on its 136th, 6–18% on the Cornell box and 8–10% on
-    /// sun_boxes (`benches/RESULTS.md`, "Path GI from half the pixels").
+    /// are packed into whole warps, so the pass does half the work: on an H100 at 1080p
+    /// GI's first pass took 0.60 ms instead of 1.03 on `interior` (the default frame 4.49 ms
+    /// instead of 4.91) and 0.32 instead of 0.51 on many_lights. The cost is noise, most
+    /// where histories are young: relMSE against the full-bounce reference (960×540,
+    /// fallback denoiser) rose 11% on interior's 8th frame, 3.4% on its 136th and 1.9% on a
+    /// 16-frame mean; 8–20% on the Cornell box and sun_boxes (`benches/RESULTS.md`, "Path GI
+    /// from half the pixels").
     pub half_rate: bool,
 }
 
