@@ -17,11 +17,8 @@ BINS=${BINS:-solari_base solari_dn solari}
 mkdir -p "$OUT"
 case "${1:-}" in
   time)
-    RESULTS=/root/ab BINS="$BINS" FLAGS="--denoiser fallback" REPS=${REPS:-2} FRAMES=300 \
-      BVH_SCENES=" " SCENES="${SCENES:-cornell_box sun_boxes many_lights interior}" \
-      bash benches/results/ab_passes_h200.sh > "$OUT/time_log.txt" 2>&1
-    python3 benches/results/memory_scratch_2026-11-26/ab_variants.py /root/ab "$BINS" \
-      | tee "$OUT/time_table.txt"
+    # The emitter BVH study's `time`, which is exactly this (ab_passes_h200.sh, then the table).
+    BINS="$BINS" bash benches/results/emitter_bvh_2026-11-26/run.sh time
     ;;
   rays)
     for rep in $(seq 1 "${REPS:-2}"); do

@@ -576,6 +576,35 @@ fn emitter_rays(scene: &Scene, emitters: &Scene, seed: u64) -> (Vec<GpuRay>, usi
     (rays, aimed)
 }
 
+/// The light states the emitter tests walk through, in order: as loaded; one emitter off and a
+/// plain instance on (`switch_lights`); every emitter off.
+const LIGHT_STATES: [&str; 3] = ["as loaded", "switched", "all off"];
+
+/// Puts `scene` into `state` of [`LIGHT_STATES`] from the one before it: "switched" swaps the
+/// materials of emitter `lit` and plain instance `dark`; "all off" gives every emissive
+/// instance `lit`'s material (plain by then).
+fn switch_lights(scene: &mut Scene, state: &str, lit: usize, dark: usize) {
+    match state {
+        "switched" => {
+            let (on, off) = (
+                scene.instances[lit].material,
+                scene.instances[dark].material,
+            );
+            scene.instances[lit].material = off;
+            scene.instances[dark].material = on;
+        }
+        "all off" => {
+            let off = scene.instances[lit].material;
+            for i in &mut scene.instances {
+                if scene.materials[i.material as usize].is_emissive() {
+                    i.material = off;
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
 #[test]
 fn emitter_rays_see_only_emitters_through_occluders_and_follow_light_switches() {
     let Some(gpu) = test_gpu() else { return };
@@ -613,26 +642,8 @@ fn emitter_rays_see_only_emitters_through_occluders_and_follow_light_switches() 
                 assert!(!emissive.is_empty(), "{name}: has emitters");
                 // As loaded; with the first emitter switched off and a plain instance
                 // switched on; with every emitter off (nothing to find).
-                for state in ["as loaded", "switched", "all off"] {
-                    match state {
-                        "switched" => {
-                            let (lit, off) = (
-                                scene.instances[emissive[0]].material,
-                                scene.instances[dark].material,
-                            );
-                            scene.instances[emissive[0]].material = off;
-                            scene.instances[dark].material = lit;
-                        }
-                        "all off" => {
-                            let off = scene.instances[emissive[0]].material;
-                            for i in &mut scene.instances {
-                                if scene.materials[i.material as usize].is_emissive() {
-                                    i.material = off;
-                                }
-                            }
-                        }
-                        _ => {}
-                    }
+                for state in LIGHT_STATES {
+                    switch_lights(&mut scene, state, emissive[0], dark);
                     if state != "as loaded" {
                         gs.set_instances(&gpu, &scene).unwrap();
                     }
@@ -766,26 +777,8 @@ fn emitter_rays_without_an_emitter_bvh_see_the_first_surface_only_where_it_emits
                 .iter()
                 .position(|i| !scene.materials[i.material as usize].is_emissive())
                 .unwrap();
-            for state in ["as loaded", "switched", "all off"] {
-                match state {
-                    "switched" => {
-                        let (on, off) = (
-                            scene.instances[lit].material,
-                            scene.instances[dark].material,
-                        );
-                        scene.instances[lit].material = off;
-                        scene.instances[dark].material = on;
-                    }
-                    "all off" => {
-                        let off = scene.instances[lit].material;
-                        for i in &mut scene.instances {
-                            if scene.materials[i.material as usize].is_emissive() {
-                                i.material = off;
-                            }
-                        }
-                    }
-                    _ => {}
-                }
+            for state in LIGHT_STATES {
+                switch_lights(&mut scene, state, lit, dark);
                 if state != "as loaded" {
                     gs.set_instances(&gpu, &scene).unwrap();
                 }
