@@ -607,6 +607,18 @@ impl RealtimeArgs {
             // Parsed now too, so a bad table stops the command before any work.
             crate::quality_choice::error_table(self)?;
         }
+        if settings.restir_gi.half_rate && matches!(settings.gi, GiMode::Off | GiMode::WorldCache) {
+            // These modes trace no GI ray (ReSTIR GI refuses it in `validate`, below). Said
+            // once: a command may build its settings more than once.
+            static WARNED: std::sync::atomic::AtomicBool =
+                std::sync::atomic::AtomicBool::new(false);
+            if !WARNED.swap(true, std::sync::atomic::Ordering::Relaxed) {
+                log::warn!(
+                    "--gi-half-rate applies to path GI only: ignored with GI mode {:?}",
+                    settings.gi
+                );
+            }
+        }
         settings.validate()?;
         Ok(settings)
     }
