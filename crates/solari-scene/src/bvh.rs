@@ -190,6 +190,14 @@ pub const NO_EMITTERS: u32 = u32::MAX;
 /// WGSL twin: `EMITTERS_IN_SCENE` in `trace.wesl`.
 pub const EMITTERS_IN_SCENE: u32 = u32::MAX - 1;
 
+/// Whether `instance`'s material in `scene` emits (the emitter BVH holds it).
+pub fn instance_emits(scene: &Scene, instance: &crate::model::Instance) -> bool {
+    scene
+        .materials
+        .get(instance.material as usize)
+        .is_some_and(|m| m.is_emissive())
+}
+
 /// The instances whose material emits, with their mesh and transform: what the emitter BVH
 /// holds ([`SoftwareBvh::emitter_root`]).
 pub fn emitter_layout(scene: &Scene) -> Vec<(u32, u32, glam::Mat4)> {
@@ -197,12 +205,7 @@ pub fn emitter_layout(scene: &Scene) -> Vec<(u32, u32, glam::Mat4)> {
         .instances
         .iter()
         .enumerate()
-        .filter(|(_, i)| {
-            scene
-                .materials
-                .get(i.material as usize)
-                .is_some_and(|m| m.is_emissive())
-        })
+        .filter(|(_, i)| instance_emits(scene, i))
         .map(|(k, i)| (k as u32, i.mesh, i.transform))
         .collect()
 }

@@ -37,8 +37,8 @@ pub struct GpuSceneOptions {
     /// Software backend: build the emitter BVH, a world-space BVH over the instances whose
     /// material emits, so that rays looking only for emitters (ReSTIR DI's BRDF-sampled
     /// candidates, WGSL `trace_emitters`) pass every other surface and skip most of the
-    /// scene (on an H100, ReSTIR DI's first pass on `interior` took 0.95 ms instead of
-    /// 1.28, `benches/RESULTS.md`). Default on. It copies each emissive instance's triangles,
+    /// scene (on an H100, ReSTIR DI's first pass on `interior` took 0.90 ms with it and
+    /// 1.26 without, `benches/RESULTS.md`). Default on. It copies each emissive instance's triangles,
     /// so it applies only within `bvh::emitters_fit`'s size rule and the device's binding
     /// limit; without it ([`EmitterTracing::FirstSurface`]) emitter rays trace the whole
     /// scene and find only emitters they see.
@@ -181,8 +181,7 @@ fn log_bvh(bvh: &SoftwareBvh) {
     );
 }
 
-// Uploads `bvh` (built for `scene`); over the device's binding limit with an emitter BVH, it
-// tries once more without one.
+// Uploads `bvh` (built for `scene`; see `fitting_buffers`).
 fn upload_software(
     gpu: &Gpu,
     mut bvh: SoftwareBvh,
@@ -190,21 +189,36 @@ fn upload_software(
     quality: BvhQuality,
 ) -> Result<Accel, GpuError> {
     log_bvh(&bvh);
-    let [nodes, triangles, tlas_instances] = match software_buffers(gpu, &bvh) {
-        Err(e @ GpuError::OverLimit { .. }) if bvh.has_emitter_bvh() => {
-            log::info!("BVH with its emitter BVH over the device's limits ({e}): without it");
-            bvh.set_emitter_bvh(false, scene, quality);
-            log_bvh(&bvh);
-            software_buffers(gpu, &bvh)?
-        }
-        other => other?,
-    };
+    let [nodes, triangles, tlas_instances] = fitting_buffers(gpu, &mut bvh, scene, quality)?;
     Ok(Accel::Software {
         nodes,
         triangles,
         tlas_instances,
         bvh: Box::new(bvh),
     })
+}
+
+// `software_buffers`, except that over the device's binding limit with an emitter BVH, `bvh`
+// leaves the emitter BVH out (for good) and is tried once more: at upload and at the light
+// switches that rebuild it.
+fn fitting_buffers(
+    gpu: &Gpu,
+    bvh: &mut SoftwareBvh,
+    scene: &Scene,
+    quality: BvhQuality,
+) -> Result<[wgpu::Buffer; 3], GpuError> {
+    match software_buffers(gpu, bvh) {
+        Err(e @ GpuError::OverLimit { .. }) if bvh.has_emitter_bvh() => {
+            log::info!(
+                "BVH with its emitter BVH over the device's limits ({e}): emitter rays trace \
+                 the whole scene"
+            );
+            bvh.set_emitter_bvh(false, scene, quality);
+            log_bvh(bvh);
+            software_buffers(gpu, bvh)
+        }
+        other => other,
+    }
 }
 
 // The software BVH's buffers: nodes, triangles, TLAS leaf instances.
@@ -520,15 +534,7 @@ impl GpuScene {
             // place: rebuilding a copy of the scene's BVH grew a soak's process by 11 MB over
             // its first light switches (benches/RESULTS.md).
             bvh.rebuild_emitters(scene, self.options.bvh_quality);
-            let mut buffers = software_buffers(gpu, bvh);
-            if matches!(buffers, Err(GpuError::OverLimit { .. })) && bvh.has_emitter_bvh() {
-                log::info!(
-                    "emitter BVH over the device's limits: emitter rays trace the whole scene"
-                );
-                bvh.set_emitter_bvh(false, scene, self.options.bvh_quality);
-                buffers = software_buffers(gpu, bvh);
-            }
-            match buffers {
+            match fitting_buffers(gpu, bvh, scene, self.options.bvh_quality) {
                 Ok([n, t, i]) => (*nodes, *triangles, *tlas_instances) = (n, t, i),
                 Err(e) => {
                     // The old buffers stay bound and consistent with the old `scene_info`;
@@ -573,7 +579,10 @@ impl GpuScene {
             .instances
             .first()
             .is_some_and(|i| i.transform == Mat4::IDENTITY);
-        self.emits = !crate::bvh::emitter_layout(scene).is_empty();
+        self.emits = scene
+            .instances
+            .iter()
+            .any(|i| crate::bvh::instance_emits(scene, i));
         match &mut self.accel {
             // A merged BVH traces these instances as it is (checked above): nothing to rebuild.
             Accel::Software { bvh, .. } if bvh.is_merged() => {
