@@ -13,7 +13,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{AtrousKernel, DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
-    CameraPath, FiniteCheck, FrameView, GBufferChoice, GiMode, RealtimeSettings,
+    CameraPath, DI_REUSE_LIGHT_THRESHOLD, FiniteCheck, FrameView, GBufferChoice, GiMode,
+    RealtimeSettings,
 };
 use solari_restir::{RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings};
 use solari_scene::brdf::BrdfModel;
@@ -391,9 +392,11 @@ pub struct RealtimeArgs {
     /// emitters and the environment, so glossy surfaces reflect lights in DI.
     #[arg(long, default_value_t = 1)]
     pub brdf_candidates: u32,
-    /// ReSTIR DI reuse: all (temporal and spatial), temporal, spatial or none (plain RIS
-    /// from the light tiles: each frame's samples stand alone).
-    #[arg(long, value_enum, default_value_t = DiReuse::All)]
+    /// ReSTIR DI reuse: auto (all, except on scenes of at most 64 light elements under the
+    /// fallback denoiser, where reuse buys nothing measurable), all (temporal and spatial),
+    /// temporal, spatial or none (plain RIS from the light tiles: each frame's samples stand
+    /// alone).
+    #[arg(long, value_enum, default_value_t = DiReuse::Auto)]
     pub di_reuse: DiReuse,
     /// ReSTIR DI draws initial candidates from a world-space light grid: SHARE of them
     /// (0 to 0.95; 0.75 when the flag has no value) from the lights listed in the pixel's
@@ -538,8 +541,18 @@ impl RealtimeArgs {
             di: RestirDiSettings {
                 initial_candidates: self.candidates,
                 brdf_candidates: self.brdf_candidates,
-                temporal: matches!(self.di_reuse, DiReuse::All | DiReuse::Temporal),
-                spatial: matches!(self.di_reuse, DiReuse::All | DiReuse::Spatial),
+                temporal: matches!(
+                    self.di_reuse,
+                    DiReuse::Auto | DiReuse::All | DiReuse::Temporal
+                ),
+                spatial: matches!(
+                    self.di_reuse,
+                    DiReuse::Auto | DiReuse::All | DiReuse::Spatial
+                ),
+                reuse_light_threshold: match self.di_reuse {
+                    DiReuse::Auto => DI_REUSE_LIGHT_THRESHOLD,
+                    _ => 0,
+                },
                 ..Default::default()
             },
             selection: self.selection,
@@ -650,7 +663,10 @@ impl LightGridArgs {
 /// Which of ReSTIR DI's reuse steps run (`--di-reuse`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum DiReuse {
-    /// Temporal and spatial reuse.
+    /// Temporal and spatial reuse, skipped on scenes of few lights under the fallback
+    /// denoiser (`solari_renderer::DI_REUSE_LIGHT_THRESHOLD`, with the figures).
+    Auto,
+    /// Temporal and spatial reuse, always.
     All,
     /// Last frame's reservoir only.
     Temporal,

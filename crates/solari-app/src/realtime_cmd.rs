@@ -191,6 +191,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "gi_samples": applied.restir_gi.initial_samples,
             "gi_spatial_visibility": applied.restir_gi.spatial_visibility.name(),
             "di_reuse": match (applied.di.temporal, applied.di.spatial) {
+                _ if renderer.di_reuse_skipped() => "none",
                 (true, true) => "all", (true, false) => "temporal",
                 (false, true) => "spatial", (false, false) => "none" },
             "quality": quality.as_ref().map(|q| q.json()),
@@ -216,6 +217,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         // (Outside the macro, which reaches its recursion limit with one more field.)
         v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
         v["gi_half_rate"] = applied.restir_gi.half_rate.into();
+        v["di_reuse_skipped"] = renderer.di_reuse_skipped().into();
         println!("{v}");
     } else {
         println!(
@@ -228,6 +230,12 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         );
         if args.realtime.check_finite {
             println!("non-finite detector: every pass of every frame was finite");
+        }
+        if renderer.di_reuse_skipped() {
+            println!(
+                "ReSTIR DI reuse skipped: the scene has few lights and the fallback denoiser \
+                 runs (--di-reuse all keeps it)"
+            );
         }
         if let Some(wall) = wall_ms {
             let gpu = gpu_frame_ms.map_or("untimed".to_string(), |g| format!("{g:.3} ms"));

@@ -538,6 +538,10 @@ impl Viewer {
             s.specular_gi = c.specular_gi;
             s.di.temporal = c.di_reuse;
             s.di.spatial = c.di_reuse;
+            // A choice made here is the user's, not the light-count rule's.
+            if c.di_reuse != before.di_reuse {
+                s.di.reuse_light_threshold = 0;
+            }
             s.denoiser = Some(c.denoiser);
             s.view = c.view;
         }

@@ -258,7 +258,11 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
                     }
                 });
             ui.checkbox(&mut c.specular_gi, "specular GI");
-            ui.checkbox(&mut c.di_reuse, "ReSTIR DI reuse");
+            ui.checkbox(&mut c.di_reuse, "ReSTIR DI reuse")
+                .on_hover_text(
+                    "From the command line (--di-reuse auto) reuse is skipped on scenes of few \
+                 lights under the fallback denoiser; toggling here sets it for every scene",
+                );
             egui::ComboBox::from_label("denoiser")
                 .selected_text(c.denoiser.name())
                 .show_ui(ui, |ui| {

@@ -2,7 +2,7 @@
 
 use clap::Parser;
 use solari_app::cli::{Cli, Command};
-use solari_renderer::{FrameView, GiMode, RealtimeSettings};
+use solari_renderer::{DI_REUSE_LIGHT_THRESHOLD, FrameView, GiMode, RealtimeSettings};
 
 fn settings(args: &[&str]) -> RealtimeSettings {
     let argv = [&["solari", "render", "--mode", "realtime"], args].concat();
@@ -22,9 +22,9 @@ fn scene_args(args: &[&str]) -> Result<solari_app::cli::SceneArgs, clap::Error> 
     })
 }
 
-fn di(args: &[&str]) -> (bool, bool) {
+fn di(args: &[&str]) -> (bool, bool, u32) {
     let s = settings(args);
-    (s.di.temporal, s.di.spatial)
+    (s.di.temporal, s.di.spatial, s.di.reuse_light_threshold)
 }
 
 #[test]
@@ -58,11 +58,27 @@ fn gi_defaults_are_the_measured_choice_and_match_the_library() {
 
 #[test]
 fn di_reuse_chooses_the_reuse_steps() {
-    assert_eq!(di(&[]), (true, true), "default: both reuse steps");
-    assert_eq!(di(&["--di-reuse", "all"]), (true, true));
-    assert_eq!(di(&["--di-reuse", "temporal"]), (true, false));
-    assert_eq!(di(&["--di-reuse", "spatial"]), (false, true));
-    assert_eq!(di(&["--di-reuse", "none"]), (false, false));
+    let few = DI_REUSE_LIGHT_THRESHOLD;
+    assert!(few > 0);
+    assert_eq!(
+        di(&[]),
+        (true, true, few),
+        "default: both reuse steps, skipped on scenes of few lights"
+    );
+    assert_eq!(di(&["--di-reuse", "auto"]), (true, true, few));
+    assert_eq!(
+        RealtimeSettings::default().di.reuse_light_threshold,
+        few,
+        "the library's default is the command's"
+    );
+    assert_eq!(
+        di(&["--di-reuse", "all"]),
+        (true, true, 0),
+        "all means always"
+    );
+    assert_eq!(di(&["--di-reuse", "temporal"]), (true, false, 0));
+    assert_eq!(di(&["--di-reuse", "spatial"]), (false, true, 0));
+    assert_eq!(di(&["--di-reuse", "none"]), (false, false, 0));
     assert!(
         Cli::try_parse_from(["solari", "render", "--di-reuse", "some"]).is_err(),
         "unknown reuse names are refused"

@@ -238,6 +238,8 @@ pub struct GpuLights {
     pub bind_group: wgpu::BindGroup,
     /// Number of lights (0: passes that need lights can skip).
     pub light_count: u32,
+    /// [`LightList::sampling_elements`] of the uploaded list.
+    pub sampling_elements: u32,
     /// Whether a light grid was uploaded ([`GpuLights::with_grid`]).
     pub has_grid: bool,
     buffers: [wgpu::Buffer; 7],
@@ -398,6 +400,7 @@ impl GpuLights {
             layout,
             bind_group,
             light_count: info.light_count,
+            sampling_elements: list.sampling_elements(),
             has_grid: grid.is_some(),
             buffers,
         })

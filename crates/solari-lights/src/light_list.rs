@@ -526,6 +526,22 @@ impl LightList {
         self.lights.len()
     }
 
+    /// How many separate things light sampling chooses among: each emissive triangle, each
+    /// directional, point or spot light; `u32::MAX` with an environment map (a continuum of
+    /// directions). A measure of how hard a scene's lights are to sample, which is what
+    /// decides whether ReSTIR DI's reuse pays (`RestirDiSettings::reuse_light_threshold`).
+    pub fn sampling_elements(&self) -> u32 {
+        let mut n = 0u32;
+        for l in &self.lights {
+            n = n.saturating_add(match *l {
+                Light::Emissive { triangle_count, .. } => triangle_count,
+                Light::Environment { .. } => u32::MAX,
+                _ => 1,
+            });
+        }
+        n
+    }
+
     /// Whether the scene has no light that can contribute (passes that need lights skip).
     pub fn is_empty(&self) -> bool {
         self.lights.is_empty()

@@ -125,6 +125,33 @@ fn lights_that_cannot_contribute_are_left_out_and_reported() {
 }
 
 #[test]
+fn sampling_elements_count_triangles_and_analytic_lights() {
+    // Two bright quads (two triangles each) and a black one, which is left out.
+    let mut scene = scene_of(&[
+        (Mat4::IDENTITY, Vec3::ONE),
+        (Mat4::from_translation(Vec3::Y), Vec3::ONE),
+        (Mat4::IDENTITY, Vec3::ZERO),
+    ]);
+    assert_eq!(LightList::build(&scene).sampling_elements(), 4);
+    let sun = |irradiance| DirectionalLight {
+        name: "sun".into(),
+        direction: -Vec3::Y,
+        irradiance,
+        angular_diameter: 0.01,
+    };
+    scene.directional_lights.push(sun(Vec3::ONE));
+    // A black sun is no light, so no element either.
+    scene.directional_lights.push(sun(Vec3::ZERO));
+    assert_eq!(LightList::build(&scene).sampling_elements(), 5);
+    // An environment map is a continuum of directions: unbounded.
+    let map = solari_scene::EnvironmentMap::new(2, 1, vec![Vec3::ONE; 2]).unwrap();
+    scene.environment_radiance = Vec3::ONE;
+    scene.environment_map = Some(std::sync::Arc::new(map));
+    assert_eq!(LightList::build(&scene).sampling_elements(), u32::MAX);
+    assert_eq!(LightList::build(&Scene::default()).sampling_elements(), 0);
+}
+
+#[test]
 fn translation_follows_keys_and_drops_removed_lights() {
     let t = |y: f32| Mat4::from_translation(Vec3::new(0.0, y, 0.0));
     let before = scene_of(&[

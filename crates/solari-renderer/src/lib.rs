@@ -17,8 +17,8 @@ pub use gbuffer_choice::{GBufferChoice, GBufferTiming};
 pub use present::Presenter;
 pub use quality::{QualitySetting, QualityTier, Resolution};
 pub use realtime::{
-    CameraPath, CameraRig, FINITE_SLOTS, FiniteCheck, FrameReport, FrameView, GiMode, PASS_NAMES,
-    PassRun, RealtimeRenderer, RealtimeSettings,
+    CameraPath, CameraRig, DI_REUSE_LIGHT_THRESHOLD, FINITE_SLOTS, FiniteCheck, FrameReport,
+    FrameView, GiMode, PASS_NAMES, PassRun, RealtimeRenderer, RealtimeSettings,
 };
 pub use solari_scene::gbuffer::GBufferProducer;
 

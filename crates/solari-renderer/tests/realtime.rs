@@ -4,8 +4,12 @@
 //! in solari-restir (`tests/convergence.rs`).
 
 use glam::Vec3;
+use solari_denoise::DenoiserKind;
 use solari_lights::LightTileSettings;
-use solari_renderer::{CameraPath, GBufferChoice, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{
+    CameraPath, DI_REUSE_LIGHT_THRESHOLD, GBufferChoice, RealtimeRenderer, RealtimeSettings,
+};
+use solari_restir::RestirDiSettings;
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_scene::GpuScene;
 use solari_scene::{DirectionalLight, Scene, default_scene};
@@ -619,4 +623,45 @@ fn a_light_switched_on_shines_at_full_strength_at_once() {
             100.0 * (m - dark) / share
         );
     }
+}
+
+/// The light-count rule of DI's reuse (`DI_REUSE_LIGHT_THRESHOLD`) holds only where it was
+/// measured, under the fallback denoiser; set_di_settings keeps that.
+#[test]
+fn di_reuse_is_skipped_for_few_lights_under_the_fallback_denoiser_only() {
+    let Some(c) = Cornell::new() else { return };
+    let with = |denoiser, reuse_light_threshold| RealtimeSettings {
+        denoiser: Some(denoiser),
+        di: RestirDiSettings {
+            reuse_light_threshold,
+            ..settings().di
+        },
+        ..settings()
+    };
+    let skipped = |renderer: &mut RealtimeRenderer| {
+        renderer
+            .render(&c.gpu, &c.scene, &c.gpu_scene, &c.camera)
+            .expect("frame");
+        renderer.di_reuse_skipped()
+    };
+    let few = DI_REUSE_LIGHT_THRESHOLD;
+    let mut fallback = c.renderer(with(DenoiserKind::Fallback, few));
+    assert!(
+        skipped(&mut fallback),
+        "two emissive triangles, fallback denoiser"
+    );
+    let mut raw = c.renderer(with(DenoiserKind::None, few));
+    assert!(!skipped(&mut raw), "raw frames keep reuse");
+    assert_eq!(raw.settings().di.reuse_light_threshold, few, "as given");
+    let mut always = c.renderer(with(DenoiserKind::Fallback, 0));
+    assert!(!skipped(&mut always));
+    always
+        .set_di_settings(RestirDiSettings {
+            reuse_light_threshold: few,
+            ..always.settings().di
+        })
+        .expect("settings");
+    assert!(skipped(&mut always), "changed in place");
+    raw.set_di_settings(raw.settings().di).expect("settings");
+    assert!(!skipped(&mut raw), "still raw frames");
 }

@@ -97,7 +97,7 @@ pub fn run(args: &[String]) -> Result<(), Box<dyn std::error::Error>> {
             (&mut di_own, &external as &dyn GBufferSource),
             (&mut di_solari, &solari_gbuffer),
         ] {
-            di.prepare(&gpu, &context, gbuffer, light_count)?;
+            di.prepare(&gpu, &context, gbuffer, &lights)?;
             di.encode(
                 &mut encoder,
                 &context,

@@ -3,7 +3,7 @@
 use crate::reservoir::GpuReservoir;
 use crate::settings::{GpuDiParams, RestirDiSettings, flags};
 use bytemuck::Zeroable;
-use solari_lights::{LIGHT_GRID_ON, LightTileSettings, LightTiles};
+use solari_lights::{GpuLights, LIGHT_GRID_ON, LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer::GBuffer;
@@ -38,6 +38,8 @@ pub struct RestirDi {
     identity_for: Option<u32>,
     frame: u32,
     history: bool,
+    // Whether the last `prepare` skipped reuse by `reuse_light_threshold`.
+    reuse_skipped: bool,
 }
 
 // Per-pixel buffers and their bind group. One final-reservoir buffer is history and result
@@ -247,6 +249,7 @@ impl RestirDi {
             identity_for: None,
             frame: 0,
             history: false,
+            reuse_skipped: false,
         };
         di.resize(gpu, width, height)?;
         Ok(di)
@@ -261,6 +264,12 @@ impl RestirDi {
     /// The settings in use.
     pub fn settings(&self) -> RestirDiSettings {
         self.settings
+    }
+
+    /// Whether the last [`RestirDi::prepare`] skipped both reuse steps because the scene's
+    /// lights had no more sampling elements than [`RestirDiSettings::reuse_light_threshold`].
+    pub fn reuse_skipped(&self) -> bool {
+        self.reuse_skipped
     }
 
     /// Changes the settings; history is kept (every knob is valid with any history).
@@ -404,17 +413,19 @@ impl RestirDi {
         self.history = false;
     }
 
-    /// Starts `frame` for a scene with `light_count` lights: uploads the light translation
-    /// (the identity unless [`RestirDi::set_light_translation`] gave one) and writes the
+    /// Starts `frame` for the scene's uploaded `lights`: uploads the light translation (the
+    /// identity unless [`RestirDi::set_light_translation`] gave one) and writes the
     /// parameters. `gbuffer` is the G-buffer this frame reads (its history decides whether
-    /// temporal reuse may run).
+    /// temporal reuse may run); the lights' sampling elements decide whether
+    /// [`RestirDiSettings::reuse_light_threshold`] skips reuse.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
         frame: &FrameContext,
         gbuffer: &dyn GBufferSource,
-        light_count: u32,
+        lights: &GpuLights,
     ) -> Result<(), GpuError> {
+        let light_count = lights.light_count;
         let gbuffer_history = gbuffer.history_valid();
         let frame = frame.index;
         match self.pending_translation.take() {
@@ -440,7 +451,22 @@ impl RestirDi {
         self.frame = frame;
         let s = self.settings;
         let history = self.history && gbuffer_history;
-        let mut bits = flags::reuse(s.temporal, s.spatial, s.permutation_sampling, history);
+        let skip = s.skips_reuse(lights.sampling_elements);
+        if skip != self.reuse_skipped {
+            log::info!(
+                "ReSTIR DI: reuse {}: the lights have {} sampling elements (reuse_light_threshold {})",
+                if skip { "skipped" } else { "resumed" },
+                lights.sampling_elements,
+                s.reuse_light_threshold
+            );
+            self.reuse_skipped = skip;
+        }
+        let mut bits = flags::reuse(
+            s.temporal && !skip,
+            s.spatial && !skip,
+            s.permutation_sampling,
+            history,
+        );
         if s.initial_visibility {
             bits |= flags::INITIAL_VISIBILITY;
         }

@@ -28,6 +28,20 @@ pub struct RestirDiSettings {
     /// Reuse one neighbour's reservoir (default on). Costs one merge per pixel; see
     /// [`RestirDiSettings::temporal`] for what both steps buy.
     pub spatial: bool,
+    /// Skip both reuse steps on scenes whose light sampling chooses among at most this many
+    /// elements (`solari_lights::LightList::sampling_elements`: emissive triangles plus
+    /// analytic lights; an environment map counts as unbounded), whatever
+    /// [`RestirDiSettings::temporal`] and [`RestirDiSettings::spatial`] say. Default 0: reuse
+    /// as those two say. Checked every frame against the light list [`crate::RestirDi::prepare`]
+    /// is given, so a scene that gains lights starts reusing;
+    /// [`crate::RestirDi::reuse_skipped`] tells whether this frame skipped it.
+    ///
+    /// Why: with a handful of lights, the initial candidates already find the light that
+    /// matters, and reuse costs time that a denoiser makes worthless. The real-time renderer
+    /// sets 64 when its fallback denoiser runs (`solari_renderer::DI_REUSE_LIGHT_THRESHOLD`,
+    /// with the figures); a pass whose frames are seen raw should keep reuse, which cut the
+    /// raw frames' error by a fifth even on a scene of 13 elements.
+    pub reuse_light_threshold: u32,
     /// Permute the temporal source pixel within 4×4 blocks each frame (default on), which
     /// decorrelates the noise a denoiser sees at no cost in rays.
     pub permutation_sampling: bool,
@@ -77,6 +91,7 @@ impl Default for RestirDiSettings {
             initial_candidates: 8,
             temporal: true,
             spatial: true,
+            reuse_light_threshold: 0,
             permutation_sampling: true,
             confidence_cap: 20.0,
             spatial_radius: 30.0,
@@ -89,6 +104,12 @@ impl Default for RestirDiSettings {
 }
 
 impl RestirDiSettings {
+    /// Whether these settings skip reuse for lights of `sampling_elements` elements
+    /// ([`RestirDiSettings::reuse_light_threshold`]; 0 never skips).
+    pub fn skips_reuse(&self, sampling_elements: u32) -> bool {
+        self.reuse_light_threshold > 0 && sampling_elements <= self.reuse_light_threshold
+    }
+
     /// Checks every knob is in range; the error names the bad one.
     pub fn validate(&self) -> Result<(), GpuError> {
         let bad = |what: String| Err(GpuError::Validation(format!("ReSTIR DI settings: {what}")));

@@ -185,7 +185,7 @@ impl DirectLight {
         self.gbuffer.prepare(gpu, scene, camera).expect("G-buffer");
         self.tiles.prepare(gpu, &context);
         self.di
-            .prepare(gpu, &context, &self.gbuffer, self.lights.light_count)
+            .prepare(gpu, &context, &self.gbuffer, &self.lights)
             .expect("DI prepare");
         self.context = Some(context);
     }

@@ -1,0 +1,121 @@
+//! `RestirDiSettings::reuse_light_threshold` on lavapipe: a scene whose lights have no more
+//! sampling elements than the threshold renders exactly as with both reuse steps off, one with
+//! more exactly as with them on, and a scene that gains lights starts reusing.
+
+mod common;
+
+use glam::Vec3;
+use solari_lights::LightList;
+use solari_restir::RestirDiSettings;
+use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::shaders::Backend;
+use solari_scene::{DirectionalLight, Scene, default_scene};
+
+use common::{DirectLight, SIZE, di_settings, tile_settings};
+
+const FRAMES: usize = 6;
+
+/// DI's output of `FRAMES` frames of a still camera, and whether each skipped reuse; with
+/// `more_lights`, that scene's lights replace `scene`'s before the fourth frame.
+fn run(
+    gpu: &Gpu,
+    backend: Backend,
+    scene: &Scene,
+    more_lights: Option<&Scene>,
+    settings: RestirDiSettings,
+) -> (Vec<Vec<[f32; 4]>>, Vec<bool>) {
+    let mut direct = DirectLight::new(gpu, backend, scene, SIZE, settings, tile_settings());
+    let camera = scene.camera(None).expect("camera");
+    let mut images = Vec::new();
+    let mut skipped = Vec::new();
+    let mut now = scene;
+    for frame in 0..FRAMES {
+        if frame == 3
+            && let Some(more) = more_lights
+        {
+            direct.set_lights(gpu, more);
+            now = more;
+        }
+        images.push(direct.render(gpu, now, &camera));
+        skipped.push(direct.di.reuse_skipped());
+    }
+    (images, skipped)
+}
+
+fn with_threshold(reuse_light_threshold: u32) -> RestirDiSettings {
+    RestirDiSettings {
+        reuse_light_threshold,
+        ..di_settings()
+    }
+}
+
+#[test]
+fn few_lights_skip_reuse_exactly_and_more_bring_it_back() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let elements = LightList::build(&scene).sampling_elements();
+    assert!(
+        elements >= 2,
+        "the Cornell box's lamp has {elements} triangles"
+    );
+
+    let (reuse, never) = run(&gpu, backend, &scene, None, with_threshold(0));
+    assert!(never.iter().all(|s| !s), "threshold 0 never skips");
+    let off = RestirDiSettings {
+        temporal: false,
+        spatial: false,
+        ..di_settings()
+    };
+    let (plain, _) = run(&gpu, backend, &scene, None, off);
+    // Otherwise the comparisons below could not tell the two apart.
+    assert_ne!(
+        reuse[FRAMES - 1],
+        plain[FRAMES - 1],
+        "reuse changes the image"
+    );
+
+    let (at, skipped) = run(&gpu, backend, &scene, None, with_threshold(elements));
+    assert!(
+        skipped.iter().all(|s| *s),
+        "{elements} elements, threshold {elements}"
+    );
+    assert_eq!(at, plain, "skipped reuse is reuse off, bit for bit");
+    let (below, skipped) = run(&gpu, backend, &scene, None, with_threshold(elements - 1));
+    assert!(skipped.iter().all(|s| !s));
+    assert_eq!(below, reuse, "above the threshold reuse runs as always");
+
+    // A sun brings one more element: over the threshold from its first frame on.
+    let mut sunny = scene.clone();
+    sunny.directional_lights.push(DirectionalLight {
+        name: "sun".into(),
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        irradiance: Vec3::splat(2.0),
+        angular_diameter: 0.01,
+    });
+    let (_, skipped) = run(
+        &gpu,
+        backend,
+        &scene,
+        Some(&sunny),
+        with_threshold(elements),
+    );
+    assert_eq!(skipped, [true, true, true, false, false, false]);
+}
+
+#[test]
+fn the_threshold_includes_its_count_and_zero_never_skips() {
+    let s = with_threshold(13);
+    assert!(s.skips_reuse(0) && s.skips_reuse(13));
+    assert!(!s.skips_reuse(14));
+    assert!(
+        !with_threshold(0).skips_reuse(0),
+        "0: reuse as temporal/spatial say"
+    );
+    // An environment map counts as u32::MAX elements: no finite threshold below it skips.
+    assert!(!with_threshold(u32::MAX - 1).skips_reuse(u32::MAX));
+    assert!(
+        !RestirDiSettings::default().skips_reuse(1),
+        "the component never skips by default"
+    );
+}
