@@ -7,7 +7,8 @@
 # whose histories are young, so the spatial filter does most of the work). Table:
 # $OUT/kernel_error.csv. It does what reuse_denoise_2026-11-26/error_ab.sh did for a fixed
 # pair of binaries and frame counts, with both as lists: use this one for new comparisons
-# (the older one stays as the record of its session's figures).
+# (the older one stays as the record of its session's figures). DENOISER picks the denoiser
+# (default fallback; `none` for the raw frames).
 set -u
 source benches/results/device_env.sh
 unpack_bins
@@ -27,7 +28,7 @@ for s in $SCENES; do
     for run in $RUNS; do
       frames=${run%%:*} m=${run#*:}
       n="${s}_${b}_f${frames}_mean$m"
-      /root/bins/$b render "$f" --mode realtime --denoiser fallback --frames $frames --mean-of $m \
+      /root/bins/$b render "$f" --mode realtime --denoiser "${DENOISER:-fallback}" --frames $frames --mean-of $m \
         --size 960x540 --out "$R/$n.exr" > "$R/$n.log" 2>&1
       /root/bins/solari compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json"
       python3 - "$R/$n.compare.json" "$s" "$b" "$frames" "$m" >> "$OUT/kernel_error.csv" <<'PY'
