@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ReSTIR DI's reuse (where its merge spends time; what skipping it for few lights saves), on
+# ReSTIR DI's reuse (its merge's attribution, the few-lights rule) on the device, one warm
 # machine. Carry .gl, .dev/bins.tar.xz and .dev/SOLARI_COMMIT; the binaries under /root/bins
 # are solari_base (the commit under test) and experiment builds of it, each with one patch of
 # experiments/ applied (solari_NAME for experiments/NAME.patch), plus wrappers of solari_base
