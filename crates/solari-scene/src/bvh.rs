@@ -321,8 +321,18 @@ fn offset_nodes(nodes: &mut [CwBvhNode], node_offset: u32, prim_offset: u32) {
 impl SoftwareBvh {
     /// Builds every mesh's BLAS and the TLAS.
     pub fn build(scene: &Scene, quality: BvhQuality) -> Self {
+        Self::build_with(scene, quality, true)
+    }
+
+    /// [`SoftwareBvh::build`] with the emitter BVH (`emitter_bvh`) or, built once, without
+    /// it ([`SoftwareBvh::set_emitter_bvh`] off, which after a build with it would have built
+    /// it and the TLAS for nothing).
+    pub fn build_with(scene: &Scene, quality: BvhQuality, emitter_bvh: bool) -> Self {
         let start = Instant::now();
-        let mut out = SoftwareBvh::default();
+        let mut out = SoftwareBvh {
+            emitter_bvh_off: !emitter_bvh,
+            ..Default::default()
+        };
         for mesh in &scene.meshes {
             let (mut nodes, tris) = build_blas(mesh, quality);
             let node_offset = out.nodes.len() as u32;
@@ -345,6 +355,12 @@ impl SoftwareBvh {
     /// copy of its mesh ([`merge_fits`] says when that is reasonable), and moving an
     /// instance means building it again ([`SoftwareBvh::traces_merged`]).
     pub fn build_merged(scene: &Scene, quality: BvhQuality) -> Self {
+        Self::build_merged_with(scene, quality, true)
+    }
+
+    /// [`SoftwareBvh::build_merged`] with the emitter BVH or without it
+    /// ([`SoftwareBvh::build_with`]).
+    pub fn build_merged_with(scene: &Scene, quality: BvhQuality, emitter_bvh: bool) -> Self {
         let start = Instant::now();
         let (tris, ids) = world_triangles(scene, 0..scene.instances.len() as u32);
         let (nodes, triangles) = build_triangles(&tris, quality, |i| {
@@ -358,6 +374,7 @@ impl SoftwareBvh {
             blas_roots: vec![0; scene.meshes.len()],
             tlas_root: 0,
             merged_from: Some(merged_layout(scene)),
+            emitter_bvh_off: !emitter_bvh,
             ..Self::default()
         };
         out.append_emitters(scene, quality);

@@ -139,8 +139,7 @@ fn rows(m: Mat4) -> [[f32; 4]; 3] {
 // device's binding limit allow, else two-level.
 fn software_accel(gpu: &Gpu, scene: &Scene, options: &GpuSceneOptions) -> Result<Accel, GpuError> {
     if options.merge_instances && merge_fits(scene) {
-        let mut bvh = SoftwareBvh::build_merged(scene, options.bvh_quality);
-        bvh.set_emitter_bvh(options.emitter_bvh, scene, options.bvh_quality);
+        let bvh = SoftwareBvh::build_merged_with(scene, options.bvh_quality, options.emitter_bvh);
         match upload_software(gpu, bvh, scene, options.bvh_quality) {
             Ok(accel) => return Ok(accel),
             Err(e @ GpuError::OverLimit { .. }) => {
@@ -155,8 +154,7 @@ fn software_accel(gpu: &Gpu, scene: &Scene, options: &GpuSceneOptions) -> Result
              (bvh::merge_fits); two-level BVH"
         );
     }
-    let mut bvh = SoftwareBvh::build(scene, options.bvh_quality);
-    bvh.set_emitter_bvh(options.emitter_bvh, scene, options.bvh_quality);
+    let bvh = SoftwareBvh::build_with(scene, options.bvh_quality, options.emitter_bvh);
     upload_software(gpu, bvh, scene, options.bvh_quality)
 }
 

@@ -878,6 +878,47 @@ fn the_emitter_bvh_follows_its_size_rule() {
     assert!(emitters_fit(&scene), "{}", emitter_triangle_count(&scene));
 }
 
+/// Built without the emitter BVH from the start, the BVH is the one a build with it becomes
+/// when switched off, merged or two-level (so the CLI's `--emitter-bvh off` builds it once).
+#[test]
+fn a_bvh_built_without_the_emitter_bvh_equals_one_switched_off() {
+    use solari_scene::bvh::{BvhQuality, EMITTERS_IN_SCENE, SoftwareBvh};
+    let scene = default_scene::cornell_box();
+    let q = BvhQuality::Fastest;
+    let bytes = |b: &SoftwareBvh| {
+        let nodes: &[u8] = bytemuck::cast_slice(&b.nodes);
+        let tris: &[u8] = bytemuck::cast_slice(&b.triangles);
+        (
+            nodes.to_vec(),
+            tris.to_vec(),
+            b.tlas_instances.clone(),
+            b.tlas_root,
+        )
+    };
+    type Build = fn(&Scene, BvhQuality, bool) -> SoftwareBvh;
+    let builds: [(Build, &str); 2] = [
+        (SoftwareBvh::build_with, "two-level"),
+        (SoftwareBvh::build_merged_with, "merged"),
+    ];
+    for (build, name) in builds {
+        let with = build(&scene, q, true);
+        assert!(with.has_emitter_bvh(), "{name}");
+        let mut switched = with.clone();
+        switched.set_emitter_bvh(false, &scene, q);
+        let without = build(&scene, q, false);
+        assert_eq!(without.emitter_root, EMITTERS_IN_SCENE, "{name}");
+        assert!(bytes(&without) == bytes(&switched), "{name}");
+        assert!(
+            bytes(&without) != bytes(&with),
+            "{name}: the emitter copies are gone"
+        );
+        // And it stays off through later rebuilds, as a switched-off one does.
+        let mut rebuilt = without.clone();
+        rebuilt.rebuild_emitters(&scene, q);
+        assert!(bytes(&rebuilt) == bytes(&without), "{name}");
+    }
+}
+
 #[test]
 fn merging_follows_its_size_rule() {
     use solari_scene::bvh::{MERGE_MAX_TRIANGLES, merge_fits, merge_triangle_counts};
