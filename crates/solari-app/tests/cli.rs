@@ -67,6 +67,12 @@ fn fails(dir: &Dir, args: &[&str], needle: &str) {
         "{args:?}: expected {needle:?} in: {err}"
     );
     assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    // Refused input is refused by the library, naming the knob; wgpu's own validation
+    // firing would mean bad input got through to the GPU.
+    assert!(
+        !err.contains("wgpu validation error"),
+        "{args:?} reached wgpu: {err}"
+    );
     assert_eq!(dir.files(), before, "{args:?} left files behind");
 }
 

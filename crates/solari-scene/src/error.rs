@@ -236,9 +236,15 @@ pub enum GpuError {
         /// Negative values where only non-negative ones are valid.
         negative: u64,
     },
-    /// A wgpu validation error was captured by an error scope.
-    #[error("wgpu validation error: {0}")]
+    /// A request the library refuses before it reaches wgpu: a setting out of range, sizes
+    /// that do not match, an input a pass cannot use. The message names the knob or input.
+    #[error("{0}")]
     Validation(String),
+    /// wgpu itself reported a validation error (captured by an error scope, or raised
+    /// outside one and collected by `Gpu::check_errors`): a bug on this side, never bad
+    /// input that the library let through on purpose.
+    #[error("wgpu validation error: {0}")]
+    Wgpu(String),
     /// Mapping a buffer for readback failed.
     #[error("buffer readback failed: {0}")]
     Readback(String),

@@ -415,14 +415,14 @@ impl Gpu {
     }
 
     /// The first wgpu error raised outside an error scope since the last call, as
-    /// [`GpuError::Validation`] (all of them are cleared).
+    /// [`GpuError::Wgpu`] (all of them are cleared).
     pub fn check_errors(&self) -> Result<(), GpuError> {
         let mut v = self
             .uncaptured
             .lock()
-            .map_err(|e| GpuError::Validation(e.to_string()))?;
+            .map_err(|e| GpuError::Wgpu(e.to_string()))?;
         match v.drain(..).next() {
-            Some(first) => Err(GpuError::Validation(first)),
+            Some(first) => Err(GpuError::Wgpu(first)),
             None => Ok(()),
         }
     }
@@ -450,7 +450,7 @@ impl Gpu {
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
         match pollster::block_on(scope.pop()) {
-            Some(e) => Err(GpuError::Validation(e.to_string())),
+            Some(e) => Err(GpuError::Wgpu(e.to_string())),
             None => Ok(value),
         }
     }
