@@ -23,7 +23,9 @@ pub struct RestirDiSettings {
     /// 20–23% once converged. On scenes with few large lights they buy nothing after the
     /// denoiser: the Cornell box, sun_boxes and `interior` were within −6% to +4% without
     /// them, and `interior`'s frame took 4.14 ms instead of 4.91 (`benches/RESULTS.md`,
-    /// "ReSTIR DI's reuse against the frame").
+    /// "ReSTIR DI's reuse against the frame"). So the real-time renderer skips both steps on
+    /// scenes of few lights under its fallback denoiser
+    /// ([`RestirDiSettings::reuse_light_threshold`]).
     pub temporal: bool,
     /// Reuse one neighbour's reservoir (default on). Costs one merge per pixel; see
     /// [`RestirDiSettings::temporal`] for what both steps buy.
