@@ -34,7 +34,8 @@
 //!    > 0.9999, roughness ≤ 0.4) skip the passes.
 //!
 //! With [`RestirGiSettings::plain`] (no reuse) this is plain path GI: the initial sample
-//! shaded as it is, an unbiased one-sample estimate of the cache-terminated bounce. With
+//! shaded as it is, an unbiased one-sample estimate of the cache-terminated bounce, in one
+//! pass (`gi_initial_temporal` shades; `gi_spatial_shade` does not run). With
 //! [`RestirGiSettings::half_rate`] as well, each frame only half the pixels (a checkerboard
 //! that flips every frame) trace, at twice the weight: 41% off the first pass on `interior`
 //! for a noisier young history.
@@ -44,8 +45,8 @@
 //! Two reservoir buffers of 32 bytes per pixel (66 MB each at 1920×1080): the initial pass
 //! reads last frame's final reservoirs before the spatial pass overwrites them, so no third
 //! buffer is needed. Built without reuse ([`RestirGiSettings::plain`], the renderer's path
-//! GI), it keeps one: nothing reads a history, and each pixel's shade stores its reservoir
-//! back where its initial pass put it (where specular GI reads it). Such a `RestirGi` refuses
+//! GI), it keeps one: nothing reads a history, and the one pass stores each pixel's reservoir
+//! where specular GI reads it. Such a `RestirGi` refuses
 //! settings that turn reuse on: build a new one with them.
 
 use crate::di::{PassLayouts, check_encode, layout_with_cache, pass_pipeline, record};
@@ -81,7 +82,7 @@ pub const GI_TARGET_BINDINGS: BufferGroup = BufferGroup::new(3, 0, &[("lit", Buf
 /// GI_REUSE` in `restir_gi.wesl`), for an instance built without reuse.
 const REUSE_OFF: (&str, f64) = ("7120", 0.0);
 
-/// Labels of the two dispatches (and profiler scopes).
+/// Labels of the two dispatches (and profiler scopes); plain path GI runs the first alone.
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
 
 /// ReSTIR GI: reads the G-buffer (group 1), the scene (group 0) and the world cache, and adds
@@ -92,7 +93,8 @@ pub struct RestirGi {
     variant: TraceVariant,
     size: (u32, u32),
     initial: wgpu::ComputePipeline,
-    spatial: wgpu::ComputePipeline,
+    // None when built without reuse: plain path GI shades in its initial pass.
+    spatial: Option<wgpu::ComputePipeline>,
     layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
@@ -134,7 +136,11 @@ impl RestirGi {
         let pipeline =
             |entry: &str| pass_pipeline(gpu, backend, &modules, &layouts, entry, &constants);
         let initial = pipeline("restir_gi_initial")?;
-        let spatial = pipeline("restir_gi_spatial")?;
+        let spatial = if settings.reuse() {
+            Some(pipeline("restir_gi_spatial")?)
+        } else {
+            None
+        };
         let params = gpu.uniform_buffer("solari_restir/gi_params", &GpuGiParams::zeroed());
         let mut gi = Self {
             settings,
@@ -308,9 +314,6 @@ impl RestirGi {
             SpatialVisibility::Chosen => flags::CHOSEN_VISIBILITY,
             SpatialVisibility::Neighbour => 0,
         };
-        if self.in_place {
-            bits |= flags::IN_PLACE;
-        }
         if s.half_rate {
             bits |= flags::HALF_RATE;
         }
@@ -331,8 +334,8 @@ impl RestirGi {
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
     }
 
-    /// Records both dispatches, each in a profiler scope named as in [`GI_PASS_LABELS`],
-    /// and returns which ran. Run it after the world cache's upkeep and after whatever wrote
+    /// Records both dispatches (built without reuse, the first alone, which shades), each in
+    /// a profiler scope named as in [`GI_PASS_LABELS`], and returns which ran. Run it after the world cache's upkeep and after whatever wrote
     /// the direct light into `target` ([`RestirGi::target_group`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
@@ -350,13 +353,21 @@ impl RestirGi {
         let groups = [scene.bind_group(), gbuffer.bind_group()?, group, target];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
         let mut ran = Ran::none();
-        for (&label, pipeline) in GI_PASS_LABELS.iter().zip([&self.initial, &self.spatial]) {
+        let passes = [Some(&self.initial), self.spatial.as_ref()];
+        for (&label, pipeline) in GI_PASS_LABELS.iter().zip(passes) {
+            let Some(pipeline) = pipeline else { continue };
             frame.scope(label, encoder, &mut ran, |e| {
                 record(e, label, pipeline, &groups, workgroups)
             });
         }
         self.history = true;
         Ok(ran)
+    }
+
+    /// Whether this instance was built for reuse (both passes); built without it
+    /// ([`RestirGiSettings::plain`]), it runs one pass, which shades.
+    pub fn built_for_reuse(&self) -> bool {
+        self.spatial.is_some()
     }
 
     /// This frame's final reservoirs ([`GpuGiReservoir`] per pixel, row by row), which the

@@ -184,9 +184,6 @@ impl RestirGiSettings {
 pub(crate) mod flags {
     /// [`super::SpatialVisibility::Both`]: the neighbour's view of the pixel's sample too.
     pub const UNBIASED_SPATIAL: u32 = 16;
-    /// Plain path GI on one reservoir buffer: the shade pass writes its pixel's reservoir
-    /// back into `gi_initial` (no history buffer is allocated).
-    pub const IN_PLACE: u32 = 32;
     /// [`super::SpatialVisibility::Chosen`]: one ray, for the chosen sample.
     pub const CHOSEN_VISIBILITY: u32 = 64;
     /// [`super::RestirGiSettings::half_rate`]: half the pixels trace, at twice the weight.
