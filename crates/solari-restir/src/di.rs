@@ -22,8 +22,14 @@ pub struct RestirDi {
     // What the tracing pipelines were specialised for: checked against the scene at encode.
     variant: TraceVariant,
     size: (u32, u32),
+    backend: Backend,
     initial: wgpu::ComputePipeline,
     spatial: wgpu::ComputePipeline,
+    // The initial pass built with `DI_ONE_PASS` (frames without reuse: it shades, and the
+    // spatial pass does not run); built at the first such frame.
+    one_pass: Option<wgpu::ComputePipeline>,
+    // Whether the prepared frame runs `one_pass` alone.
+    single: bool,
     emission: wgpu::ComputePipeline,
     own_layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
@@ -71,8 +77,13 @@ pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
 );
 
 /// Labels of the dispatches (and profiler scopes): initial + temporal, spatial + shade, and
-/// the emission copy that replaces both when a scene has no lights.
+/// the emission copy that replaces both when a scene has no lights. A frame without reuse
+/// runs the first alone, which then also shades.
 pub const PASS_LABELS: [&str; 3] = ["di_initial_temporal", "di_spatial_shade", "emission_only"];
+
+/// The pipeline constant that builds the initial pass as the whole of DI, for frames without
+/// reuse (`@id(7140) override DI_ONE_PASS` in `restir_di_initial.wesl`).
+const ONE_PASS: (&str, f64) = ("7140", 1.0);
 
 /// Composes entry point `entry` of this crate for `backend` and builds its pipeline over
 /// `layouts` (DI's and GI's passes).
@@ -236,8 +247,11 @@ impl RestirDi {
             tiles,
             variant,
             size: (0, 0),
+            backend,
             initial,
             spatial,
+            one_pass: None,
+            single: false,
             emission,
             own_layout,
             params,
@@ -264,6 +278,32 @@ impl RestirDi {
     /// The settings in use.
     pub fn settings(&self) -> RestirDiSettings {
         self.settings
+    }
+
+    // The one-pass pipeline, unless built already (layouts as `new` makes them).
+    fn build_one_pass(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
+        if self.one_pass.is_some() {
+            return Ok(());
+        }
+        let lights_layout = LightTiles::reader_layout(gpu);
+        let shared = PassLayouts::new(gpu, self.backend);
+        let layouts = shared.with(&self.own_layout, &lights_layout);
+        let mut constants = self.tiles.reader_constants(self.variant.constants());
+        if self.settings.light_grid {
+            constants.push(LIGHT_GRID_ON);
+        }
+        constants.push(ONE_PASS);
+        let modules = crate::modules();
+        let pipeline = pass_pipeline(
+            gpu,
+            self.backend,
+            &modules,
+            &layouts,
+            "restir_di_initial",
+            &constants,
+        )?;
+        self.one_pass = Some(pipeline);
+        Ok(())
     }
 
     /// Whether the last [`RestirDi::prepare`] skipped both reuse steps because the scene's
@@ -461,12 +501,12 @@ impl RestirDi {
             );
             self.reuse_skipped = skip;
         }
-        let mut bits = flags::reuse(
-            s.temporal && !skip,
-            s.spatial && !skip,
-            s.permutation_sampling,
-            history,
-        );
+        let (temporal, spatial) = (s.temporal && !skip, s.spatial && !skip);
+        self.single = !temporal && !spatial;
+        if self.single {
+            self.build_one_pass(gpu)?;
+        }
+        let mut bits = flags::reuse(temporal, spatial, s.permutation_sampling, history);
         if s.initial_visibility {
             bits |= flags::INITIAL_VISIBILITY;
         }
@@ -536,6 +576,9 @@ impl RestirDi {
         if light_count == 0 {
             run(encoder, PASS_LABELS[2], &self.emission);
             self.history = false;
+        } else if let (true, Some(one_pass)) = (self.single, &self.one_pass) {
+            run(encoder, PASS_LABELS[0], one_pass);
+            self.history = true;
         } else {
             run(encoder, PASS_LABELS[0], &self.initial);
             run(encoder, PASS_LABELS[1], &self.spatial);

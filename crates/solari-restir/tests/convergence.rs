@@ -240,6 +240,18 @@ fn direct_light_converges_to_the_reference_in_the_cornell_box() {
     check_convergence("cornell_box", &default_scene::cornell_box());
 }
 
+/// Without reuse DI runs as one pass (`DI_ONE_PASS`: initial RIS, then the spatial pass's
+/// finish), which must converge as the two passes do.
+#[test]
+fn direct_light_converges_to_the_reference_without_reuse_in_one_pass() {
+    let settings = RestirDiSettings {
+        temporal: false,
+        spatial: false,
+        ..di_settings()
+    };
+    check_convergence_with("sun, one pass", &sun_scene(), settings, 1024);
+}
+
 #[test]
 fn direct_light_converges_to_the_reference_under_a_soft_sun() {
     check_convergence("sun", &sun_scene());

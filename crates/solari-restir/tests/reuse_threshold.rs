@@ -1,6 +1,7 @@
 //! `RestirDiSettings::reuse_light_threshold` on lavapipe: a scene whose lights have no more
 //! sampling elements than the threshold renders exactly as with both reuse steps off, one with
-//! more exactly as with them on, and a scene that gains lights starts reusing.
+//! more exactly as with them on, and a scene that gains lights starts reusing. A frame
+//! without reuse runs DI as one pass.
 
 mod common;
 
@@ -29,6 +30,7 @@ fn run(
     let mut images = Vec::new();
     let mut skipped = Vec::new();
     let mut now = scene;
+    let reuse = settings.temporal || settings.spatial;
     for frame in 0..FRAMES {
         if frame == 3
             && let Some(more) = more_lights
@@ -36,8 +38,19 @@ fn run(
             direct.set_lights(gpu, more);
             now = more;
         }
-        images.push(direct.render(gpu, now, &camera));
-        skipped.push(direct.di.reuse_skipped());
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let ran = direct.encode(gpu, now, &camera, &mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+        images.push(direct.read_output(gpu));
+        let skip = direct.di.reuse_skipped();
+        skipped.push(skip);
+        // Without reuse this frame the first pass does it all.
+        assert!(ran.contains("di_initial_temporal"));
+        assert_eq!(
+            ran.contains("di_spatial_shade"),
+            reuse && !skip,
+            "frame {frame}"
+        );
     }
     (images, skipped)
 }
