@@ -533,6 +533,40 @@ fn a_generated_field_renders_and_reports_its_set_up() {
     assert!(d.0.join("g.png").is_file());
 }
 
+/// The report says whether DI's reuse ran: `--di-reuse auto` (the default) skips it on the
+/// built-in Cornell box (two emissive triangles) under the fallback denoiser, not on raw
+/// frames, and `all` keeps it.
+#[test]
+fn the_report_says_when_di_reuse_was_skipped() {
+    let d = Dir::new("di_reuse");
+    let report = |extra: &[&str]| -> Value {
+        let mut args = vec![
+            "render", "--mode", "realtime", "--frames", "2", "--size", "32x18", "--out", "r.png",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+        let out = solari(&d, &os);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{extra:?}: {err}");
+        serde_json::from_slice(&out.stdout).expect("JSON summary")
+    };
+    let cases: [(&[&str], &str, bool); 3] = [
+        (&["--denoiser", "fallback"], "none", true),
+        (&["--denoiser", "none"], "all", false),
+        (
+            &["--denoiser", "fallback", "--di-reuse", "all"],
+            "all",
+            false,
+        ),
+    ];
+    for (extra, reuse, skipped) in cases {
+        let v = report(extra);
+        assert_eq!(v["di_reuse"], reuse, "{extra:?}: {v}");
+        assert_eq!(v["di_reuse_skipped"], skipped, "{extra:?}: {v}");
+    }
+}
+
 /// `--quality auto` probes the scene, reports its choice in the JSON, applies it, takes the
 /// cheapest setting when nothing fits, reads a table of the user's own, and refuses bad
 /// budgets and tables before any work.
