@@ -93,7 +93,7 @@ pub struct RestirGi {
     variant: TraceVariant,
     size: (u32, u32),
     initial: wgpu::ComputePipeline,
-    // None when built without reuse: plain path GI shades in its initial pass.
+    // None when built without reuse (`in_place`): plain path GI shades in its initial pass.
     spatial: Option<wgpu::ComputePipeline>,
     layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
@@ -106,8 +106,6 @@ pub struct RestirGi {
     group: Option<wgpu::BindGroup>,
     frame: u32,
     history: bool,
-    // Built without reuse: one reservoir buffer, `buffers.0` a placeholder.
-    in_place: bool,
 }
 
 impl RestirGi {
@@ -156,7 +154,6 @@ impl RestirGi {
             group: None,
             frame: 0,
             history: false,
-            in_place: !settings.reuse(),
         };
         gi.resize(gpu, width, height, cache)?;
         Ok(gi)
@@ -226,7 +223,7 @@ impl RestirGi {
     /// reuse on (build a new one with them).
     pub fn set_settings(&mut self, settings: RestirGiSettings) -> Result<(), GpuError> {
         settings.validate()?;
-        if self.in_place && settings.reuse() {
+        if self.in_place() && settings.reuse() {
             return Err(GpuError::Validation(
                 "ReSTIR GI was built without reuse (plain path GI keeps one reservoir buffer): \
                  build a new RestirGi to turn temporal or spatial reuse on"
@@ -269,7 +266,7 @@ impl RestirGi {
             })
         };
         // Without reuse nothing reads a history: one reservoir stands in for the binding.
-        let history = if self.in_place {
+        let history = if self.in_place() {
             buffer(
                 "solari_restir/gi_history (none: built without reuse)",
                 size_of::<GpuGiReservoir>() as u64,
@@ -335,8 +332,9 @@ impl RestirGi {
     }
 
     /// Records both dispatches (built without reuse, the first alone, which shades), each in
-    /// a profiler scope named as in [`GI_PASS_LABELS`], and returns which ran. Run it after the world cache's upkeep and after whatever wrote
-    /// the direct light into `target` ([`RestirGi::target_group`]).
+    /// a profiler scope named as in [`GI_PASS_LABELS`], and returns which ran. Run it after
+    /// the world cache's upkeep and after whatever wrote the direct light into `target`
+    /// ([`RestirGi::target_group`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
     /// `scene` no longer has, or when the G-buffer's or the frame's size is not this pass's.
@@ -370,13 +368,18 @@ impl RestirGi {
         self.spatial.is_some()
     }
 
+    // Built without reuse: one reservoir buffer (`buffers.0` a placeholder), one pass.
+    fn in_place(&self) -> bool {
+        !self.built_for_reuse()
+    }
+
     /// This frame's final reservoirs ([`GpuGiReservoir`] per pixel, row by row), which the
     /// next frame reuses (built without reuse: the one reservoir buffer, where each pixel's
     /// shade stored its sample back); layout for the non-finite detector:
     /// [`crate::gi_reservoir::gi_reservoir_check`].
     pub fn reservoirs(&self) -> &wgpu::Buffer {
         let (history, initial) = self.buffers.as_ref().expect("resize allocates");
-        if self.in_place { initial } else { history }
+        if self.in_place() { initial } else { history }
     }
 
     /// Image size in pixels.
