@@ -85,6 +85,24 @@ pub const PASS_LABELS: [&str; 3] = ["di_initial_temporal", "di_spatial_shade", "
 /// reuse (`@id(7140) override DI_ONE_PASS` in `restir_di_initial.wesl`).
 const ONE_PASS: (&str, f64) = ("7140", 1.0);
 
+// The initial pass's pipeline constants: the tile readers', the light grid's when on, and
+// `DI_ONE_PASS` for the pipeline that is the whole of DI on frames without reuse.
+fn initial_constants(
+    tiles: LightTileSettings,
+    variant: TraceVariant,
+    light_grid: bool,
+    one_pass: bool,
+) -> Vec<(&'static str, f64)> {
+    let mut constants = tiles.reader_constants(variant.constants());
+    if light_grid {
+        constants.push(LIGHT_GRID_ON);
+    }
+    if one_pass {
+        constants.push(ONE_PASS);
+    }
+    constants
+}
+
 /// Composes entry point `entry` of this crate for `backend` and builds its pipeline over
 /// `layouts` (DI's and GI's passes).
 pub(crate) fn pass_pipeline(
@@ -229,11 +247,10 @@ impl RestirDi {
             pass_pipeline(gpu, backend, &modules, &layouts, entry, constants)
         };
         let constants = tiles.reader_constants(variant.constants());
-        let mut initial_constants = constants.clone();
-        if settings.light_grid {
-            initial_constants.push(LIGHT_GRID_ON);
-        }
-        let initial = pipeline("restir_di_initial", &initial_constants)?;
+        let initial = pipeline(
+            "restir_di_initial",
+            &initial_constants(tiles, variant, settings.light_grid, false),
+        )?;
         let spatial = pipeline("restir_di_spatial", &constants)?;
         let emission = pipeline("restir_di_emission", &[])?;
         let params = gpu.uniform_buffer("solari_restir/di_params", &GpuDiParams::zeroed());
@@ -266,6 +283,9 @@ impl RestirDi {
             reuse_skipped: false,
         };
         di.resize(gpu, width, height)?;
+        if (!settings.temporal && !settings.spatial) || settings.reuse_light_threshold > 0 {
+            di.build_one_pass(gpu)?;
+        }
         Ok(di)
     }
 
@@ -280,7 +300,9 @@ impl RestirDi {
         self.settings
     }
 
-    // The one-pass pipeline, unless built already (layouts as `new` makes them).
+    // The one-pass pipeline, unless built already (layouts as `new` makes them). `new` builds
+    // it when the settings make frames without reuse likely, so that the first such frame
+    // does not wait for a pipeline; `prepare` builds it otherwise.
     fn build_one_pass(&mut self, gpu: &Gpu) -> Result<(), GpuError> {
         if self.one_pass.is_some() {
             return Ok(());
@@ -288,11 +310,7 @@ impl RestirDi {
         let lights_layout = LightTiles::reader_layout(gpu);
         let shared = PassLayouts::new(gpu, self.backend);
         let layouts = shared.with(&self.own_layout, &lights_layout);
-        let mut constants = self.tiles.reader_constants(self.variant.constants());
-        if self.settings.light_grid {
-            constants.push(LIGHT_GRID_ON);
-        }
-        constants.push(ONE_PASS);
+        let constants = initial_constants(self.tiles, self.variant, self.settings.light_grid, true);
         let modules = crate::modules();
         let pipeline = pass_pipeline(
             gpu,
