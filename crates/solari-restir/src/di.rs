@@ -552,9 +552,11 @@ impl RestirDi {
 
     /// Records the frame's dispatches, each in a profiler scope named as in
     /// [`PASS_LABELS`] when `frame` carries a profiler, and returns which ran. With
-    /// `light_count == 0` only the emission copy runs (and history is dropped); otherwise
-    /// initial + temporal, then spatial + shade. `lights` is [`LightTiles::reader_group`] for this frame's tiles; `gbuffer` is
-    /// Solari's raster G-buffer or your own ([`solari_scene::gbuffer_input`]).
+    /// `light_count == 0` only the emission copy runs (and history is dropped); on a frame
+    /// without reuse (as [`RestirDi::prepare`] set it) the initial pass alone, built to shade;
+    /// otherwise initial + temporal, then spatial + shade. `lights` is
+    /// [`LightTiles::reader_group`] for this frame's tiles; `gbuffer` is Solari's raster
+    /// G-buffer or your own ([`solari_scene::gbuffer_input`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
     /// `scene` no longer has (for example one instance, and the scene has grown): they would
