@@ -594,6 +594,49 @@ fn each_kernel_spreads_a_lit_pixel_over_its_taps() {
     }
 }
 
+/// Taps past the image's edge are left out, not read from the edge: the filter loads every
+/// tap before testing it, from the tap clamped into the image (`denoise_atrous_filter.wesl`),
+/// so a clamped tap that counted would read the edge pixel again. With the view narrowed to
+/// the back wall, one lit pixel in the middle of each edge, the luminance weight made flat and
+/// coplanar taps, the lit pixel's output is K(0) / ΣK over the full kernel's taps inside the
+/// image only (with the outside ones counted it would keep the lit value, 1).
+#[test]
+fn taps_past_the_edge_are_left_out() {
+    let Some(mut h) = Harness::new() else { return };
+    h.fov_scale = 0.2;
+    let n = (SIZE * SIZE) as usize;
+    let s = SIZE as i32;
+    let b3 = |d: i32| [0.375f32, 0.25, 0.0625][d.unsigned_abs() as usize];
+    let settings = FallbackSettings {
+        atrous_iterations: 1,
+        atrous_kernel: AtrousKernel::Full,
+        phi_luminance: 1e6,
+        ..FallbackSettings::default()
+    };
+    for (x, y) in [(0, s / 2), (s - 1, s / 2), (s / 2, 0), (s / 2, s - 1)] {
+        let mut input = vec![[0.0f32, 0.0, 0.0, 1.0]; n];
+        input[(y * s + x) as usize] = [1.0, 1.0, 1.0, 1.0];
+        let mut d = FallbackDenoiser::new(&h.gpu, SIZE, SIZE, settings).expect("denoiser");
+        let out = h.frame(&mut d, &input, true);
+        let mut inside = 0.0f32;
+        for dy in -2i32..=2 {
+            for dx in -2i32..=2 {
+                let (qx, qy) = (x + dx, y + dy);
+                if qx >= 0 && qy >= 0 && qx < s && qy < s {
+                    inside += b3(dx) * b3(dy);
+                }
+            }
+        }
+        let expected = b3(0) * b3(0) / inside;
+        let got = out[(y * s + x) as usize][0];
+        println!("edge pixel ({x}, {y}) reads {got}, the kernel inside the image {expected}");
+        assert!(
+            (got - expected).abs() <= 1e-3 * expected,
+            "edge pixel ({x}, {y}) reads {got}, the kernel inside the image {expected}"
+        );
+    }
+}
+
 /// Taps on the centre's own plane pass the depth test: their plane distance
 /// (`denoise_plane.wesl`) is zero up to rounding, at every à-trous step and in the variance
 /// pass's window. So on noise over the grey box, the default depth tolerance gives the output

@@ -34,6 +34,8 @@ pub struct Harness {
     /// The G-buffer's sample offset from the pixel centres for the next frames (default
     /// zero).
     pub jitter: [f32; 2],
+    /// Factor on the camera's vertical field of view for the next frames (default 1).
+    pub fov_scale: f32,
     scene: Scene,
     gpu_scene: GpuScene,
     gbuffer: GBuffer,
@@ -65,6 +67,7 @@ impl Harness {
             gpu,
             camera_offset: Vec3::ZERO,
             jitter: [0.0; 2],
+            fov_scale: 1.0,
             scene,
             gpu_scene,
             gbuffer,
@@ -86,6 +89,7 @@ impl Harness {
     pub fn gbuffer_encoder(&mut self) -> wgpu::CommandEncoder {
         let mut camera = self.scene.camera(None).expect("camera");
         camera.transform = glam::Mat4::from_translation(self.camera_offset) * camera.transform;
+        camera.yfov *= self.fov_scale;
         self.gbuffer
             .prepare_jittered(&self.gpu, &self.scene, &camera, self.jitter)
             .expect("prepare");
