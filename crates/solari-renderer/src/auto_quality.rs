@@ -3,8 +3,9 @@
 //!
 //! - **Time** is measured at start-up ([`probe`]): one renderer at the output size with every
 //!   costly option on (ReSTIR GI, specular GI, DI reuse, the upscaler), a few frames, then
-//!   DI reuse off and GI reuse off through the `set_*_settings` calls (no rebuild), each pass
-//!   timed with timestamp queries. [`CostModel`] adds up the passes a grid point runs;
+//!   DI reuse off through `set_di_settings` (no rebuild), then plain path GI in a renderer of
+//!   its own (path GI is built without reuse and runs one pass), each pass timed with
+//!   timestamp queries. [`CostModel`] adds up the passes a grid point runs;
 //!   passes that work per pixel scale with the point's pixel count as `f + 0.1 (1 - f)` of
 //!   native (fitted to the sweep's per-pass times at 0.5 and 0.67, where about 9% of a pass did not
 //!   shrink with its pixels), and cache GI, the one pass the probe does not run, is taken as
@@ -18,7 +19,6 @@
 
 use crate::quality::{QualitySetting, Resolution};
 use crate::realtime::{GiMode, RealtimeRenderer, RealtimeSettings};
-use solari_restir::RestirGiSettings;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::GpuScene;
 use solari_scene::shaders::Backend;
@@ -300,7 +300,8 @@ pub fn choose(
 pub const PROBE_FRAMES: u32 = 6;
 
 /// Times the passes of `scene` on this adapter at `size` (module docs): one renderer built
-/// from `base` with every costly option on, [`PROBE_FRAMES`] frames in each of three phases.
+/// from `base` with every costly option on for two phases, then one built for path GI,
+/// [`PROBE_FRAMES`] frames in each phase.
 /// `Ok(None)` where the adapter has no timestamp queries (nothing can be predicted; no
 /// renderer is built); an error where the renderer cannot be built or a frame fails.
 pub fn probe(
@@ -360,11 +361,20 @@ pub fn probe(
         .iter()
         .map(|p| no_reuse.get(*p).copied().unwrap_or(0.0))
         .sum();
-    renderer.set_gi_settings(RestirGiSettings {
-        temporal: false,
-        spatial: false,
-        ..settings.restir_gi
-    })?;
+    // Plain path GI runs one pass in a `RestirGi` built without reuse; one built for reuse
+    // and run without it (`set_gi_settings`) still runs two, which over-predicted path GI by
+    // the second pass (0.11-0.15 ms at 1080p on an H100). So the last phase has a renderer
+    // of its own, built for path GI.
+    drop(renderer);
+    let mut settings = QualitySetting {
+        gi: GiMode::Path,
+        ..full
+    }
+    .apply(base);
+    settings.timestamps = true;
+    settings.finite_check = crate::realtime::FiniteCheck::Off;
+    let mut renderer =
+        RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, settings)?;
     let path = phase(&mut renderer)?;
     let gi_path = ["gi_initial_temporal", "gi_spatial_shade"]
         .iter()
