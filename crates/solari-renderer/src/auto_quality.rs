@@ -321,9 +321,12 @@ pub fn probe(
         gi: GiMode::Restir,
         di_reuse: true,
     };
-    let mut settings = full.apply(base);
-    settings.timestamps = true;
-    settings.finite_check = crate::realtime::FiniteCheck::Off;
+    let timed = |setting: QualitySetting| RealtimeSettings {
+        timestamps: true,
+        finite_check: crate::realtime::FiniteCheck::Off,
+        ..setting.apply(base)
+    };
+    let settings = timed(full);
     let mut renderer =
         RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, settings)?;
     let phase = |r: &mut RealtimeRenderer| -> Result<HashMap<String, f64>, GpuError> {
@@ -362,19 +365,16 @@ pub fn probe(
         .map(|p| no_reuse.get(*p).copied().unwrap_or(0.0))
         .sum();
     // Plain path GI runs one pass in a `RestirGi` built without reuse; one built for reuse
-    // and run without it (`set_gi_settings`) still runs two, which over-predicted path GI by
-    // the second pass (0.11-0.15 ms at 1080p on an H100). So the last phase has a renderer
-    // of its own, built for path GI.
+    // and run without it (`set_gi_settings`) still runs two, which over-predicted the default
+    // frame by 0.09-0.15 ms (4-8%) at 1080p on an H100. So the last phase has a renderer of
+    // its own, built for path GI.
     drop(renderer);
-    let mut settings = QualitySetting {
+    let path_gi = timed(QualitySetting {
         gi: GiMode::Path,
         ..full
-    }
-    .apply(base);
-    settings.timestamps = true;
-    settings.finite_check = crate::realtime::FiniteCheck::Off;
+    });
     let mut renderer =
-        RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, settings)?;
+        RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, path_gi)?;
     let path = phase(&mut renderer)?;
     let gi_path = ["gi_initial_temporal", "gi_spatial_shade"]
         .iter()
