@@ -5,7 +5,8 @@
 //!   costly option on (ReSTIR GI, specular GI, DI reuse, the upscaler), a few frames, then
 //!   DI reuse off through `set_di_settings` (no rebuild), then plain path GI in a renderer of
 //!   its own (path GI is built without reuse and runs one pass), each pass timed with
-//!   timestamp queries. [`CostModel`] adds up the passes a grid point runs;
+//!   timestamp queries, each renderer after [`WARM_UP_SECONDS`] of untimed frames (an idle
+//!   GPU clocks down, and a first run's shader compile leaves it idle for seconds). [`CostModel`] adds up the passes a grid point runs;
 //!   passes that work per pixel scale with the point's pixel count as `f + 0.1 (1 - f)` of
 //!   native (fitted to the sweep's per-pass times at 0.5 and 0.67, where about 9% of a pass did not
 //!   shrink with its pixels), and cache GI, the one pass the probe does not run, is taken as
@@ -24,6 +25,7 @@ use solari_scene::gpu_scene::GpuScene;
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
 use std::collections::HashMap;
+use std::time::Instant;
 
 /// The sweep shipped with the crate (`data/quality_h100.csv`).
 const BUILTIN_TABLE: &str = include_str!("../data/quality_h100.csv");
@@ -299,6 +301,33 @@ pub fn choose(
 /// Frames the probe renders in each of its three phases (the first of each is not timed).
 pub const PROBE_FRAMES: u32 = 6;
 
+/// Seconds each probe renderer keeps the GPU busy (frames in flight, untimed) before its
+/// frames are timed. An idle GPU clocks down: on an H100 the SM clock fell from 1980 to 345
+/// MHz within 1.5 s of idling (a first run's shader compile takes about 6 s), and the
+/// probe's 18 waited-for frames then ran 3-4× slow, predicting the Cornell box's default at
+/// 6.2-6.6 ms against 1.53 measured; under full load the clock was back at 1980 MHz within
+/// 0.2 s (`benches/RESULTS.md`).
+pub const WARM_UP_SECONDS: f64 = 0.3;
+
+// Keeps the GPU busy with `renderer`'s frames for WARM_UP_SECONDS; returns how many.
+fn warm_up(
+    gpu: &Gpu,
+    renderer: &mut RealtimeRenderer,
+    scene: &Scene,
+    gpu_scene: &GpuScene,
+    camera: &Camera,
+) -> Result<u32, GpuError> {
+    let start = Instant::now();
+    let mut frames = 0;
+    // bound: WARM_UP_SECONDS of frames.
+    while start.elapsed().as_secs_f64() < WARM_UP_SECONDS {
+        renderer.submit(gpu, scene, gpu_scene, camera)?;
+        frames += 1;
+    }
+    renderer.finish(gpu)?;
+    Ok(frames)
+}
+
 /// Times the passes of `scene` on this adapter at `size` (module docs): one renderer built
 /// from `base` with every costly option on for two phases, then one built for path GI,
 /// [`PROBE_FRAMES`] frames in each phase.
@@ -329,6 +358,8 @@ pub fn probe(
     let settings = timed(full);
     let mut renderer =
         RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, settings)?;
+    let warm = warm_up(gpu, &mut renderer, scene, gpu_scene, camera)?;
+    log::debug!("quality auto: {warm} warm-up frames before the first phase");
     let phase = |r: &mut RealtimeRenderer| -> Result<HashMap<String, f64>, GpuError> {
         let mut sums: HashMap<String, (f64, u32)> = HashMap::new();
         for frame in 0..PROBE_FRAMES {
@@ -375,6 +406,8 @@ pub fn probe(
     });
     let mut renderer =
         RealtimeRenderer::new(gpu, backend, scene, gpu_scene, size.0, size.1, path_gi)?;
+    let warm = warm_up(gpu, &mut renderer, scene, gpu_scene, camera)?;
+    log::debug!("quality auto: {warm} warm-up frames before the path GI phase");
     let path = phase(&mut renderer)?;
     let gi_path = ["gi_initial_temporal", "gi_spatial_shade"]
         .iter()
