@@ -6,11 +6,12 @@
 //!   DI reuse off through `set_di_settings` (no rebuild), then plain path GI in a renderer of
 //!   its own (path GI is built without reuse and runs one pass), each pass timed with
 //!   timestamp queries, each renderer after [`WARM_UP_SECONDS`] of untimed frames (an idle
-//!   GPU clocks down, and a first run's shader compile leaves it idle for seconds). [`CostModel`] adds up the passes a grid point runs;
-//!   passes that work per pixel scale with the point's pixel count as `f + 0.1 (1 - f)` of
-//!   native (fitted to the sweep's per-pass times at 0.5 and 0.67, where about 9% of a pass did not
-//!   shrink with its pixels), and cache GI, the one pass the probe does not run, is taken as
-//!   0.45 × the G-buffer's time (the sweep's ratios were 0.20–0.42; rounded up to stay on the
+//!   GPU clocks down, and a first run's shader compile leaves it idle for seconds).
+//!   [`CostModel`] adds up the passes a grid point runs; passes that work per pixel scale
+//!   with the point's pixel count as `f + 0.1 (1 - f)` of native (fitted to the sweep's
+//!   per-pass times at 0.5 and 0.67, where about 9% of a pass did not shrink with its
+//!   pixels), and cache GI, the one pass the probe does not run, is taken as 0.45 × the
+//!   G-buffer's time (the sweep's ratios were 0.20–0.42; rounded up to stay on the
 //!   safe side of a budget).
 //! - **Error** comes from a measured table ([`ErrorTable`]: relMSE of every grid point on a
 //!   scene against a reference, as `benches/results/quality_h200.sh` writes it): a scene the
@@ -305,7 +306,7 @@ pub const PROBE_FRAMES: u32 = 6;
 /// frames are timed. An idle GPU clocks down: on an H100 the SM clock fell from 1980 to 345
 /// MHz within 1.5 s of idling (a first run's shader compile takes about 6 s), and the
 /// probe's 18 waited-for frames then ran 3-4× slow, predicting the Cornell box's default at
-/// 6.2-6.6 ms against 1.53 measured; under full load the clock was back at 1980 MHz within
+/// 6.1-6.6 ms against 1.53 measured; under full load the clock was back at 1980 MHz within
 /// 0.2 s (`benches/RESULTS.md`).
 pub const WARM_UP_SECONDS: f64 = 0.3;
 
