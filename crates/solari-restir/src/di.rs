@@ -26,7 +26,8 @@ pub struct RestirDi {
     initial: wgpu::ComputePipeline,
     spatial: wgpu::ComputePipeline,
     // The initial pass built with `DI_ONE_PASS` (frames without reuse: it shades, and the
-    // spatial pass does not run); built at the first such frame.
+    // spatial pass does not run); built in `new` when such frames are likely, else by
+    // `prepare` at the first one (`build_one_pass`).
     one_pass: Option<wgpu::ComputePipeline>,
     // Whether the prepared frame runs `one_pass` alone.
     single: bool,
@@ -330,7 +331,9 @@ impl RestirDi {
         self.reuse_skipped
     }
 
-    /// Changes the settings; history is kept (every knob is valid with any history).
+    /// Changes the settings; history is kept (every knob is valid with any history). Settings
+    /// that turn reuse off on an instance built with it have the one-pass pipeline built by
+    /// the next [`RestirDi::prepare`] (a one-time pipeline compile in that frame).
     pub fn set_settings(&mut self, settings: RestirDiSettings) -> Result<(), GpuError> {
         settings.validate()?;
         self.settings = settings;
