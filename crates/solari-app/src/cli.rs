@@ -442,9 +442,9 @@ pub struct RealtimeArgs {
     /// accuracy, see `RestirGiSettings::permutation_sampling`).
     #[arg(long)]
     pub gi_permutation: bool,
-    /// Path GI from half the pixels each frame (a checkerboard that flips every frame, at
-    /// twice the weight): GI's first pass about 40% faster, noisier while histories are
-    /// young. Only with `--gi path`; see `RestirGiSettings::half_rate`.
+    /// GI traced from half the pixels each frame (a checkerboard that flips every frame, at
+    /// twice the weight): GI's first pass 30-40% faster, noisier while histories are young.
+    /// With `--gi path` or `--gi restir`; see `RestirGiSettings::half_rate`.
     #[arg(long)]
     pub gi_half_rate: bool,
     /// Specular GI: the indirect light of the specular lobe (reflections of everything but
@@ -627,7 +627,7 @@ impl RealtimeArgs {
                 std::sync::atomic::AtomicBool::new(false);
             if !WARNED.swap(true, std::sync::atomic::Ordering::Relaxed) {
                 log::warn!(
-                    "--gi-half-rate applies to path GI only: ignored with GI mode {:?}",
+                    "--gi-half-rate applies to path and ReSTIR GI only: ignored with GI mode {:?}",
                     settings.gi
                 );
             }

@@ -1276,7 +1276,7 @@ impl RealtimeRenderer {
             cache.prepare(gpu, &context, light_count);
         }
         if let Some((gi, _)) = &mut self.gi {
-            gi.prepare(gpu, &context, &self.gbuffer);
+            gi.prepare(gpu, &context, &self.gbuffer)?;
         }
         if let Some(specular) = &self.specular {
             specular.prepare(gpu, &context);

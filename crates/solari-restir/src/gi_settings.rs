@@ -41,16 +41,25 @@ pub struct RestirGiSettings {
     /// the target. Each costs a ray and a cache query; with plain path GI this is how more
     /// samples per pixel are bought.
     pub initial_samples: u32,
-    /// Plain path GI only (no reuse): each frame only half the pixels trace, a checkerboard
-    /// that flips every frame, at twice the weight; the others have no GI sample that frame
-    /// (default off). Unbiased, and the denoiser's filters fill the gaps. The tracing pixels
-    /// are packed into whole warps, so the pass does half the work: on an H100 at 1080p
-    /// GI's first pass took 0.60 ms instead of 1.03 on `interior` (the default frame 4.49 ms
-    /// instead of 4.91) and 0.32 instead of 0.51 on many_lights. The cost is noise, most
-    /// where histories are young: relMSE against the full-bounce reference (960×540,
-    /// fallback denoiser) rose 11% on interior's 8th frame, 3.4% on its 136th and 1.9% on a
-    /// 16-frame mean; 8–20% on the Cornell box and sun_boxes (`benches/RESULTS.md`, "Path GI
-    /// from half the pixels").
+    /// Each frame only half the pixels trace, a checkerboard that flips every frame, at twice
+    /// the weight; the others draw no sample that frame (default off). The tracing pixels
+    /// are packed into whole warps, so the tracing work halves.
+    ///
+    /// - Plain path GI (no reuse): unbiased, and the denoiser's filters fill the gaps. On
+    ///   an H100 at 1080p GI's first pass took 0.60 ms instead of 1.03 on `interior` (the
+    ///   default frame 4.49 ms instead of 4.91) and 0.32 instead of 0.51 on many_lights. The
+    ///   cost is noise, most where histories are young: relMSE against the full-bounce
+    ///   reference (960×540, fallback denoiser) rose 11% on interior's 8th frame, 3.4% on
+    ///   its 136th and 1.9% on a 16-frame mean; 8–20% on the Cornell box and sun_boxes
+    ///   (`benches/RESULTS.md`, "Path GI from half the pixels").
+    /// - With reuse: an untraced pixel's reservoir is empty with confidence 1 (it drew a
+    ///   sample worth nothing) and is merged with its temporal history as usual, so each
+    ///   frame's reservoirs stay unbiased over the checkerboard's two phases (a pixel's
+    ///   expected brightness alternates by about ±1/(2·cap + 1) between them, which the
+    ///   denoiser averages out). ReSTIR GI's two passes on an H100 at 1080p: many_lights
+    ///   0.94 ms instead of 1.14, interior 1.86 instead of 2.29; relMSE −2% to +2.5% of the
+    ///   full rate's on frame 136 and on a 16-frame mean, 2–5% above it on frame 8
+    ///   (`benches/RESULTS.md`, "ReSTIR GI from half the pixels").
     pub half_rate: bool,
 }
 
@@ -161,13 +170,6 @@ impl RestirGiSettings {
                 "initial_samples is {}, expected 1 to {MAX_GI_INITIAL_SAMPLES}",
                 self.initial_samples
             ));
-        }
-        if self.half_rate && self.reuse() {
-            return bad(
-                "half_rate is plain path GI's (temporal and spatial reuse off): reuse would \
-                 carry the untraced pixels' empty reservoirs"
-                    .to_string(),
-            );
         }
         if self.max_ray_distance.is_nan() || self.max_ray_distance <= 0.0 {
             return bad(format!(
