@@ -15,7 +15,8 @@
 # replacement off (`--psr off`), +sN takes N GI candidates per pixel (`--gi-samples N`),
 # +biased drops ReSTIR GI's unbiased spatial MIS ray (`--gi-spatial-visibility neighbour`;
 # `--gi-unbiased-spatial off` before the twenty-first session), +chosen traces only the
-# chosen sample's ray (`--gi-spatial-visibility chosen`), e.g.
+# chosen sample's ray (`--gi-spatial-visibility chosen`), +half traces from half the pixels
+# (`--gi-half-rate`), e.g.
 # MODES="path path+spec path+spec+nodi path+spec+s4". PHASES="time
 # error" (default both) runs either half alone, so a long sweep can span two device commands.
 # Everything lands in $OUT/gi_h200.tar.gz, the table in $OUT/gi_table.csv.
@@ -38,7 +39,7 @@ flags() {
   for p in "${parts[@]:1}"; do
     case $p in spec) spec=on ;; nodi) echo "--di-reuse none" ;; nopsr) echo "--psr off" ;;
       s[0-9]*) echo "--gi-samples ${p#s}" ;; biased) echo "--gi-spatial-visibility neighbour" ;;
-      chosen) echo "--gi-spatial-visibility chosen" ;;
+      chosen) echo "--gi-spatial-visibility chosen" ;; half) echo "--gi-half-rate" ;;
       *) echo "unknown mode suffix +$p" >&2; exit 2 ;; esac
   done
   echo "--specular-gi $spec"
