@@ -59,6 +59,8 @@ pub struct RestirDiSettings {
     /// shadows, but biases reuse: a neighbour's occluded sample counts in the MIS weights as
     /// if it could have been chosen, so light near shadow edges is lost (measured: the
     /// Cornell box comes out 2.3% dark, a soft-sun scene 12.8%, over 128 frames at 64×64).
+    /// Only frames with reuse trace it: without reuse the final shadow ray is the same ray
+    /// (it zeroes the light all the same, and the kept sample gives the denoiser its shadow).
     pub initial_visibility: bool,
     /// BRDF-sampled candidates per pixel, beside the tile candidates (default 1, at most
     /// [`MAX_BRDF_CANDIDATES`]). Each draws a direction from the pixel's BRDF: with an
