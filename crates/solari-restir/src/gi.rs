@@ -41,10 +41,12 @@
 //! sample of confidence 1, which reuse merges like any other: 32–41% off the first pass on
 //! `interior` for a noisier young history.
 //!
-//! The spatial pass is built in two forms: for [`SpatialVisibility::Chosen`] (the default) a
-//! pipeline that settles both possible results of the merge before its one ray, so that less
-//! is live across the traversal (2.2–3.7% off the pass on an H100), and a general one for the
-//! other two; [`RestirGi::prepare`] builds the other after a settings change.
+//! Both passes are specialised by pipeline constants for what the settings run, since code
+//! that never runs still costs a kernel its registers: the initial pass is built without its
+//! resampling loop for one candidate (the default; 9.5–14% off the pass on an H100), and the
+//! spatial pass for [`SpatialVisibility::Chosen`] (the default) settles both possible results
+//! of the merge before its one ray, without the general code of the other two (2.2–3.7%).
+//! [`RestirGi::prepare`] builds a pass again after a settings change crosses either line.
 //!
 //! ## Memory
 //!
@@ -92,6 +94,10 @@ const REUSE_OFF: (&str, f64) = ("7120", 0.0);
 /// (`@id(7121) override GI_CHOSEN_ONLY` in `restir_gi.wesl`).
 const CHOSEN_ONLY: (&str, f64) = ("7121", 1.0);
 
+/// The pipeline constant that builds the initial pass's resampling of several candidates
+/// ([`RestirGiSettings::initial_samples`] above 1; `@id(7122) override GI_MULTI_CANDIDATE`).
+const MULTI_CANDIDATE: (&str, f64) = ("7122", 1.0);
+
 /// Labels of the two dispatches (and profiler scopes); plain path GI runs the first alone.
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
 
@@ -104,6 +110,9 @@ pub struct RestirGi {
     backend: Backend,
     size: (u32, u32),
     initial: wgpu::ComputePipeline,
+    // Whether `initial` was built with the resampling of several candidates
+    // (MULTI_CANDIDATE); a settings change across that line has `prepare` build it again.
+    initial_multi: bool,
     // None when built without reuse (`in_place`): plain path GI shades in its initial pass.
     spatial: Option<wgpu::ComputePipeline>,
     // Whether `spatial` was specialised for `SpatialVisibility::Chosen` (CHOSEN_ONLY); a
@@ -120,6 +129,37 @@ pub struct RestirGi {
     group: Option<wgpu::BindGroup>,
     frame: u32,
     history: bool,
+}
+
+// The initial pass's pipeline, built for reuse or without it, and with the resampling of
+// several candidates where `multi`.
+fn initial_pipeline(
+    gpu: &Gpu,
+    backend: Backend,
+    variant: TraceVariant,
+    layout: &wgpu::BindGroupLayout,
+    target_layout: &wgpu::BindGroupLayout,
+    reuse: bool,
+    multi: bool,
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    let shared = PassLayouts::new(gpu, backend);
+    let layouts = shared.with(layout, target_layout);
+    let mut constants = variant.constants().to_vec();
+    if !reuse {
+        constants.push(REUSE_OFF);
+    }
+    if multi {
+        constants.push(MULTI_CANDIDATE);
+    }
+    let modules = crate::gi_modules();
+    pass_pipeline(
+        gpu,
+        backend,
+        &modules,
+        &layouts,
+        "restir_gi_initial",
+        &constants,
+    )
 }
 
 // The spatial pass's pipeline, specialised for `SpatialVisibility::Chosen` where `chosen`
@@ -165,20 +205,15 @@ impl RestirGi {
         let variant = variant.for_backend(backend);
         let layout = layout_with_cache(gpu, &GI_BINDINGS, "solari_restir/gi");
         let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
-        let shared = PassLayouts::new(gpu, backend);
-        let layouts = shared.with(&layout, &target_layout);
-        let modules = crate::gi_modules();
-        let mut constants = variant.constants().to_vec();
-        if !settings.reuse() {
-            constants.push(REUSE_OFF);
-        }
-        let initial = pass_pipeline(
+        let multi = settings.initial_samples > 1;
+        let initial = initial_pipeline(
             gpu,
             backend,
-            &modules,
-            &layouts,
-            "restir_gi_initial",
-            &constants,
+            variant,
+            &layout,
+            &target_layout,
+            settings.reuse(),
+            multi,
         )?;
         let chosen = settings.spatial_visibility == SpatialVisibility::Chosen;
         let spatial = if settings.reuse() {
@@ -200,6 +235,7 @@ impl RestirGi {
             backend,
             size: (0, 0),
             initial,
+            initial_multi: multi,
             spatial,
             spatial_chosen: chosen,
             layout,
@@ -357,9 +393,9 @@ impl RestirGi {
 
     /// Writes the frame's parameters. `gbuffer` is the G-buffer this frame reads (its
     /// history decides whether temporal reuse may run). After [`RestirGi::set_settings`]
-    /// moved [`RestirGiSettings::spatial_visibility`] to or from
-    /// [`SpatialVisibility::Chosen`], it first builds the spatial pass again (a one-time
-    /// pipeline compile; the error is that build's).
+    /// moved [`RestirGiSettings::initial_samples`] to or from 1, or
+    /// [`RestirGiSettings::spatial_visibility`] to or from [`SpatialVisibility::Chosen`], it
+    /// first builds that pass again (a one-time pipeline compile; the error is that build's).
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -367,6 +403,23 @@ impl RestirGi {
         gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
         let s = self.settings;
+        let multi = s.initial_samples > 1;
+        if multi != self.initial_multi {
+            self.initial = initial_pipeline(
+                gpu,
+                self.backend,
+                self.variant,
+                &self.layout,
+                &self.target_layout,
+                self.built_for_reuse(),
+                multi,
+            )?;
+            log::debug!(
+                "ReSTIR GI: initial pass built again for {} candidates",
+                s.initial_samples
+            );
+            self.initial_multi = multi;
+        }
         let chosen = s.spatial_visibility == SpatialVisibility::Chosen;
         if self.spatial.is_some() && chosen != self.spatial_chosen {
             let pipeline = spatial_pipeline(
@@ -448,6 +501,14 @@ impl RestirGi {
     /// ([`RestirGiSettings::plain`]), it runs one pass, which shades.
     pub fn built_for_reuse(&self) -> bool {
         self.spatial.is_some()
+    }
+
+    /// Whether the initial pass's pipeline holds the resampling of several candidates
+    /// ([`RestirGiSettings::initial_samples`] above 1: built without it, the single-candidate
+    /// pass was 9.5–14% faster on an H100). After [`RestirGi::set_settings`] moved the count
+    /// to or from 1, the next [`RestirGi::prepare`] builds the other.
+    pub fn initial_multi_candidate(&self) -> bool {
+        self.initial_multi
     }
 
     /// Whether the spatial pass's pipeline is the one specialised for

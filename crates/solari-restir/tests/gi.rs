@@ -434,46 +434,67 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
     }
 }
 
-/// The spatial pass is built specialised for the default `SpatialVisibility::Chosen` (the
-/// merge settled before its one ray) and in general form for the other two; a settings change
-/// across that line builds the other at the next frame, and frames before and after render
-/// (finite and non-negative: `Setup::frame` checks the reservoirs and the image). Each
-/// visibility's own results are checked by the convergence tests above; on lavapipe with one
-/// thread (`LP_NUM_THREADS=1`, which makes the world cache deterministic) the specialised
-/// pass gave the general one's images bit for bit (the twenty-seventh session's note).
+/// Both passes are built specialised for their settings: the initial pass without the
+/// resampling loop unless `initial_samples` is above 1, the spatial pass for the default
+/// `SpatialVisibility::Chosen` (the merge settled before its one ray) or in general form for
+/// the other two. A settings change across either line builds that pass again at the next
+/// frame, and frames before and after render (finite and non-negative: `Setup::frame` checks
+/// the reservoirs and the image). Each form's results are checked by the convergence tests
+/// above (4 candidates built from the start: less noise than 1, so the loop is there); on
+/// lavapipe with one thread (`LP_NUM_THREADS=1`, which makes the world cache deterministic)
+/// the specialised passes gave the general ones' images bit for bit (the twenty-seventh
+/// session's note).
 #[test]
-fn the_spatial_pass_is_built_for_the_visibility_setting() {
+fn the_passes_are_built_for_their_settings() {
     let Some(gpu) = test_gpu() else { return };
     let scene = default_scene::cornell_box();
-    let with = |v| RestirGiSettings {
+    let with = |v, n| RestirGiSettings {
         spatial_visibility: v,
+        initial_samples: n,
         ..Default::default()
     };
-    let mut s = setup(&gpu, &scene, 32, Mode::Gi(with(SpatialVisibility::Both)));
+    let mut s = setup(&gpu, &scene, 32, Mode::Gi(with(SpatialVisibility::Both, 1)));
     assert!(!s.gi.spatial_chosen_only());
+    assert!(!s.gi.initial_multi_candidate());
     s.frame(&gpu, &scene);
-    for (v, chosen) in [
-        (SpatialVisibility::Chosen, true),
-        (SpatialVisibility::Neighbour, false),
-        (SpatialVisibility::Chosen, true),
-        (SpatialVisibility::Both, false),
+    for (v, n) in [
+        (SpatialVisibility::Chosen, 1),
+        (SpatialVisibility::Neighbour, 4),
+        (SpatialVisibility::Chosen, 4),
+        (SpatialVisibility::Both, 1),
     ] {
-        s.gi.set_settings(with(v)).expect("valid settings");
+        let (chosen, multi) = (s.gi.spatial_chosen_only(), s.gi.initial_multi_candidate());
+        s.gi.set_settings(with(v, n)).expect("valid settings");
         assert_eq!(
-            s.gi.spatial_chosen_only(),
-            !chosen,
-            "{v:?}: built at the next frame"
+            (s.gi.spatial_chosen_only(), s.gi.initial_multi_candidate()),
+            (chosen, multi),
+            "{v:?}, {n}: built at the next frame"
         );
         s.frame(&gpu, &scene);
-        assert_eq!(s.gi.spatial_chosen_only(), chosen, "{v:?}");
+        assert_eq!(
+            s.gi.spatial_chosen_only(),
+            v == SpatialVisibility::Chosen,
+            "{v:?}"
+        );
+        assert_eq!(s.gi.initial_multi_candidate(), n > 1, "{n} candidates");
     }
-    let plain = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::plain()));
+    let mut plain = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::plain()));
     assert!(
         !plain.gi.spatial_chosen_only(),
         "no spatial pass without reuse"
     );
+    assert!(!plain.gi.initial_multi_candidate());
+    let four = RestirGiSettings {
+        initial_samples: 4,
+        ..RestirGiSettings::plain()
+    };
+    plain.gi.set_settings(four).expect("valid settings");
+    plain.mode = Mode::Gi(four);
+    plain.frame(&gpu, &scene);
+    assert!(plain.gi.initial_multi_candidate());
     let default = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::default()));
     assert!(default.gi.spatial_chosen_only());
+    assert!(!default.gi.initial_multi_candidate());
 }
 
 /// Plain path GI keeps one reservoir buffer (the shade stores each pixel's reservoir back
