@@ -273,9 +273,10 @@ pub struct RealtimeSettings {
     /// cache, no reuse). Chosen by measurement (`benches/RESULTS.md`, "GI: the whole
     /// matrix"): on the H200 at 1080p with the fallback denoiser its one-frame relMSE was
     /// within 4% of the best GI mode's on cornell_box, sun_boxes, many_lights and interior
-    /// (lowest on interior); ReSTIR GI's was within ±3% of it on all four for 0.3–0.5 ms
-    /// more per frame (1.2 ms on interior; H100, "One visibility ray in ReSTIR GI's spatial
-    /// reuse"), cache-only GI's 21% higher on interior.
+    /// (lowest on interior); ReSTIR GI's was within ±3% of it on all four (H100, "One
+    /// visibility ray in ReSTIR GI's spatial reuse") for 0.4–0.6 ms more per frame (1.4 ms on
+    /// interior; H100, "ReSTIR GI from half the pixels"), cache-only GI's 21% higher on
+    /// interior.
     pub gi: GiMode,
     /// The world cache's knobs (used with any GI mode or [`FrameView::WorldCache`]).
     pub cache: WorldCacheSettings,
