@@ -443,7 +443,7 @@ pub struct RealtimeArgs {
     #[arg(long)]
     pub gi_permutation: bool,
     /// GI traced from half the pixels each frame (a checkerboard that flips every frame, at
-    /// twice the weight): GI's first pass 30-40% faster, noisier while histories are young.
+    /// twice the weight): GI's first pass 20-40% faster, noisier while histories are young.
     /// With `--gi path` or `--gi restir`; see `RestirGiSettings::half_rate`.
     #[arg(long)]
     pub gi_half_rate: bool,

@@ -137,29 +137,18 @@ fn initial_pipeline(
     gpu: &Gpu,
     backend: Backend,
     variant: TraceVariant,
-    layout: &wgpu::BindGroupLayout,
-    target_layout: &wgpu::BindGroupLayout,
+    layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     reuse: bool,
     multi: bool,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
-    let shared = PassLayouts::new(gpu, backend);
-    let layouts = shared.with(layout, target_layout);
-    let mut constants = variant.constants().to_vec();
+    let mut extra = Vec::new();
     if !reuse {
-        constants.push(REUSE_OFF);
+        extra.push(REUSE_OFF);
     }
     if multi {
-        constants.push(MULTI_CANDIDATE);
+        extra.push(MULTI_CANDIDATE);
     }
-    let modules = crate::gi_modules();
-    pass_pipeline(
-        gpu,
-        backend,
-        &modules,
-        &layouts,
-        "restir_gi_initial",
-        &constants,
-    )
+    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", &extra)
 }
 
 // The spatial pass's pipeline, specialised for `SpatialVisibility::Chosen` where `chosen`
@@ -168,25 +157,29 @@ fn spatial_pipeline(
     gpu: &Gpu,
     backend: Backend,
     variant: TraceVariant,
-    layout: &wgpu::BindGroupLayout,
-    target_layout: &wgpu::BindGroupLayout,
+    layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     chosen: bool,
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    let extra: &[(&str, f64)] = if chosen { &[CHOSEN_ONLY] } else { &[] };
+    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_spatial", extra)
+}
+
+// A GI pass's pipeline (`entry`) over its own group and the target group (`layouts`), with
+// `variant`'s traversal constants and `extra`.
+fn gi_pipeline(
+    gpu: &Gpu,
+    backend: Backend,
+    variant: TraceVariant,
+    (layout, target_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+    entry: &str,
+    extra: &[(&'static str, f64)],
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let shared = PassLayouts::new(gpu, backend);
     let layouts = shared.with(layout, target_layout);
     let mut constants = variant.constants().to_vec();
-    if chosen {
-        constants.push(CHOSEN_ONLY);
-    }
+    constants.extend_from_slice(extra);
     let modules = crate::gi_modules();
-    pass_pipeline(
-        gpu,
-        backend,
-        &modules,
-        &layouts,
-        "restir_gi_spatial",
-        &constants,
-    )
+    pass_pipeline(gpu, backend, &modules, &layouts, entry, &constants)
 }
 
 impl RestirGi {
@@ -210,8 +203,7 @@ impl RestirGi {
             gpu,
             backend,
             variant,
-            &layout,
-            &target_layout,
+            (&layout, &target_layout),
             settings.reuse(),
             multi,
         )?;
@@ -221,8 +213,7 @@ impl RestirGi {
                 gpu,
                 backend,
                 variant,
-                &layout,
-                &target_layout,
+                (&layout, &target_layout),
                 chosen,
             )?)
         } else {
@@ -409,8 +400,7 @@ impl RestirGi {
                 gpu,
                 self.backend,
                 self.variant,
-                &self.layout,
-                &self.target_layout,
+                (&self.layout, &self.target_layout),
                 self.built_for_reuse(),
                 multi,
             )?;
@@ -426,8 +416,7 @@ impl RestirGi {
                 gpu,
                 self.backend,
                 self.variant,
-                &self.layout,
-                &self.target_layout,
+                (&self.layout, &self.target_layout),
                 chosen,
             )?;
             log::debug!(
