@@ -429,11 +429,10 @@ impl RestirGi {
         self.frame = frame.index;
         let history = self.history && gbuffer.history_valid();
         let mut bits = reuse(s.temporal, s.spatial, s.permutation_sampling, history);
-        bits |= match s.spatial_visibility {
-            SpatialVisibility::Both => flags::UNBIASED_SPATIAL,
-            SpatialVisibility::Chosen => flags::CHOSEN_VISIBILITY,
-            SpatialVisibility::Neighbour => 0,
-        };
+        // `Chosen` is the spatial pipeline built above (CHOSEN_ONLY), not a flag.
+        if s.spatial_visibility == SpatialVisibility::Both {
+            bits |= flags::UNBIASED_SPATIAL;
+        }
         if s.half_rate {
             bits |= flags::HALF_RATE;
         }
@@ -461,7 +460,9 @@ impl RestirGi {
     /// ([`RestirGi::target_group`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
-    /// `scene` no longer has, or when the G-buffer's or the frame's size is not this pass's.
+    /// `scene` no longer has, or for settings that [`RestirGi::set_settings`] changed with
+    /// no [`RestirGi::prepare`] since, or when the G-buffer's or the frame's size is not this
+    /// pass's.
     pub fn encode(
         &mut self,
         encoder: &mut wgpu::CommandEncoder,
@@ -471,6 +472,19 @@ impl RestirGi {
         target: &wgpu::BindGroup,
     ) -> Result<Ran, GpuError> {
         check_encode("ReSTIR GI", self.variant, self.size, scene, gbuffer, frame)?;
+        // The pipelines are specialised for the settings (`prepare` rebuilds them): run
+        // against other settings they would shade another estimator without a word.
+        let s = self.settings;
+        let chosen = s.spatial_visibility == SpatialVisibility::Chosen;
+        if (self.spatial.is_some() && chosen != self.spatial_chosen)
+            || (s.initial_samples > 1) != self.initial_multi
+        {
+            return Err(GpuError::Validation(
+                "ReSTIR GI: settings changed since the last prepare; call RestirGi::prepare \
+                 before encode"
+                    .into(),
+            ));
+        }
         let group = self.group.as_ref().expect("resize binds the reservoirs");
         let groups = [scene.bind_group(), gbuffer.bind_group()?, group, target];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];

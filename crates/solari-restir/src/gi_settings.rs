@@ -188,8 +188,8 @@ impl RestirGiSettings {
 pub(crate) mod flags {
     /// [`super::SpatialVisibility::Both`]: the neighbour's view of the pixel's sample too.
     pub const UNBIASED_SPATIAL: u32 = 16;
-    /// [`super::SpatialVisibility::Chosen`]: one ray, for the chosen sample.
-    pub const CHOSEN_VISIBILITY: u32 = 64;
+    // (64 was CHOSEN_VISIBILITY: `SpatialVisibility::Chosen` is a spatial pipeline of its
+    // own, `gi::CHOSEN_ONLY`.)
     /// [`super::RestirGiSettings::half_rate`]: half the pixels trace, at twice the weight.
     pub const HALF_RATE: u32 = 128;
 }

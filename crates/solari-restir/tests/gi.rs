@@ -443,7 +443,7 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
 /// resampling loop unless `initial_samples` is above 1, the spatial pass for the default
 /// `SpatialVisibility::Chosen` (the merge settled before its one ray) or in general form for
 /// the other two. A settings change across either line builds that pass again at the next
-/// frame, and frames before and after render (finite and non-negative: `Setup::frame` checks
+/// frame (encode refuses until `prepare` has), and frames before and after render (finite and non-negative: `Setup::frame` checks
 /// the reservoirs and the image). Each form's results are checked by the convergence tests
 /// above (4 candidates built from the start: less noise than 1, so the loop is there); on
 /// lavapipe with one thread (`LP_NUM_THREADS=1`, which makes the world cache deterministic)
@@ -475,6 +475,21 @@ fn the_passes_are_built_for_their_settings() {
             (chosen, multi),
             "{v:?}, {n}: built at the next frame"
         );
+        // Until `prepare` rebuilds, the passes do not fit the settings: encode refuses.
+        if (chosen, multi) != (v == SpatialVisibility::Chosen, n > 1) {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            let d = &s.direct;
+            let e =
+                s.gi.encode(
+                    &mut encoder,
+                    d.context(),
+                    &d.gpu_scene,
+                    &d.gbuffer,
+                    &s.gi_target,
+                )
+                .expect_err("stale pipelines refused");
+            assert!(e.to_string().contains("RestirGi::prepare"), "{e}");
+        }
         s.frame(&gpu, &scene);
         assert_eq!(
             s.gi.spatial_chosen_only(),
