@@ -1,7 +1,7 @@
 //! `RestirDiSettings::reuse_light_threshold` on lavapipe: a scene whose lights have no more
 //! sampling elements than the threshold renders exactly as with both reuse steps off, one with
 //! more exactly as with them on, and a scene that gains lights starts reusing. A frame
-//! without reuse runs DI as one pass.
+//! without reuse runs DI as one pass, where `initial_visibility` changes nothing.
 
 mod common;
 
@@ -130,5 +130,32 @@ fn the_threshold_includes_its_count_and_zero_never_skips() {
     assert!(
         !RestirDiSettings::default().skips_reuse(1),
         "the component never skips by default"
+    );
+}
+
+/// `RestirDiSettings::initial_visibility` acts only in frames with reuse: without reuse the
+/// one-pass pipeline does not trace it (the final shadow ray is the same ray and zeroes the
+/// same light), so the image is bit for bit the one without it; with reuse it still changes
+/// the image (occluded samples no longer reach the neighbours' merges).
+#[test]
+fn initial_visibility_acts_only_with_reuse() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let with = |reuse: bool, initial_visibility: bool| RestirDiSettings {
+        temporal: reuse,
+        spatial: reuse,
+        initial_visibility,
+        ..di_settings()
+    };
+    let (off, _) = run(&gpu, backend, &scene, None, with(false, false));
+    let (off_tested, _) = run(&gpu, backend, &scene, None, with(false, true));
+    assert_eq!(off, off_tested, "without reuse the setting changes nothing");
+    let (on, _) = run(&gpu, backend, &scene, None, with(true, false));
+    let (on_tested, _) = run(&gpu, backend, &scene, None, with(true, true));
+    assert_ne!(
+        on[FRAMES - 1],
+        on_tested[FRAMES - 1],
+        "with reuse the initial test changes the image"
     );
 }
