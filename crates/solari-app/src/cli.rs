@@ -447,6 +447,19 @@ pub struct RealtimeArgs {
     /// With `--gi path` or `--gi restir`; see `RestirGiSettings::half_rate`.
     #[arg(long)]
     pub gi_half_rate: bool,
+    /// ReSTIR GI: a GI ray that hits a world-cache cell with no samples yet draws no sample
+    /// instead of a dark one (on by default; `--gi-ignore-cold-cells off` counts it dark, which
+    /// keeps the first frames dark while the cache fills). See
+    /// `RestirGiSettings::ignore_cold_cells`.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub gi_ignore_cold_cells: bool,
+    /// ReSTIR GI: temporal reuse caps the history's confidence lower where the world cache
+    /// sees the light changing (on by default; `--gi-adaptive-cap off` keeps the fixed cap
+    /// of 8). See `RestirGiSettings::adaptive_cap`.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub gi_adaptive_cap: bool,
     /// Specular GI: the indirect light of the specular lobe (reflections of everything but
     /// the lights, which are DI's), traced for glossy and mirror pixels; rough ones reuse
     /// the ReSTIR GI reservoir with `--gi path|restir`. Needs no `--gi` mode. On by default
@@ -565,6 +578,8 @@ impl RealtimeArgs {
                 initial_samples: self.gi_samples,
                 spatial_visibility: self.gi_spatial_visibility,
                 half_rate: self.gi_half_rate,
+                ignore_cold_cells: self.gi_ignore_cold_cells,
+                adaptive_cap: self.gi_adaptive_cap,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

@@ -217,6 +217,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         // (Outside the macro, which reaches its recursion limit with one more field.)
         v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
         v["gi_half_rate"] = applied.restir_gi.half_rate.into();
+        v["gi_ignore_cold_cells"] = applied.restir_gi.ignore_cold_cells.into();
+        v["gi_adaptive_cap"] = applied.restir_gi.adaptive_cap.into();
         v["di_reuse_skipped"] = renderer.di_reuse_skipped().into();
         println!("{v}");
     } else {

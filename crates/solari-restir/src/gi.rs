@@ -6,11 +6,14 @@
 //! 1. **Initial sample**: a cosine-distributed direction about the shading normal is traced.
 //!    At its hit, the radiance toward the pixel is the hit's base colour times the world
 //!    cache's irradiance / π there (its total channel: the hit's direct light belongs to GI).
-//!    Emissive hits give no sample (ReSTIR DI owns that light); a miss gives a far sample
-//!    point lit by the scene's constant environment. W = π / cos.
+//!    An emissive hit's own emission is left out (ReSTIR DI owns it), the light it reflects
+//!    counts like any hit's; a miss gives a far sample point lit by the scene's constant
+//!    environment. W = π / cos. A hit in a cell the cache has not lit yet gives no sample
+//!    and no confidence ([`RestirGiSettings::ignore_cold_cells`]).
 //! 2. **Temporal reuse** of last frame's final reservoir at the reprojected pixel, permuted
 //!    within 4×4 blocks, rejected where the surfaces differ; confidence capped
-//!    ([`RestirGiSettings::confidence_cap`]).
+//!    ([`RestirGiSettings::confidence_cap`]; lower where the world cache saw the reused
+//!    sample's light changing when it was traced, [`RestirGiSettings::adaptive_cap`]).
 //! 3. **Spatial reuse** of one neighbour ([`RestirGiSettings::spatial_radius`], up to
 //!    [`RestirGiSettings::spatial_tries`] tries with the radius halved). By default one
 //!    visibility ray per pixel ([`SpatialVisibility::Chosen`]): the merge chooses between
@@ -435,6 +438,12 @@ impl RestirGi {
         }
         if s.half_rate {
             bits |= flags::HALF_RATE;
+        }
+        if s.ignore_cold_cells {
+            bits |= flags::IGNORE_COLD;
+        }
+        if s.adaptive_cap {
+            bits |= flags::ADAPTIVE_CAP;
         }
         let params = GpuGiParams {
             width: self.size.0,

@@ -11,7 +11,9 @@ pub struct GpuGiReservoir {
     pub position: [f32; 3],
     /// Unbiased contribution weight W (0: no sample).
     pub weight: f32,
-    /// Radiance leaving the sample point, as f16 bits: `(r | g << 16, b)`.
+    /// Radiance leaving the sample point, as f16 bits: `(r | g << 16, b | cap << 16)`, where
+    /// cap is the most confidence a history holding the sample may bring
+    /// (`RestirGiSettings::adaptive_cap`).
     pub radiance: [u32; 2],
     /// The sample point's normal, octahedral 16 + 16 bits.
     pub normal: u32,

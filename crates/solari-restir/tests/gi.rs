@@ -175,6 +175,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 spatial_visibility: SpatialVisibility::Both,
+                adaptive_cap: false,
                 ..Default::default()
             }),
         ),
@@ -183,6 +184,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 spatial_visibility: SpatialVisibility::Neighbour,
+                adaptive_cap: false,
                 ..Default::default()
             }),
         ),
@@ -191,6 +193,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 permutation_sampling: true,
+                adaptive_cap: false,
                 ..Default::default()
             }),
         ),
@@ -206,6 +209,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 spatial_visibility: SpatialVisibility::Chosen,
+                adaptive_cap: false,
                 ..Default::default()
             }),
         ),
@@ -221,6 +225,14 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 half_rate: true,
+                adaptive_cap: false,
+                ..Default::default()
+            }),
+        ),
+        (
+            "restir, defaults (adaptive cap)",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
                 ..Default::default()
             }),
         ),
@@ -253,8 +265,20 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // ReSTIR GI at half rate, two runs (2026-11-27): total light -0.10% and -0.06%, one-frame
     // RMSE 0.0249 and 0.0246, 256-frame mean 0.0057 and 0.0056 (every pixel: -0.26%/-0.20%,
     // 0.0230/0.0240, 0.0054/0.0056): reuse carries each traced sample into the other frame.
-    let (cache, plain, restir, plain4, chosen, half, restir_half) = (
+    // The modes above test the estimator, so their caps are fixed: the adaptive cap (on by
+    // default) makes a history's weight depend on the sample it holds, which is not
+    // unbiased. With it (2026-11-27, one run): total light +0.16% with the chosen sample's
+    // ray and +0.42% at half rate (fixed cap, earlier runs: -0.28% to -0.06%); it is bounded
+    // at 1% below, as measured, not as proven.
+    let (cache, plain, restir, plain4, chosen, half, restir_half, adaptive) = (
         results[0], results[1], results[2], results[5], results[6], results[7], results[8],
+        results[9],
+    );
+    assert!(
+        adaptive.3.abs() < 0.01,
+        "{}: total light off by {:+.2}%",
+        adaptive.0,
+        adaptive.3 * 100.0
     );
     for (gi, mean_bound) in [
         (plain, 1.15),
@@ -283,7 +307,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     }
     // Reuse is what ReSTIR is for: a single frame is less noisy than plain sampling, with
     // either unbiased choice of spatial rays.
-    for gi in [restir, chosen, restir_half] {
+    for gi in [restir, chosen, restir_half, adaptive] {
         assert!(
             gi.1 < 0.7 * plain.1,
             "one frame: {} {} vs plain {}",
@@ -311,7 +335,9 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
 /// The test itself, 2026-11-26: plain −0.65%, −0.49%; ReSTIR with two spatial rays −0.39%,
 /// −0.51%; with the default one ray −0.37%, −0.53%. 2026-11-27, three runs, ReSTIR GI at half
 /// rate: sphere −0.76% to −0.84%, walls −0.47% to −0.48% (every pixel, the same runs: sphere
-/// −0.39% to −0.44%, walls −0.50% to −0.52%; the sphere's 0.4% is not explained). Before
+/// −0.39% to −0.44%, walls −0.50% to −0.52%; the sphere's 0.4% is not explained). With the
+/// adaptive cap (`RestirGiSettings::adaptive_cap`, on in these modes), one run: the chosen
+/// sample's ray sphere −0.41%, walls −0.26%; half rate −0.58%, −0.27%. Before
 /// emissive hits' reflected light counted, the sphere read 0.80 (−49%).
 #[test]
 fn gi_converges_to_the_sphere_furnace_closed_form() {
@@ -749,4 +775,72 @@ fn buffers_over_the_binding_limit_are_refused_by_name() {
     small
         .check_errors()
         .expect("refused before wgpu saw anything");
+}
+
+/// ReSTIR GI's first frames follow the world cache as it fills (`RestirGiSettings::
+/// ignore_cold_cells`, `adaptive_cap`): from a cold start its total light over frames 5-12
+/// of the Cornell box matches plain path GI's, which asks the cache afresh every frame. With
+/// both off it was dark: a hit in a cell not yet lit counted as a sample of no light, and
+/// samples traced while the cache was dim were reused at the full confidence cap.
+#[test]
+fn young_frames_follow_the_cache() {
+    let Some(gpu) = test_gpu() else { return };
+    let size = 48;
+    let scene = default_scene::cornell_box();
+    let young = |settings: RestirGiSettings| {
+        let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
+        let (mean, _) = s.mean(&gpu, &scene, 4, 8);
+        mean.iter()
+            .map(|p| (p[0] + p[1] + p[2]) as f64)
+            .sum::<f64>()
+    };
+    let plain = young(RestirGiSettings::plain());
+    let old = RestirGiSettings {
+        ignore_cold_cells: false,
+        adaptive_cap: false,
+        ..Default::default()
+    };
+    let modes = [
+        ("defaults", RestirGiSettings::default()),
+        ("neither", old),
+        (
+            "cold cells ignored",
+            RestirGiSettings {
+                ignore_cold_cells: true,
+                ..old
+            },
+        ),
+        (
+            "adaptive cap",
+            RestirGiSettings {
+                adaptive_cap: true,
+                ..old
+            },
+        ),
+    ];
+    let ratios: Vec<f64> = modes.iter().map(|(_, m)| young(*m) / plain).collect();
+    for ((name, _), r) in modes.iter().zip(&ratios) {
+        eprintln!(
+            "cornell {size}x{size}, frames 5-12 from a cold start: ReSTIR GI ({name}) / plain \
+             path GI total light {r:.4}"
+        );
+    }
+    // Measured (lavapipe, three runs): defaults 0.987, neither 0.923, cold cells ignored
+    // alone 0.954, the adaptive cap alone 0.973. The ratio counts DI too, which both modes
+    // share, so GI's own shortfall was larger.
+    let (defaults, neither) = (ratios[0], ratios[1]);
+    assert!(
+        defaults > 0.97,
+        "ReSTIR GI's young frames are dark: {defaults:.4} of path GI's light"
+    );
+    // The defect the settings mend is still there without them (else this test proves
+    // nothing), and each setting mends part of it alone.
+    assert!(neither < 0.95, "without either setting: {neither:.4}");
+    for (i, r) in ratios.iter().enumerate().skip(2) {
+        assert!(
+            *r > neither + 0.015,
+            "{} alone: {r:.4}, no better than neither ({neither:.4})",
+            modes[i].0
+        );
+    }
 }
