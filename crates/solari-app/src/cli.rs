@@ -455,8 +455,9 @@ pub struct RealtimeArgs {
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub gi_ignore_cold_cells: bool,
     /// ReSTIR GI: temporal reuse caps the history's confidence lower where the world cache
-    /// sees the light changing (on by default; `--gi-adaptive-cap off` keeps the fixed cap
-    /// of 8). See `RestirGiSettings::adaptive_cap`.
+    /// saw the reused sample's light changing when it was traced, as it does while the cache
+    /// fills (on by default; `--gi-adaptive-cap off` keeps the fixed cap of 8). See
+    /// `RestirGiSettings::adaptive_cap`.
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub gi_adaptive_cap: bool,
