@@ -12,25 +12,13 @@
 #          GI and the three ReSTIR GI wrappers), RUNS frames:mean-of (default "8:1 32:1 136:1
 #          136:16").
 # Usage: bash benches/results/gi_cold_2026-11-27/run.sh time|error|both
+# It runs restir_half_2026-11-27/run.sh (the same phases) with this session's defaults.
 set -u
-source benches/results/device_env.sh
-unpack_bins
-BINS=${BINS:-solari_base solari}
-mkdir -p "$OUT"
-time_phase() {
-  local tag=${TAG:-time} r=/root/ab_${TAG:-time}
-  RESULTS=$r BINS="$BINS" FLAGS="${FLAGS:---gi restir --denoiser fallback}" \
-    REPS=${REPS:-3} FRAMES=300 BVH_SCENES=" " \
-    SCENES="${SCENES:-cornell_box sun_boxes many_lights interior}" \
-    bash benches/results/ab_passes_h200.sh > "$OUT/${tag}_log.txt" 2>&1
-  mv "$OUT/ab.tar.gz" "$OUT/$tag.tar.gz"; rm -f "$OUT/ab_table.txt"
-  python3 benches/results/memory_scratch_2026-11-26/ab_variants.py "$r" "$BINS" \
-    | tee "$OUT/${tag}_table.txt"
-}
+R=benches/results/restir_half_2026-11-27/run.sh
+time_phase() { BINS="${BINS:-solari_base solari}" REPS=${REPS:-3} bash $R time; }
 error_phase() {
-  BINS="${ERROR_BINS:-solari solari_restir_old solari_restir_cold solari_restir}" \
-    RUNS="${RUNS:-8:1 32:1 136:1 136:16}" \
-    bash benches/results/atrous_plane_2026-11-26/kernel_error.sh 2> "$OUT/error_log.txt"
+  ERROR_BINS="${ERROR_BINS:-solari solari_restir_old solari_restir_cold solari_restir}" \
+    RUNS="${RUNS:-8:1 32:1 136:1 136:16}" bash $R error
 }
 case "${1:-}" in
   time) time_phase ;;

@@ -591,13 +591,7 @@ fn a_light_switched_on_shines_at_full_strength_at_once() {
     before.punctual_lights.push(bulb("dim", 0.25, 0.05));
     let mut lit = before.clone();
     lit.punctual_lights.push(bulb("bright", 0.0, 0.5));
-    let mean = |renderer: &mut RealtimeRenderer, scene: &Scene| {
-        renderer
-            .render(&c.gpu, scene, &c.gpu_scene, &c.camera)
-            .expect("frame");
-        let pixels = renderer.read_output(&c.gpu).expect("read back");
-        pixels.iter().map(|p| p[1] as f64).sum::<f64>() / pixels.len() as f64
-    };
+    let mean = |renderer: &mut RealtimeRenderer, scene: &Scene| c.mean_green(renderer, scene);
     // The converged level with the bulb, from a renderer built with it.
     let mut fresh = c.renderer_of(&lit, settings());
     let converged = (0..32).map(|_| mean(&mut fresh, &lit)).sum::<f64>() / 32.0;
@@ -701,13 +695,7 @@ fn restir_gi_follows_a_light_switched_off() {
         range: None,
         radius: 0.0,
     });
-    let mean = |renderer: &mut RealtimeRenderer, scene: &Scene| {
-        renderer
-            .render(&c.gpu, scene, &c.gpu_scene, &c.camera)
-            .expect("frame");
-        let pixels = renderer.read_output(&c.gpu).expect("read back");
-        pixels.iter().map(|p| p[1] as f64).sum::<f64>() / pixels.len() as f64
-    };
+    let mean = |renderer: &mut RealtimeRenderer, scene: &Scene| c.mean_green(renderer, scene);
     let run = |gi: GiMode, restir_gi: RestirGiSettings| {
         let s = RealtimeSettings {
             gi,

@@ -98,4 +98,13 @@ impl Cornell {
         )
         .expect("renderer")
     }
+
+    /// Renders one frame of `scene` (this box's camera) and returns the output's mean green.
+    pub fn mean_green(&self, renderer: &mut RealtimeRenderer, scene: &Scene) -> f64 {
+        renderer
+            .render(&self.gpu, scene, &self.gpu_scene, &self.camera)
+            .expect("frame");
+        let pixels = renderer.read_output(&self.gpu).expect("read back");
+        pixels.iter().map(|p| p[1] as f64).sum::<f64>() / pixels.len() as f64
+    }
 }
