@@ -666,8 +666,9 @@ fn di_reuse_is_skipped_for_few_lights_under_the_fallback_denoiser_only() {
 /// both show is the cache's own and the denoiser's. Measured (lavapipe): share of the bulb's
 /// light left 16 frames after the switch, path GI 0.27-0.28, ReSTIR GI 0.36-0.39 (two runs),
 /// with a fixed confidence cap 0.42 (`RestirGiSettings::adaptive_cap` off, one run); mean of
-/// frames 9-16, path GI 0.37, ReSTIR GI 0.44-0.48. The adaptive cap helps little here: it is read when a sample is traced,
-/// and the samples in the history were traced while the light was steady.
+/// frames 9-16, path GI 0.37, ReSTIR GI 0.44-0.48. The adaptive cap helps little here: it is
+/// read when a sample is traced, and the samples in the history were traced while the light
+/// was steady.
 #[test]
 fn restir_gi_follows_a_light_switched_off() {
     use solari_renderer::GiMode;

@@ -86,9 +86,8 @@ pub struct RestirGiSettings {
     /// keep the full cap until replaced: after a light is switched off it helped little
     /// (`solari-renderer`'s `restir_gi_follows_a_light_switched_off`: 0.36 of the light
     /// left after 16 frames against 0.42, path GI 0.28). It is read from the cell the
-    /// sample's radiance came from,
-    /// already loaded: +0.7–1.0% on the initial pass (a second cache lookup at reuse time
-    /// cost 8–14%). With [`RestirGiSettings::ignore_cold_cells`], against neither, on an
+    /// sample's radiance came from, already loaded: +0.7–1.0% on the initial pass (a second
+    /// cache lookup at reuse time cost 8–14%). With [`RestirGiSettings::ignore_cold_cells`], against neither, on an
     /// H100 (as there): relMSE at frame 8 −56% (Cornell box), −51% (sun_boxes), −10%
     /// (many_lights), −49% (`interior`), which brings ReSTIR GI's young frames level with
     /// path GI's; at frame 32 −59%, −44%, −1%, −51%. The cost is in long histories: a cap

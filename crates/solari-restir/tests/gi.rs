@@ -844,3 +844,24 @@ fn young_frames_follow_the_cache() {
         );
     }
 }
+
+/// A confidence cap beyond f16's range (valid: any finite cap of at least 1) is stored at the
+/// limit in each sample and read back as no cap: every frame stays finite and non-negative,
+/// with the adaptive cap (which stores a cap per sample as f16) on and off.
+#[test]
+fn a_confidence_cap_beyond_f16_stays_finite() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    for adaptive_cap in [true, false] {
+        let settings = RestirGiSettings {
+            confidence_cap: 1e9,
+            adaptive_cap,
+            ..Default::default()
+        };
+        let mut s = setup(&gpu, &scene, 32, Mode::Gi(settings));
+        // `frame` panics on any NaN, infinity, negative value or over-confident reservoir.
+        let (mean, _) = s.mean(&gpu, &scene, 8, 8);
+        let light: f64 = mean.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum();
+        assert!(light > 0.0, "adaptive cap {adaptive_cap}: no light at all");
+    }
+}
