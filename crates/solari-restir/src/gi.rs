@@ -167,6 +167,15 @@ fn spatial_pipeline(
     gi_pipeline(gpu, backend, variant, layouts, "restir_gi_spatial", extra)
 }
 
+// The pass specialisations `s` wants: (the initial pass's resampling of several candidates,
+// the spatial pass for `SpatialVisibility::Chosen`).
+fn wanted_pipelines(s: &RestirGiSettings) -> (bool, bool) {
+    (
+        s.initial_samples > 1,
+        s.spatial_visibility == SpatialVisibility::Chosen,
+    )
+}
+
 // A GI pass's pipeline (`entry`) over its own group and the target group (`layouts`), with
 // `variant`'s traversal constants and `extra`.
 fn gi_pipeline(
@@ -201,7 +210,7 @@ impl RestirGi {
         let variant = variant.for_backend(backend);
         let layout = layout_with_cache(gpu, &GI_BINDINGS, "solari_restir/gi");
         let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
-        let multi = settings.initial_samples > 1;
+        let (multi, chosen) = wanted_pipelines(&settings);
         let initial = initial_pipeline(
             gpu,
             backend,
@@ -210,7 +219,6 @@ impl RestirGi {
             settings.reuse(),
             multi,
         )?;
-        let chosen = settings.spatial_visibility == SpatialVisibility::Chosen;
         let spatial = if settings.reuse() {
             Some(spatial_pipeline(
                 gpu,
@@ -397,7 +405,7 @@ impl RestirGi {
         gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
         let s = self.settings;
-        let multi = s.initial_samples > 1;
+        let (multi, chosen) = wanted_pipelines(&self.settings);
         if multi != self.initial_multi {
             self.initial = initial_pipeline(
                 gpu,
@@ -413,7 +421,6 @@ impl RestirGi {
             );
             self.initial_multi = multi;
         }
-        let chosen = s.spatial_visibility == SpatialVisibility::Chosen;
         if self.spatial.is_some() && chosen != self.spatial_chosen {
             let pipeline = spatial_pipeline(
                 gpu,
@@ -483,10 +490,8 @@ impl RestirGi {
         check_encode("ReSTIR GI", self.variant, self.size, scene, gbuffer, frame)?;
         // The pipelines are specialised for the settings (`prepare` rebuilds them): run
         // against other settings they would shade another estimator without a word.
-        let s = self.settings;
-        let chosen = s.spatial_visibility == SpatialVisibility::Chosen;
-        if (self.spatial.is_some() && chosen != self.spatial_chosen)
-            || (s.initial_samples > 1) != self.initial_multi
+        let (multi, chosen) = wanted_pipelines(&self.settings);
+        if (self.spatial.is_some() && chosen != self.spatial_chosen) || multi != self.initial_multi
         {
             return Err(GpuError::Validation(
                 "ReSTIR GI: settings changed since the last prepare; call RestirGi::prepare \

@@ -60,12 +60,14 @@ fn side(rng: &mut Pcg32) -> [f32; 4] {
     } else {
         rng.random_range(0.0..10.0)
     };
-    [
-        rng.random_range(0.0..20.0),
-        weight,
-        target(rng),
-        target(rng),
-    ]
+    // Confidence exactly 0 too: a candidate that found only a cold cache cell
+    // (`RestirGiSettings::ignore_cold_cells`) is an empty reservoir of no confidence.
+    let confidence = if rng.random_range(0..8) == 0 {
+        0.0
+    } else {
+        rng.random_range(0.0..20.0)
+    };
+    [confidence, weight, target(rng), target(rng)]
 }
 
 fn cases() -> Vec<Case> {
