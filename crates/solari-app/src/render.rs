@@ -97,6 +97,12 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         gpu_scene,
         ..
     } = args.scene.prepare()?;
+    // The camera of real-time mode's last frame under the same `--camera-path` and
+    // `--frames`, so a moving camera's frame has its reference.
+    let camera = args
+        .realtime
+        .camera_path
+        .camera(&camera, &scene, args.frames - 1);
     let lights = LightList::build(&scene);
     for line in lights.report.lines() {
         log::warn!("{name}: {line}");
@@ -152,6 +158,8 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "width": w, "height": h, "spp": args.spp, "max_bounces": args.max_bounces,
             "selection": format!("{:?}", args.realtime.selection).to_lowercase(),
             "brdf": args.scene.brdf.name(),
+            "camera_path": format!("{:?}", args.realtime.camera_path).to_lowercase(),
+            "camera_frame": args.frames - 1,
             "tracer": backend.name(), "adapter": gpu.info.name,
             "render_seconds": image.seconds, "seconds": elapsed,
             "capped_paths": image.capped_paths, "rejected_samples": image.rejected_samples});
