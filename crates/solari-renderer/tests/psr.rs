@@ -303,10 +303,11 @@ fn pan_errors(gpu: &Gpu, backend: Backend, speed: f32) -> [(f64, f64); 2] {
 /// 0.0222 → 0.0206 panning 0.05 per frame. With today's world cache and GI the gain is
 /// smaller: five runs in the fifteenth session read −5.8% to −6.4% static and −5.0% to −5.9%
 /// panning (0.0262 → 0.0246, 0.0228 → 0.0216), and one failed the old 5% bar, so the bar is
-/// 3%. The rest of the image must stay within 2%. The world cache's racing updates make each
+/// 3%. The rest of the image must stay within 3%. The world cache's racing updates make each
 /// run differ: in the sixteenth session, thirteen runs read the rest's RMSE at 0.02896–0.02942
 /// with replacement off alone, and the ratio on/off at −1.0% to +1.55%, failing the old 1%
-/// bar twice.
+/// bar twice; the 2% bar that followed left CI's machine, whose runs differ from these, a
+/// margin of 0.45% (twenty-ninth session's audit), so it is 3%.
 #[test]
 fn replacement_helps_the_denoiser_on_mirrors() {
     let Some(gpu) = test_gpu() else { return };
@@ -321,7 +322,7 @@ fn replacement_helps_the_denoiser_on_mirrors() {
             "pan {speed}: replacement should lower the mirror's error ({mirror_off} -> {mirror_on})"
         );
         assert!(
-            rest_on < 1.02 * rest_off,
+            rest_on < 1.03 * rest_off,
             "pan {speed}: replacement made the rest worse ({rest_off} -> {rest_on})"
         );
     }
