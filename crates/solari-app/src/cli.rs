@@ -509,6 +509,11 @@ pub struct RealtimeArgs {
     /// World-cache table slots (a power of two, 1024 to 2097152).
     #[arg(long, default_value_t = WorldCacheSettings::default().capacity)]
     pub cache_capacity: u32,
+    /// Frames after a light change (more than a tenth of the lights' power switched, added,
+    /// removed or rescaled) in which the world cache averages at most 4 samples and ReSTIR
+    /// GI counts a history as one sample, so indirect light follows the switch (0: never).
+    #[arg(long, default_value_t = WorldCacheSettings::default().light_change_frames)]
+    pub cache_light_change_frames: u32,
     /// Denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr (NVIDIA DLSS
     /// Ray Reconstruction; builds with `--features dlss` only). Default: the best available
     /// (DLSS-RR where it runs, else the fallback).
@@ -598,6 +603,7 @@ impl RealtimeArgs {
                 leak_rule: self.cache_leak_rule,
                 soft_lod: self.cache_soft_lod,
                 capacity: self.cache_capacity,
+                light_change_frames: self.cache_light_change_frames,
                 ..Default::default()
             },
             view,

@@ -265,3 +265,21 @@ fn a_quality_tier_sets_its_knobs_over_the_flags() {
     ]);
     assert!(refused.is_err());
 }
+
+#[test]
+fn the_light_change_frames_reach_the_cache_settings() {
+    let library = RealtimeSettings::default().cache.light_change_frames;
+    assert_eq!(settings(&[]).cache.light_change_frames, library);
+    assert_eq!(
+        settings(&["--cache-light-change-frames", "0"])
+            .cache
+            .light_change_frames,
+        0
+    );
+    assert_eq!(
+        settings(&["--cache-light-change-frames", "3"])
+            .cache
+            .light_change_frames,
+        3
+    );
+}

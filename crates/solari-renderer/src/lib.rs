@@ -8,6 +8,7 @@
 
 pub mod auto_quality;
 pub mod gbuffer_choice;
+pub mod light_change;
 pub mod present;
 pub mod quality;
 pub mod realtime;

@@ -12,6 +12,7 @@
 //! the counts per pass ([`FINITE_SLOTS`]) come with the frame's report.
 
 use crate::gbuffer_choice::{GBufferChoice, GBufferTiming};
+use crate::light_change::{LIGHT_CHANGE_SHARE, power_change_share};
 use crate::present::Presenter;
 use solari_denoise::{
     Denoiser, DenoiserInputs, DenoiserKind, DlssAvailability, FallbackSettings, Lighting,
@@ -1057,7 +1058,11 @@ impl RealtimeRenderer {
     /// Passes built while the scene had no point or spot lights (or no textured emitter, or
     /// no environment map) have that code compiled out; the first ones added rebuild those
     /// passes (their history goes with them). The scene's upload (`GpuScene`) must hold the
-    /// same environment: it carries the map the passes read.
+    /// same environment: it carries the map the passes read. When more than
+    /// [`crate::light_change::LIGHT_CHANGE_SHARE`] of the lights' power changed (a light
+    /// switched, added, removed or rescaled; not moved) the world cache and ReSTIR GI shorten
+    /// their histories for `WorldCacheSettings::light_change_frames` frames
+    /// (`WorldCache::follow_light_change`, `RestirGi::follow_light_change`).
     pub fn set_lights(&mut self, gpu: &Gpu, scene: &Scene) -> Result<(), GpuError> {
         let list = LightList::build(scene);
         for line in list.report.lines() {
@@ -1087,6 +1092,23 @@ impl RealtimeRenderer {
         self.lights = GpuLights::with_grid(gpu, &list, self.settings.selection, grid.as_ref())?;
         self.grid_report = grid.map(|g| g.report);
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
+        let change = power_change_share(&self.list, &list);
+        if change > LIGHT_CHANGE_SHARE {
+            // The cache's samples and ReSTIR GI's reused ones hold the old light: both
+            // shorten their histories for a few frames.
+            if let Some((cache, _)) = &mut self.cache {
+                let frames = cache.settings().light_change_frames;
+                log::debug!(
+                    "{:.0}% of the lights' power changed: the world cache and GI shorten their \
+                     histories for {frames} frames",
+                    100.0 * change
+                );
+                cache.follow_light_change();
+                if let Some((gi, _)) = &mut self.gi {
+                    gi.follow_light_change(frames);
+                }
+            }
+        }
         self.di.set_light_translation(translation);
         self.list = list;
         Ok(())

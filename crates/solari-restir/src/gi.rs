@@ -132,6 +132,8 @@ pub struct RestirGi {
     group: Option<wgpu::BindGroup>,
     frame: u32,
     history: bool,
+    // Frames left with the history's confidence capped at 1 (`follow_light_change`).
+    short_history: u32,
 }
 
 // The initial pass's pipeline, built for reuse or without it, and with the resampling of
@@ -248,6 +250,7 @@ impl RestirGi {
             group: None,
             frame: 0,
             history: false,
+            short_history: 0,
         };
         gi.resize(gpu, width, height, cache)?;
         Ok(gi)
@@ -398,6 +401,17 @@ impl RestirGi {
     /// moved [`RestirGiSettings::initial_samples`] to or from 1, or
     /// [`RestirGiSettings::spatial_visibility`] to or from [`SpatialVisibility::Chosen`], it
     /// first builds that pass again (a one-time pipeline compile; the error is that build's).
+    /// Tells ReSTIR GI that the lights changed: for the next `frames` frames (from the next
+    /// [`RestirGi::prepare`]) temporal reuse counts a history as one frame's sample
+    /// (confidence cap 1), since its samples keep the radiance they were traced with. On
+    /// lavapipe's 64² Cornell box with the world cache following too (its
+    /// `follow_light_change`), 0.12 of a switched-off bulb's light was left after 8 frames
+    /// against 0.22 with the cap left at 4 and 0.27 at 8 (`benches/RESULTS.md`, "The world
+    /// cache follows a light switch"). Those frames are as noisy as reuse without history.
+    pub fn follow_light_change(&mut self, frames: u32) {
+        self.short_history = frames;
+    }
+
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
@@ -452,13 +466,19 @@ impl RestirGi {
         if s.adaptive_cap {
             bits |= flags::ADAPTIVE_CAP;
         }
+        // After a light change (`follow_light_change`) a history counts as one frame's sample.
+        let mut confidence_cap = s.confidence_cap;
+        if self.short_history > 0 {
+            self.short_history -= 1;
+            confidence_cap = 1.0;
+        }
         let params = GpuGiParams {
             width: self.size.0,
             height: self.size.1,
             frame: frame.index,
             flags: bits,
             spatial_radius: s.spatial_radius,
-            confidence_cap: s.confidence_cap,
+            confidence_cap,
             spatial_tries: s.spatial_tries,
             jacobian_bound: s.jacobian_bound,
             max_ray_distance: s.max_ray_distance,

@@ -98,6 +98,9 @@ pub struct WorldCache {
     // What the update pipeline was specialised for: checked against the scene at encode.
     variant: TraceVariant,
     size: (u32, u32),
+    // Frames left in which the blend averages at most `light_change_samples`
+    // (`follow_light_change`).
+    short_history: u32,
 }
 
 struct Pipelines {
@@ -297,6 +300,7 @@ impl WorldCache {
             pipelines,
             variant,
             size: (0, 0),
+            short_history: 0,
         })
     }
 
@@ -480,6 +484,11 @@ impl WorldCache {
         if s.soft_lod {
             bits |= flags::SOFT_LOD;
         }
+        let mut max_temporal_samples = s.max_temporal_samples;
+        if self.short_history > 0 {
+            self.short_history -= 1;
+            max_temporal_samples = max_temporal_samples.min(s.light_change_samples);
+        }
         let params = GpuCacheParams {
             view_position,
             frame,
@@ -491,7 +500,7 @@ impl WorldCache {
             max_search_steps: s.max_search_steps,
             flags: bits,
             update_budget: s.update_budget,
-            max_temporal_samples: s.max_temporal_samples,
+            max_temporal_samples,
             max_ray_distance: if s.max_ray_distance.is_finite() {
                 s.max_ray_distance
             } else {
@@ -507,6 +516,17 @@ impl WorldCache {
         self.size = size;
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Tells the cache that the lights changed (switched, added, removed, rescaled): for the
+    /// next [`WorldCacheSettings::light_change_frames`] frames (from the next
+    /// [`WorldCache::prepare`]) each cell averages at most
+    /// [`WorldCacheSettings::light_change_samples`] samples, so the cached light follows
+    /// within a few frames instead of fading over dozens; the counts then grow back by one
+    /// a frame. Costs nothing; the cells are noisier for those frames. `RealtimeRenderer`
+    /// calls it from `set_lights` when enough of the light's power changed.
+    pub fn follow_light_change(&mut self) {
+        self.short_history = self.settings.light_change_frames;
     }
 
     /// Records decay and compaction: cells lose a frame of life (dead ones free their

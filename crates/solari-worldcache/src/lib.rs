@@ -55,7 +55,10 @@
 //!    `1 / min(samples, cap)`; the cap falls from
 //!    [`WorldCacheSettings::max_temporal_samples`] toward 1 as the cell's luminance changes
 //!    (an adaptive factor after Guillaume Boissé, as in Solari 0.18). Non-finite samples are
-//!    dropped.
+//!    dropped. After [`WorldCache::follow_light_change`] the blend averages at most
+//!    [`WorldCacheSettings::light_change_samples`] samples for a few frames: the adaptive factor
+//!    sees a change only once the mean has moved, and a switched-off light's bounce light,
+//!    fed from cell to cell, otherwise faded over dozens of frames.
 //!
 //! ## Known limits
 //!
@@ -70,7 +73,8 @@
 //! ## Use
 //!
 //! Per frame, after the light tiles: [`WorldCache::prepare`], [`WorldCache::encode`], and
-//! after the direct light [`WorldCache::encode_gi`] (or [`WorldCache::encode_view`]). The
+//! after the direct light [`WorldCache::encode_gi`] (or [`WorldCache::encode_view`]); when
+//! the lights change, [`WorldCache::follow_light_change`] before the next `prepare`. The
 //! real-time renderer in `solari-renderer` is the worked example; the README has a compiled one.
 
 pub mod cache;

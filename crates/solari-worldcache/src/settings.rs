@@ -47,6 +47,19 @@ pub struct WorldCacheSettings {
     /// light, slower to follow changes; the adaptive blend lowers it where the cell's
     /// luminance is changing.
     pub max_temporal_samples: f32,
+    /// The most samples a cell averages in the [`WorldCacheSettings::light_change_frames`]
+    /// frames after [`crate::WorldCache::follow_light_change`] (default 4; at least 1, at
+    /// most [`WorldCacheSettings::max_temporal_samples`] takes effect). The adaptive blend
+    /// sees a change only once the running mean has moved, and a cache's indirect light
+    /// feeds on itself, so a light switched off faded over dozens of frames: on lavapipe's
+    /// 64² Cornell box 0.27–0.28 of a bulb's light was left 16 frames after the switch with
+    /// path GI, 0.05–0.07 with this (0.036 averaging 2; `benches/RESULTS.md`, "The world
+    /// cache follows a light switch").
+    /// Afterwards a cell's count grows back by one a frame, as from a fresh start.
+    pub light_change_samples: f32,
+    /// Frames [`crate::WorldCache::follow_light_change`] shortens the averaging for (default
+    /// 8; 0: never).
+    pub light_change_frames: u32,
     /// Cells updated per frame before updates become stochastic (default 200,000): above it
     /// each active cell updates with probability budget / active, bounding the cost. At
     /// 40,000 the finer cells of `interior` (90–135k) updated too rarely to converge and its
@@ -87,6 +100,8 @@ impl Default for WorldCacheSettings {
             lifetime: 30,
             max_search_steps: 32,
             max_temporal_samples: 30.0,
+            light_change_samples: 4.0,
+            light_change_frames: 8,
             update_budget: 200_000,
             direct_candidates: 8,
             max_ray_distance: 50.0,
@@ -138,6 +153,18 @@ impl WorldCacheSettings {
             return bad(format!(
                 "max_temporal_samples {} must be finite and at least 1",
                 self.max_temporal_samples
+            ));
+        }
+        if !(self.light_change_samples.is_finite() && self.light_change_samples >= 1.0) {
+            return bad(format!(
+                "light_change_samples {} must be finite and at least 1",
+                self.light_change_samples
+            ));
+        }
+        if self.light_change_frames > 100_000 {
+            return bad(format!(
+                "light_change_frames {} must be at most 100000",
+                self.light_change_frames
             ));
         }
         if self.update_budget == 0 {

@@ -459,6 +459,18 @@ fn bad_cache_settings_are_refused_with_a_message() {
             ..Default::default()
         },
         WorldCacheSettings {
+            light_change_samples: 0.5,
+            ..Default::default()
+        },
+        WorldCacheSettings {
+            light_change_samples: f32::NAN,
+            ..Default::default()
+        },
+        WorldCacheSettings {
+            light_change_frames: 100_001,
+            ..Default::default()
+        },
+        WorldCacheSettings {
             update_budget: 0,
             ..Default::default()
         },
