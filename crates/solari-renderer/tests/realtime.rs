@@ -660,26 +660,12 @@ fn di_reuse_is_skipped_for_few_lights_under_the_fallback_denoiser_only() {
     assert!(!skipped(&mut raw), "still raw frames");
 }
 
-/// ReSTIR GI follows a light switched off about as fast as path GI, which asks the world
-/// cache afresh every frame: the samples in its histories were lit by the bulb, and reuse
-/// must let new samples replace them as the cache darkens, not hold the old light. And both
-/// follow within a few frames: `set_lights` sees the bulb's power go and has the cache
-/// (`WorldCache::follow_light_change`) and ReSTIR GI shorten their histories. Measured
-/// (lavapipe), share of the bulb's light left, mean of frames 9-16 after the switch / frame
-/// 16: before that, path GI 0.37 / 0.27-0.28, ReSTIR GI 0.44-0.48 / 0.33-0.39 (the cache's
-/// own lag: its adaptive blend sees a change only once its running mean has moved, and its
-/// indirect light feeds on itself); with it (two runs, 2026-11-27), path GI 0.06-0.09 /
-/// 0.05-0.07, ReSTIR GI 0.08 / 0.06-0.07; the cache averaging 2 samples instead of 4: 0.045 /
-/// 0.036 and 0.043 / 0.035; ReSTIR GI's cap left at 4 or 8 instead of 1: 0.13 / 0.08 and
-/// 0.16 / 0.10 (one run each).
-#[test]
-fn restir_gi_follows_a_light_switched_off() {
-    use solari_renderer::GiMode;
-    use solari_restir::RestirGiSettings;
+/// The Cornell box with a dim point light (`dark`), and with a bright bulb too (`lit`): the
+/// bulb's light dominates, so switching between them is a large change of the lights.
+fn bulb_scenes(scene: &Scene) -> (Scene, Scene) {
     use solari_scene::model::{PunctualKind, PunctualLight};
-    let Some(c) = Cornell::new() else { return };
-    let (lo, hi) = c.scene.bounds();
-    let mut dark = c.scene.clone();
+    let (lo, hi) = scene.bounds();
+    let mut dark = scene.clone();
     dark.punctual_lights.push(PunctualLight {
         name: "dim".into(),
         kind: PunctualKind::Point,
@@ -699,6 +685,107 @@ fn restir_gi_follows_a_light_switched_off() {
         range: None,
         radius: 0.0,
     });
+    (dark, lit)
+}
+
+/// What the user sees after the switch: each frame's RMSE against the converged image
+/// without the bulb, with the histories shortened after the switch (the default) and
+/// without (`light_change_frames` 0). The short histories are noisier; the error they
+/// remove must outweigh it.
+#[test]
+fn shortened_histories_lower_the_error_after_a_light_switch() {
+    use solari_worldcache::WorldCacheSettings;
+    let Some(c) = Cornell::new() else { return };
+    let (dark, lit) = bulb_scenes(&c.scene);
+    let with = |frames: u32| RealtimeSettings {
+        gi: solari_renderer::GiMode::Path,
+        cache: WorldCacheSettings {
+            light_change_frames: frames,
+            ..Default::default()
+        },
+        ..settings()
+    };
+    let image = |r: &mut RealtimeRenderer, scene: &Scene| -> Vec<[f32; 4]> {
+        r.render(&c.gpu, scene, &c.gpu_scene, &c.camera)
+            .expect("frame");
+        r.read_output(&c.gpu).expect("read back")
+    };
+    // The converged image without the bulb: the mean of frames 65-128.
+    let mut truth = vec![[0.0f64; 3]; (SIZE * SIZE) as usize];
+    let mut r = c.renderer_of(&dark, with(8));
+    for frame in 0..128 {
+        let px = image(&mut r, &dark);
+        if frame >= 64 {
+            for (t, p) in truth.iter_mut().zip(&px) {
+                for k in 0..3 {
+                    t[k] += f64::from(p[k]) / 64.0;
+                }
+            }
+        }
+    }
+    let rmse = |px: &[[f32; 4]]| -> f64 {
+        let sum: f64 = px
+            .iter()
+            .zip(&truth)
+            .map(|(p, t)| {
+                (0..3)
+                    .map(|k| (f64::from(p[k]) - t[k]).powi(2))
+                    .sum::<f64>()
+            })
+            .sum();
+        (sum / (3 * px.len()) as f64).sqrt()
+    };
+    let mut means = Vec::new();
+    for frames in [0, 8] {
+        let mut r = c.renderer_of(&lit, with(frames));
+        for _ in 0..64 {
+            image(&mut r, &lit);
+        }
+        r.set_lights(&c.gpu, &dark).expect("lights");
+        let errors: Vec<f64> = (0..32).map(|_| rmse(&image(&mut r, &dark))).collect();
+        eprintln!(
+            "light_change_frames {frames}: RMSE of frames 1-32 after the switch {errors:.4?}"
+        );
+        means.push((
+            errors[..16].iter().sum::<f64>() / 16.0,
+            errors[16..].iter().sum::<f64>() / 16.0,
+        ));
+    }
+    let [(before, before_late), (after, after_late)] = [means[0], means[1]];
+    eprintln!(
+        "mean RMSE, frames 1-16 / 17-32: without {before:.4} / {before_late:.4}, with {after:.4} / {after_late:.4}"
+    );
+    // Measured (lavapipe, three runs): frames 1-16 4.25-4.32 without, 1.18-1.88 with;
+    // frames 17-32 1.15-1.35 without, 0.146-0.213 with. The switched-off bulb's light
+    // lingering costs far more than the short histories' noise.
+    assert!(
+        after < 0.75 * before,
+        "frames 1-16: {after} with against {before} without"
+    );
+    assert!(
+        after_late < 0.5 * before_late,
+        "frames 17-32: {after_late} with against {before_late} without"
+    );
+}
+
+/// ReSTIR GI follows a light switched off about as fast as path GI, which asks the world
+/// cache afresh every frame: the samples in its histories were lit by the bulb, and reuse
+/// must let new samples replace them as the cache darkens, not hold the old light. And both
+/// follow within a few frames: `set_lights` sees the bulb's power go and has the cache
+/// (`WorldCache::follow_light_change`) and ReSTIR GI shorten their histories. Measured
+/// (lavapipe), share of the bulb's light left, mean of frames 9-16 after the switch / frame
+/// 16: before that, path GI 0.34-0.37 / 0.26-0.28, ReSTIR GI 0.40-0.48 / 0.33-0.39 (the cache's
+/// own lag: its adaptive blend sees a change only once its running mean has moved, and its
+/// indirect light feeds on itself); with it (two runs, 2026-11-27), path GI 0.06-0.09 /
+/// 0.05-0.07, ReSTIR GI 0.08 / 0.06-0.07; the cache averaging 2 samples instead of 4: 0.045 /
+/// 0.036 and 0.043 / 0.035; ReSTIR GI's cap left at 4 or 8 instead of 1: 0.13 / 0.08 and
+/// 0.16 / 0.10 (one run each).
+#[test]
+fn restir_gi_follows_a_light_switched_off() {
+    use solari_renderer::GiMode;
+    use solari_restir::RestirGiSettings;
+    let Some(c) = Cornell::new() else { return };
+    let (dark, lit) = bulb_scenes(&c.scene);
     let mean = |renderer: &mut RealtimeRenderer, scene: &Scene| c.mean_green(renderer, scene);
     let run = |gi: GiMode, restir_gi: RestirGiSettings| {
         let s = RealtimeSettings {

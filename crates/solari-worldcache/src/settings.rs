@@ -52,7 +52,7 @@ pub struct WorldCacheSettings {
     /// most [`WorldCacheSettings::max_temporal_samples`] takes effect). The adaptive blend
     /// sees a change only once the running mean has moved, and a cache's indirect light
     /// feeds on itself, so a light switched off faded over dozens of frames: on lavapipe's
-    /// 64² Cornell box 0.27–0.28 of a bulb's light was left 16 frames after the switch with
+    /// 64² Cornell box 0.26–0.28 of a bulb's light was left 16 frames after the switch with
     /// path GI, 0.05–0.07 with this (0.036 averaging 2; `benches/RESULTS.md`, "The world
     /// cache follows a light switch").
     /// Afterwards a cell's count grows back by one a frame, as from a fresh start.
