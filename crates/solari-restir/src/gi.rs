@@ -408,6 +408,9 @@ impl RestirGi {
     /// `follow_light_change`), 0.12 of a switched-off bulb's light was left after 8 frames
     /// against 0.22 with the cap left at 4 and 0.27 at 8 (`benches/RESULTS.md`, "The world
     /// cache follows a light switch"). Those frames are as noisy as reuse without history.
+    /// With [`RestirGiSettings::adaptive_cap`] a sample traced in those frames carries that
+    /// cap of 1 while it is reused, so a history holding one stays short until a newer
+    /// sample replaces it (at about even odds each frame).
     pub fn follow_light_change(&mut self, frames: u32) {
         self.short_history = frames;
     }
