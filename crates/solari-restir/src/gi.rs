@@ -396,11 +396,6 @@ impl RestirGi {
         self.history = false;
     }
 
-    /// Writes the frame's parameters. `gbuffer` is the G-buffer this frame reads (its
-    /// history decides whether temporal reuse may run). After [`RestirGi::set_settings`]
-    /// moved [`RestirGiSettings::initial_samples`] to or from 1, or
-    /// [`RestirGiSettings::spatial_visibility`] to or from [`SpatialVisibility::Chosen`], it
-    /// first builds that pass again (a one-time pipeline compile; the error is that build's).
     /// Tells ReSTIR GI that the lights changed: for the next `frames` frames (from the next
     /// [`RestirGi::prepare`]) temporal reuse counts a history as one frame's sample
     /// (confidence cap 1), since its samples keep the radiance they were traced with. On
@@ -415,6 +410,11 @@ impl RestirGi {
         self.short_history = frames;
     }
 
+    /// Writes the frame's parameters. `gbuffer` is the G-buffer this frame reads (its
+    /// history decides whether temporal reuse may run). After [`RestirGi::set_settings`]
+    /// moved [`RestirGiSettings::initial_samples`] to or from 1, or
+    /// [`RestirGiSettings::spatial_visibility`] to or from [`SpatialVisibility::Chosen`], it
+    /// first builds that pass again (a one-time pipeline compile; the error is that build's).
     pub fn prepare(
         &mut self,
         gpu: &Gpu,

@@ -524,7 +524,7 @@ impl WorldCache {
     /// [`WorldCacheSettings::light_change_samples`] samples, so the cached light follows
     /// within a few frames instead of fading over dozens; the counts then grow back by one
     /// a frame. Costs nothing; the cells are noisier for those frames. `RealtimeRenderer`
-    /// calls it from `set_lights` when enough of the light's power changed.
+    /// calls it from `set_lights` when enough of the lights' power changed.
     pub fn follow_light_change(&mut self) {
         self.short_history = self.settings.light_change_frames;
     }
