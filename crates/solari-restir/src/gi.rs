@@ -403,9 +403,8 @@ impl RestirGi {
     /// `follow_light_change`), 0.12 of a switched-off bulb's light was left after 8 frames
     /// against 0.22 with the cap left at 4 and 0.27 at 8 (`benches/RESULTS.md`, "The world
     /// cache follows a light switch"). Those frames are as noisy as reuse without history.
-    /// With [`RestirGiSettings::adaptive_cap`] a sample traced in those frames carries that
-    /// cap of 1 while it is reused, so a history holding one stays short until a newer
-    /// sample replaces it (at about even odds each frame).
+    /// Samples traced in those frames carry the settings' cap as usual
+    /// ([`RestirGiSettings::adaptive_cap`]), so the shortening ends with its frames.
     pub fn follow_light_change(&mut self, frames: u32) {
         self.short_history = frames;
     }
@@ -469,11 +468,13 @@ impl RestirGi {
         if s.adaptive_cap {
             bits |= flags::ADAPTIVE_CAP;
         }
-        // After a light change (`follow_light_change`) a history counts as one frame's sample.
-        let mut confidence_cap = s.confidence_cap;
+        // After a light change (`follow_light_change`) a history counts as one frame's
+        // sample; the caps new samples carry still come from the settings, so the shortening
+        // ends with its frames.
+        let mut history_cap = s.confidence_cap;
         if self.short_history > 0 {
             self.short_history -= 1;
-            confidence_cap = 1.0;
+            history_cap = 1.0;
         }
         let params = GpuGiParams {
             width: self.size.0,
@@ -481,12 +482,13 @@ impl RestirGi {
             frame: frame.index,
             flags: bits,
             spatial_radius: s.spatial_radius,
-            confidence_cap,
+            confidence_cap: s.confidence_cap,
             spatial_tries: s.spatial_tries,
             jacobian_bound: s.jacobian_bound,
             max_ray_distance: s.max_ray_distance,
             initial_samples: s.initial_samples,
-            _pad: [0; 2],
+            history_cap,
+            _pad: 0,
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

@@ -84,8 +84,10 @@ pub struct RestirGiSettings {
     /// lags light that changes, most while the cache fills after a start or a cut. The cap
     /// is read when the sample is traced, so samples traced while their light was steady
     /// keep the full cap until replaced: after a light is switched off it helped little
-    /// (`solari-renderer`'s `restir_gi_follows_a_light_switched_off`: 0.36 of the light
-    /// left after 16 frames against 0.42, path GI 0.28). It is read from the cell the
+    /// (`solari-renderer`'s `restir_gi_follows_a_light_switched_off`, measured before
+    /// light changes shortened histories: 0.36 of the light left after 16 frames against
+    /// 0.42, path GI 0.28; a change of the lights now shortens every history for a few
+    /// frames, [`crate::RestirGi::follow_light_change`]). It is read from the cell the
     /// sample's radiance came from, already loaded: +0.7–1.0% on the initial pass (a second
     /// cache lookup at reuse time cost 8–14%). With [`RestirGiSettings::ignore_cold_cells`], against neither, on an
     /// H100 (as there): relMSE at frame 8 −56% (Cornell box), −51% (sun_boxes), −10%
@@ -256,8 +258,12 @@ pub struct GpuGiParams {
     pub max_ray_distance: f32,
     /// [`RestirGiSettings::initial_samples`].
     pub initial_samples: u32,
+    /// The most confidence temporal reuse gives a history this frame:
+    /// [`RestirGiSettings::confidence_cap`], or 1 for a few frames after
+    /// `RestirGi::follow_light_change` (samples keep carrying caps from `confidence_cap`).
+    pub history_cap: f32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 const _: () = assert!(size_of::<GpuGiParams>() == 48);

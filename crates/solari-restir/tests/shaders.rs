@@ -120,6 +120,7 @@ fn gi_entry_points_compose_and_mirrors_match() {
                 offset_of!(GpuGiParams, max_ray_distance),
             ),
             ("initial_samples", offset_of!(GpuGiParams, initial_samples)),
+            ("history_cap", offset_of!(GpuGiParams, history_cap)),
         ],
     );
 }
