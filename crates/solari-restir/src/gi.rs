@@ -398,7 +398,7 @@ impl RestirGi {
 
     /// Tells ReSTIR GI that the lights changed: for the next `frames` frames (from the next
     /// [`RestirGi::prepare`]) temporal reuse counts a history as one frame's sample
-    /// (confidence cap 1), since its samples keep the radiance they were traced with. On
+    /// (history cap 1), since its samples keep the radiance they were traced with. On
     /// lavapipe's 64² Cornell box with the world cache following too (its
     /// `follow_light_change`), 0.12 of a switched-off bulb's light was left after 8 frames
     /// against 0.22 with the cap left at 4 and 0.27 at 8 (`benches/RESULTS.md`, "The world
