@@ -50,6 +50,12 @@
 //! spatial pass for [`SpatialVisibility::Chosen`] (the default) settles both possible results
 //! of the merge before its one ray, without the general code of the other two (2.2–3.7%).
 //! [`RestirGi::prepare`] builds a pass again after a settings change crosses either line.
+//! For the same reason, with reuse the initial pass is two dispatches: one traces the new
+//! samples and stores them, the next merges them with the history (no traversal). In one
+//! kernel the traversal ran with the registers of the merge: the split takes 25–26% off the
+//! pass on `interior`, 9–17% on sun_boxes and many_lights, and costs the Cornell box's
+//! trivial traversal 2.5–6.6% for the second dispatch (H100, 1080p, `benches/RESULTS.md`,
+//! "The temporal merge in a dispatch of its own").
 //!
 //! ## Memory
 //!
@@ -101,7 +107,12 @@ const CHOSEN_ONLY: (&str, f64) = ("7121", 1.0);
 /// ([`RestirGiSettings::initial_samples`] above 1; `@id(7122) override GI_MULTI_CANDIDATE`).
 const MULTI_CANDIDATE: (&str, f64) = ("7122", 1.0);
 
-/// Labels of the two dispatches (and profiler scopes); plain path GI runs the first alone.
+/// The pipeline constant that builds the initial pass's second dispatch with reuse, the
+/// temporal merge (`@id(7123) override GI_TEMPORAL_MERGE`).
+const TEMPORAL_MERGE: (&str, f64) = ("7123", 1.0);
+
+/// Labels of the two passes (profiler scopes; the first holds two dispatches with reuse, the
+/// one that traces and the temporal merge); plain path GI runs the first alone, one dispatch.
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
 
 /// ReSTIR GI: reads the G-buffer (group 1), the scene (group 0) and the world cache, and adds
@@ -113,6 +124,8 @@ pub struct RestirGi {
     backend: Backend,
     size: (u32, u32),
     initial: wgpu::ComputePipeline,
+    // With reuse, the temporal merge: the initial pass's second dispatch (`initial` traces).
+    merge: Option<wgpu::ComputePipeline>,
     // Whether `initial` was built with the resampling of several candidates
     // (MULTI_CANDIDATE); a settings change across that line has `prepare` build it again.
     initial_multi: bool,
@@ -154,6 +167,23 @@ fn initial_pipeline(
         extra.push(MULTI_CANDIDATE);
     }
     gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", &extra)
+}
+
+// The temporal merge's pipeline (the initial pass's second dispatch with reuse).
+fn merge_pipeline(
+    gpu: &Gpu,
+    backend: Backend,
+    variant: TraceVariant,
+    layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    gi_pipeline(
+        gpu,
+        backend,
+        variant,
+        layouts,
+        "restir_gi_initial",
+        &[TEMPORAL_MERGE],
+    )
 }
 
 // The spatial pass's pipeline, specialised for `SpatialVisibility::Chosen` where `chosen`
@@ -221,6 +251,16 @@ impl RestirGi {
             settings.reuse(),
             multi,
         )?;
+        let merge = if settings.reuse() {
+            Some(merge_pipeline(
+                gpu,
+                backend,
+                variant,
+                (&layout, &target_layout),
+            )?)
+        } else {
+            None
+        };
         let spatial = if settings.reuse() {
             Some(spatial_pipeline(
                 gpu,
@@ -239,6 +279,7 @@ impl RestirGi {
             backend,
             size: (0, 0),
             initial,
+            merge,
             initial_multi: multi,
             spatial,
             spatial_chosen: chosen,
@@ -495,10 +536,12 @@ impl RestirGi {
         Ok(())
     }
 
-    /// Records both dispatches (built without reuse, the first alone, which shades), each in
-    /// a profiler scope named as in [`GI_PASS_LABELS`], and returns which ran. Run it after
-    /// the world cache's upkeep and after whatever wrote the direct light into `target`
-    /// ([`RestirGi::target_group`]).
+    /// Records both passes (built without reuse, the first alone, which shades), each in a
+    /// profiler scope named as in [`GI_PASS_LABELS`], and returns which ran. With reuse the
+    /// first pass is two dispatches: the new samples are traced, then merged with the
+    /// history, so that the traversal does not run with the merge's registers (interior's
+    /// pass 25–26% faster on an H100 at 1080p). Run it after the world cache's upkeep and
+    /// after whatever wrote the direct light into `target` ([`RestirGi::target_group`]).
     ///
     /// Errors, recording nothing, when the pipelines were specialised for a scene shape that
     /// `scene` no longer has, or for settings that [`RestirGi::set_settings`] changed with
@@ -528,11 +571,20 @@ impl RestirGi {
         let groups = [scene.bind_group(), gbuffer.bind_group()?, group, target];
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
         let mut ran = Ran::none();
-        let passes = [Some(&self.initial), self.spatial.as_ref()];
-        for (&label, pipeline) in GI_PASS_LABELS.iter().zip(passes) {
-            let Some(pipeline) = pipeline else { continue };
+        // The first scope holds the initial pass's dispatches: with reuse, the one that
+        // traces and the temporal merge.
+        let passes = [
+            [Some(&self.initial), self.merge.as_ref()],
+            [self.spatial.as_ref(), None],
+        ];
+        for (&label, pipelines) in GI_PASS_LABELS.iter().zip(passes) {
+            if pipelines[0].is_none() {
+                continue;
+            }
             frame.scope(label, encoder, &mut ran, |e| {
-                record(e, label, pipeline, &groups, workgroups)
+                for pipeline in pipelines.into_iter().flatten() {
+                    record(e, label, pipeline, &groups, workgroups);
+                }
             });
         }
         self.history = true;
