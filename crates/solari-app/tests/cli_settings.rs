@@ -2,7 +2,9 @@
 
 use clap::Parser;
 use solari_app::cli::{Cli, Command};
-use solari_renderer::{DI_REUSE_LIGHT_THRESHOLD, FrameView, GiMode, RealtimeSettings};
+use solari_renderer::{
+    DI_REUSE_LIGHT_THRESHOLD, FrameView, GiMode, PATH_GI_SHADE_APART_TRIANGLES, RealtimeSettings,
+};
 
 fn settings(args: &[&str]) -> RealtimeSettings {
     let argv = [&["solari", "render", "--mode", "realtime"], args].concat();
@@ -281,5 +283,27 @@ fn the_light_change_frames_reach_the_cache_settings() {
             .cache
             .light_change_frames,
         3
+    );
+}
+
+#[test]
+fn the_shade_apart_rule_reaches_the_renderer_settings() {
+    let library = RealtimeSettings::default().path_gi_shade_apart_triangles;
+    assert_eq!(library, PATH_GI_SHADE_APART_TRIANGLES);
+    let threshold = |args: &[&str]| settings(args).path_gi_shade_apart_triangles;
+    assert_eq!(threshold(&[]), library);
+    assert_eq!(threshold(&["--gi-shade-apart", "auto"]), library);
+    assert_eq!(threshold(&["--gi-shade-apart", "on"]), 0);
+    assert_eq!(threshold(&["--gi-shade-apart", "off"]), u64::MAX);
+    // As the renderer applies it: on in any scene, off in a large one.
+    assert!(
+        settings(&["--gi-shade-apart", "on"])
+            .gi_settings_for(32)
+            .shade_apart
+    );
+    assert!(
+        !settings(&["--gi-shade-apart", "off"])
+            .gi_settings_for(294_000)
+            .shade_apart
     );
 }

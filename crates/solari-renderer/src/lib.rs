@@ -19,7 +19,8 @@ pub use present::Presenter;
 pub use quality::{QualitySetting, QualityTier, Resolution};
 pub use realtime::{
     CameraPath, CameraRig, DI_REUSE_LIGHT_THRESHOLD, FINITE_SLOTS, FiniteCheck, FrameReport,
-    FrameView, GiMode, PASS_NAMES, PassRun, RealtimeRenderer, RealtimeSettings,
+    FrameView, GiMode, PASS_NAMES, PATH_GI_SHADE_APART_TRIANGLES, PassRun, RealtimeRenderer,
+    RealtimeSettings,
 };
 pub use solari_scene::gbuffer::GBufferProducer;
 

@@ -56,6 +56,17 @@ use solari_worldcache::PASS_LABELS as CACHE;
 /// and DLSS-RR is unmeasured: both keep reuse.
 pub const DI_REUSE_LIGHT_THRESHOLD: u32 = 64;
 
+/// [`RealtimeSettings::path_gi_shade_apart_triangles`] by default: plain path GI shades in a
+/// dispatch of its own ([`RestirGiSettings::shade_apart`]) in scenes of at least this many
+/// triangles (counted per instance). Measured on an H100 at 1080p (defaults with the
+/// fallback denoiser, three reps): GI's pass −7.9% on `interior` (294,000 triangles; the
+/// frame 3.825 → 3.752 ms), −0.9% on many_lights (32,000, within noise), +6.1% on sun_boxes
+/// (8,000) and +19% on the Cornell box (32), whose traversal costs too little for the second
+/// read of the G-buffer to pay (`benches/RESULTS.md`, "The temporal merge in a dispatch of
+/// its own"). Any threshold from 32,123 to 294,000 separates what was measured; 65,536
+/// leaves the scenes near many_lights' size as they were.
+pub const PATH_GI_SHADE_APART_TRIANGLES: u64 = 65_536;
+
 /// `settings` as the renderer runs them with `denoiser`: the reuse threshold only under the
 /// fallback denoiser, where it was measured ([`DI_REUSE_LIGHT_THRESHOLD`]).
 fn di_settings_for(settings: RestirDiSettings, denoiser: DenoiserKind) -> RestirDiSettings {
@@ -284,6 +295,11 @@ pub struct RealtimeSettings {
     /// ReSTIR GI's knobs (with [`GiMode::Restir`]; [`GiMode::Path`] uses them with reuse
     /// off).
     pub restir_gi: RestirGiSettings,
+    /// Plain path GI ([`GiMode::Path`]) shades in a second dispatch in scenes of at least
+    /// this many triangles, counted per instance (default
+    /// [`PATH_GI_SHADE_APART_TRIANGLES`], with the figures; 0: always; `u64::MAX`: only where
+    /// [`RestirGiSettings::shade_apart`] says so).
+    pub path_gi_shade_apart_triangles: u64,
     /// Specular GI, the indirect light of the specular lobe (default on: with path GI it cut
     /// relMSE 1.5× on interior and 3.1× on sun_boxes for 0.08–0.53 ms at 1080p on the H200,
     /// and changed nothing measurable on scenes without glossy surfaces): reflections in
@@ -338,6 +354,17 @@ impl RealtimeSettings {
     /// and the cache view.
     pub fn needs_cache(&self) -> bool {
         self.gi != GiMode::Off || self.specular_gi || self.view == FrameView::WorldCache
+    }
+
+    /// The ReSTIR GI settings the GI mode runs with in a scene of `triangles` triangles
+    /// (counted per instance): [`RealtimeSettings::gi_settings`] with plain path GI's
+    /// shading apart from `path_gi_shade_apart_triangles` triangles up.
+    pub fn gi_settings_for(&self, triangles: u64) -> RestirGiSettings {
+        let mut s = self.gi_settings();
+        if !s.reuse() && triangles >= self.path_gi_shade_apart_triangles {
+            s.shade_apart = true;
+        }
+        s
     }
 
     /// The ReSTIR GI settings the GI mode runs with (reuse off for [`GiMode::Path`]).
@@ -436,6 +463,7 @@ impl Default for RealtimeSettings {
             gi: GiMode::default(),
             cache: WorldCacheSettings::default(),
             restir_gi: RestirGiSettings::default(),
+            path_gi_shade_apart_triangles: PATH_GI_SHADE_APART_TRIANGLES,
             specular_gi: true,
             specular: SpecularGiSettings::default(),
             psr: true,
@@ -495,6 +523,8 @@ impl FrameReport {
 /// The frame loop's passes and the light list they were built for.
 pub struct RealtimeRenderer {
     settings: RealtimeSettings,
+    // Triangles the scene traces (per instance), for `RealtimeSettings::gi_settings_for`.
+    scene_triangles: u64,
     // The tile settings the light-reading passes were built with: the user's, with point
     // lights compiled out while the scene has none.
     tiles_built: LightTileSettings,
@@ -665,6 +695,7 @@ impl RealtimeRenderer {
             .denoiser
             .as_ref()
             .map_or(lighting_size, |d| d.render_size());
+        let scene_triangles = scene.stats().triangles as u64;
         let (producer, gbuffer_timing) =
             crate::gbuffer_choice::choose(gpu, scene, gpu_scene, settings.gbuffer, (width, height));
         let mut gbuffer = GBuffer::with_producer(
@@ -737,7 +768,7 @@ impl RealtimeRenderer {
                     variant,
                     width,
                     height,
-                    settings.gi_settings(),
+                    settings.gi_settings_for(scene_triangles),
                     cache,
                 )?;
                 let target = gi.target_group(gpu, di.output());
@@ -799,6 +830,7 @@ impl RealtimeRenderer {
         };
         Self {
             settings,
+            scene_triangles,
             tiles_built,
             backend,
             gbuffer,
@@ -1174,7 +1206,7 @@ impl RealtimeRenderer {
         settings.validate()?;
         self.settings.restir_gi = settings;
         if let Some((gi, _)) = &mut self.gi {
-            gi.set_settings(self.settings.gi_settings())?;
+            gi.set_settings(self.settings.gi_settings_for(self.scene_triangles))?;
         }
         Ok(())
     }
@@ -1700,6 +1732,53 @@ fn farthest_corner(eye: [f32; 3], bounds: &[[f32; 3]; 2]) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Path GI shades apart from the threshold's triangle count up (and wherever the user's
+    /// own setting says so); ReSTIR GI never (its second dispatch is the temporal merge).
+    #[test]
+    fn path_gi_shades_apart_in_large_scenes() {
+        let path = RealtimeSettings {
+            gi: GiMode::Path,
+            ..Default::default()
+        };
+        let t = PATH_GI_SHADE_APART_TRIANGLES;
+        assert!(!path.gi_settings_for(32).shade_apart);
+        assert!(!path.gi_settings_for(t - 1).shade_apart);
+        assert!(path.gi_settings_for(t).shade_apart);
+        assert!(path.gi_settings_for(294_000).shade_apart);
+        let restir = RealtimeSettings {
+            gi: GiMode::Restir,
+            ..path
+        };
+        assert!(!restir.gi_settings_for(294_000).shade_apart);
+        let always = RealtimeSettings {
+            path_gi_shade_apart_triangles: 0,
+            ..path
+        };
+        assert!(always.gi_settings_for(0).shade_apart);
+        let never = RealtimeSettings {
+            path_gi_shade_apart_triangles: u64::MAX,
+            ..path
+        };
+        assert!(!never.gi_settings_for(u64::MAX - 1).shade_apart);
+        let own = RealtimeSettings {
+            restir_gi: RestirGiSettings {
+                shade_apart: true,
+                ..Default::default()
+            },
+            ..never
+        };
+        assert!(own.gi_settings_for(32).shade_apart);
+        // The other settings are the mode's, untouched.
+        let base = path.gi_settings();
+        assert_eq!(
+            RestirGiSettings {
+                shade_apart: false,
+                ..path.gi_settings_for(t)
+            },
+            base
+        );
+    }
 
     #[test]
     fn slot_constants_name_their_slots() {

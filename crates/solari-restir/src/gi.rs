@@ -53,9 +53,11 @@
 //! For the same reason, with reuse the initial pass is two dispatches: one traces the new
 //! samples and stores them, the next merges them with the history (no traversal). In one
 //! kernel the traversal ran with the registers of the merge: the split takes 25–26% off the
-//! pass on `interior`, 9–17% on sun_boxes and many_lights, and costs the Cornell box's
-//! trivial traversal 2.5–6.6% for the second dispatch (H100, 1080p, `benches/RESULTS.md`,
-//! "The temporal merge in a dispatch of its own").
+//! pass on `interior`, 15–17% on sun_boxes and many_lights, and costs the Cornell box's
+//! trivial traversal 1.4–4.2% for the second dispatch (H100, 1080p, `benches/RESULTS.md`,
+//! "The temporal merge in a dispatch of its own"). Plain path GI may shade in a second
+//! dispatch as well ([`RestirGiSettings::shade_apart`]), which pays only where traversal is
+//! costly.
 //!
 //! ## Memory
 //!
@@ -107,9 +109,14 @@ const CHOSEN_ONLY: (&str, f64) = ("7121", 1.0);
 /// ([`RestirGiSettings::initial_samples`] above 1; `@id(7122) override GI_MULTI_CANDIDATE`).
 const MULTI_CANDIDATE: (&str, f64) = ("7122", 1.0);
 
-/// The pipeline constant that builds the initial pass's second dispatch with reuse, the
-/// temporal merge (`@id(7123) override GI_TEMPORAL_MERGE`).
-const TEMPORAL_MERGE: (&str, f64) = ("7123", 1.0);
+/// The pipeline constant that builds the initial pass's second dispatch (`@id(7123) override
+/// GI_SECOND_DISPATCH`): with reuse the temporal merge, without it the shading of
+/// [`RestirGiSettings::shade_apart`].
+const SECOND_DISPATCH: (&str, f64) = ("7123", 1.0);
+
+/// The pipeline constant that has plain path GI's first dispatch leave the shading to the
+/// second ([`RestirGiSettings::shade_apart`]; `@id(7124) override GI_SHADE_APART`).
+const SHADE_APART: (&str, f64) = ("7124", 1.0);
 
 /// Labels of the two passes (profiler scopes; the first holds two dispatches with reuse, the
 /// one that traces and the temporal merge); plain path GI runs the first alone, one dispatch.
@@ -124,8 +131,12 @@ pub struct RestirGi {
     backend: Backend,
     size: (u32, u32),
     initial: wgpu::ComputePipeline,
-    // With reuse, the temporal merge: the initial pass's second dispatch (`initial` traces).
-    merge: Option<wgpu::ComputePipeline>,
+    // The initial pass's second dispatch: with reuse the temporal merge (`initial` traces),
+    // without it the shading where `shade_apart`.
+    second: Option<wgpu::ComputePipeline>,
+    // Whether a `RestirGi` built without reuse has its shading in `second`; a settings
+    // change across that line has `prepare` build both again.
+    shade_apart: bool,
     // Whether `initial` was built with the resampling of several candidates
     // (MULTI_CANDIDATE); a settings change across that line has `prepare` build it again.
     initial_multi: bool,
@@ -149,8 +160,9 @@ pub struct RestirGi {
     short_history: u32,
 }
 
-// The initial pass's pipeline, built for reuse or without it, and with the resampling of
-// several candidates where `multi`.
+// The initial pass's (first dispatch's) pipeline, built for reuse or without it, with the
+// resampling of several candidates where `multi`, and, without reuse, leaving the shading to
+// the second dispatch where `shade_apart`.
 fn initial_pipeline(
     gpu: &Gpu,
     backend: Backend,
@@ -158,6 +170,7 @@ fn initial_pipeline(
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     reuse: bool,
     multi: bool,
+    shade_apart: bool,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let mut extra = Vec::new();
     if !reuse {
@@ -166,24 +179,27 @@ fn initial_pipeline(
     if multi {
         extra.push(MULTI_CANDIDATE);
     }
+    if !reuse && shade_apart {
+        extra.push(SHADE_APART);
+    }
     gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", &extra)
 }
 
-// The temporal merge's pipeline (the initial pass's second dispatch with reuse).
-fn merge_pipeline(
+// The initial pass's second dispatch: with reuse the temporal merge, without it the shading
+// of `RestirGiSettings::shade_apart`.
+fn second_pipeline(
     gpu: &Gpu,
     backend: Backend,
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+    reuse: bool,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
-    gi_pipeline(
-        gpu,
-        backend,
-        variant,
-        layouts,
-        "restir_gi_initial",
-        &[TEMPORAL_MERGE],
-    )
+    let extra: &[(&str, f64)] = if reuse {
+        &[SECOND_DISPATCH]
+    } else {
+        &[SECOND_DISPATCH, REUSE_OFF]
+    };
+    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", extra)
 }
 
 // The spatial pass's pipeline, specialised for `SpatialVisibility::Chosen` where `chosen`
@@ -200,11 +216,13 @@ fn spatial_pipeline(
 }
 
 // The pass specialisations `s` wants: (the initial pass's resampling of several candidates,
-// the spatial pass for `SpatialVisibility::Chosen`).
-fn wanted_pipelines(s: &RestirGiSettings) -> (bool, bool) {
+// the spatial pass for `SpatialVisibility::Chosen`, plain path GI's shading apart where the
+// instance is built without reuse, `in_place`).
+fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, bool, bool) {
     (
         s.initial_samples > 1,
         s.spatial_visibility == SpatialVisibility::Chosen,
+        in_place && s.shade_apart,
     )
 }
 
@@ -242,22 +260,12 @@ impl RestirGi {
         let variant = variant.for_backend(backend);
         let layout = layout_with_cache(gpu, &GI_BINDINGS, "solari_restir/gi");
         let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
-        let (multi, chosen) = wanted_pipelines(&settings);
-        let initial = initial_pipeline(
-            gpu,
-            backend,
-            variant,
-            (&layout, &target_layout),
-            settings.reuse(),
-            multi,
-        )?;
-        let merge = if settings.reuse() {
-            Some(merge_pipeline(
-                gpu,
-                backend,
-                variant,
-                (&layout, &target_layout),
-            )?)
+        let reuse = settings.reuse();
+        let (multi, chosen, apart) = wanted_pipelines(&settings, !reuse);
+        let layouts = (&layout, &target_layout);
+        let initial = initial_pipeline(gpu, backend, variant, layouts, reuse, multi, apart)?;
+        let second = if reuse || apart {
+            Some(second_pipeline(gpu, backend, variant, layouts, reuse)?)
         } else {
             None
         };
@@ -279,7 +287,8 @@ impl RestirGi {
             backend,
             size: (0, 0),
             initial,
-            merge,
+            second,
+            shade_apart: apart,
             initial_multi: multi,
             spatial,
             spatial_chosen: chosen,
@@ -462,21 +471,39 @@ impl RestirGi {
         gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
         let s = self.settings;
-        let (multi, chosen) = wanted_pipelines(&self.settings);
-        if multi != self.initial_multi {
+        let (multi, chosen, apart) = wanted_pipelines(&self.settings, self.in_place());
+        if multi != self.initial_multi || apart != self.shade_apart {
+            let layouts = (&self.layout, &self.target_layout);
+            let reuse = self.built_for_reuse();
             self.initial = initial_pipeline(
                 gpu,
                 self.backend,
                 self.variant,
-                (&self.layout, &self.target_layout),
-                self.built_for_reuse(),
+                layouts,
+                reuse,
                 multi,
+                apart,
             )?;
+            if apart != self.shade_apart {
+                self.second = if apart {
+                    Some(second_pipeline(
+                        gpu,
+                        self.backend,
+                        self.variant,
+                        layouts,
+                        false,
+                    )?)
+                } else {
+                    None
+                };
+            }
             log::debug!(
-                "ReSTIR GI: initial pass built again for {} candidates",
-                s.initial_samples
+                "ReSTIR GI: initial pass built again for {} candidates{}",
+                s.initial_samples,
+                if apart { ", shading apart" } else { "" }
             );
             self.initial_multi = multi;
+            self.shade_apart = apart;
         }
         if self.spatial.is_some() && chosen != self.spatial_chosen {
             let pipeline = spatial_pipeline(
@@ -558,8 +585,10 @@ impl RestirGi {
         check_encode("ReSTIR GI", self.variant, self.size, scene, gbuffer, frame)?;
         // The pipelines are specialised for the settings (`prepare` rebuilds them): run
         // against other settings they would shade another estimator without a word.
-        let (multi, chosen) = wanted_pipelines(&self.settings);
-        if (self.spatial.is_some() && chosen != self.spatial_chosen) || multi != self.initial_multi
+        let (multi, chosen, apart) = wanted_pipelines(&self.settings, self.in_place());
+        if (self.spatial.is_some() && chosen != self.spatial_chosen)
+            || multi != self.initial_multi
+            || apart != self.shade_apart
         {
             return Err(GpuError::Validation(
                 "ReSTIR GI: settings changed since the last prepare; call RestirGi::prepare \
@@ -572,9 +601,9 @@ impl RestirGi {
         let workgroups = [self.size.0.div_ceil(8), self.size.1.div_ceil(8)];
         let mut ran = Ran::none();
         // The first scope holds the initial pass's dispatches: with reuse, the one that
-        // traces and the temporal merge.
+        // traces and the temporal merge; with the shading apart, the one that traces and it.
         let passes = [
-            [Some(&self.initial), self.merge.as_ref()],
+            [Some(&self.initial), self.second.as_ref()],
             [self.spatial.as_ref(), None],
         ];
         for (&label, pipelines) in GI_PASS_LABELS.iter().zip(passes) {
@@ -603,6 +632,14 @@ impl RestirGi {
     /// to or from 1, the next [`RestirGi::prepare`] builds the other.
     pub fn initial_multi_candidate(&self) -> bool {
         self.initial_multi
+    }
+
+    /// Whether plain path GI shades in the initial pass's second dispatch
+    /// ([`RestirGiSettings::shade_apart`]; false when built with reuse, whose second dispatch
+    /// is the temporal merge). After [`RestirGi::set_settings`] moved the setting, the next
+    /// [`RestirGi::prepare`] builds the pass again.
+    pub fn shades_apart(&self) -> bool {
+        self.in_place() && self.shade_apart
     }
 
     /// Whether the spatial pass's pipeline is the one specialised for

@@ -553,14 +553,8 @@ fn the_passes_are_built_for_their_settings() {
 
 /// Plain path GI keeps one reservoir buffer (the shade stores each pixel's reservoir back
 /// where its initial pass put it), and holds 32 bytes per pixel less than a `RestirGi` built
-/// with reuse and switched to plain, which writes a separate history. Their first frames
-/// agree bit for bit. Later frames differ where the world cache does (its cells are claimed
-/// by atomics, in whatever order lavapipe's threads arrive): a sample whose cell reads no
-/// light yet is dropped in one run and kept in the other. So from frame 1 every sample both
-/// runs kept must be the same point with the same normal, W and confidence (73–80% of those
-/// either kept in frame 3, while the cache fills; at least half are required, so the check
-/// cannot pass empty). Turning reuse on is refused, with the way
-/// out named.
+/// with reuse and switched to plain, which writes a separate history. Their runs must match
+/// (`assert_runs_match`). Turning reuse on is refused, with the way out named.
 #[test]
 fn plain_path_gi_on_one_buffer_matches_two_buffers() {
     use solari_restir::gi_reservoir::GpuGiReservoir;
@@ -581,9 +575,88 @@ fn plain_path_gi_on_one_buffer_matches_two_buffers() {
         bytes - record,
         "one reservoir buffer (and a one-reservoir placeholder) instead of two"
     );
+    assert_runs_match(&gpu, &scene, size, &mut one, &mut two);
+    let e = one
+        .gi
+        .set_settings(RestirGiSettings::default())
+        .expect_err("reuse needs a history buffer")
+        .to_string();
+    assert!(e.contains("built without reuse"), "{e}");
+    assert_eq!(one.gi.settings(), plain, "a refused change changes nothing");
+}
+
+/// Plain path GI shaded in a second dispatch (`RestirGiSettings::shade_apart`) traces the
+/// same samples and adds the same light as shaded in the pass that traces them
+/// (`assert_runs_match`), whether built so or switched to it, which builds the pass again at
+/// the next frame (encode refuses until `prepare` has) and back.
+#[test]
+fn plain_path_gi_shaded_apart_matches_shaded_where_traced() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let size = 32;
+    let plain = RestirGiSettings::plain();
+    let apart = RestirGiSettings {
+        shade_apart: true,
+        ..plain
+    };
+    let mut one = setup(&gpu, &scene, size, Mode::Gi(plain));
+    let mut two = setup(&gpu, &scene, size, Mode::Gi(apart));
+    assert!(!one.gi.shades_apart() && two.gi.shades_apart());
+    assert_runs_match(&gpu, &scene, size, &mut one, &mut two);
+    let mut switched = setup(&gpu, &scene, size, Mode::Gi(plain));
+    switched.frame(&gpu, &scene);
+    for (settings, apart) in [(apart, true), (plain, false)] {
+        switched.gi.set_settings(settings).expect("valid settings");
+        switched.mode = Mode::Gi(settings);
+        assert_eq!(
+            switched.gi.shades_apart(),
+            !apart,
+            "built at the next frame"
+        );
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let d = &switched.direct;
+        let e = switched
+            .gi
+            .encode(
+                &mut encoder,
+                d.context(),
+                &d.gpu_scene,
+                &d.gbuffer,
+                &switched.gi_target,
+            )
+            .expect_err("stale pipelines refused");
+        assert!(e.to_string().contains("RestirGi::prepare"), "{e}");
+        switched.frame(&gpu, &scene);
+        assert_eq!(switched.gi.shades_apart(), apart);
+    }
+    // With reuse the setting changes nothing: the second dispatch is the temporal merge.
+    let reuse = setup(
+        &gpu,
+        &scene,
+        size,
+        Mode::Gi(RestirGiSettings {
+            shade_apart: true,
+            ..Default::default()
+        }),
+    );
+    assert!(!reuse.gi.shades_apart());
+}
+
+/// Two runs of plain path GI that must trace the same samples and add the same light. Their
+/// first frames agree bit for bit (reservoirs and image). Later frames differ where the world
+/// cache does (its cells are claimed by atomics, in whatever order lavapipe's threads arrive):
+/// a sample whose cell reads no light yet is dropped in one run and kept in the other. So from
+/// frame 1 every sample both runs kept must be the same point with the same normal, W and
+/// confidence (73–80% of those either kept in frame 3, while the cache fills; at least half
+/// are required, so the check cannot pass empty), and their means over 16 more frames must
+/// add up to within 1% (0.07–0.12% apart in three runs of the one-buffer test; GI is a fifth
+/// of the box's light: with the shade's GI dropped it read 282 against 348).
+fn assert_runs_match(gpu: &Gpu, scene: &Scene, size: u32, one: &mut Setup, two: &mut Setup) {
+    use solari_restir::gi_reservoir::GpuGiReservoir;
+    let bytes = (size * size) as u64 * size_of::<GpuGiReservoir>() as u64;
     for frame in 0..6 {
-        one.frame(&gpu, &scene);
-        two.frame(&gpu, &scene);
+        one.frame(gpu, scene);
+        two.frame(gpu, scene);
         let read = |gi: &RestirGi| -> Vec<GpuGiReservoir> {
             let raw = gpu.read_buffer(gi.reservoirs(), bytes).expect("read");
             bytemuck::cast_slice(&raw).to_vec()
@@ -595,7 +668,7 @@ fn plain_path_gi_on_one_buffer_matches_two_buffers() {
         );
         if frame == 0 {
             assert!(ra == rb, "frame 0: the final reservoirs differ");
-            let (a, b) = (one.direct.read_output(&gpu), two.direct.read_output(&gpu));
+            let (a, b) = (one.direct.read_output(gpu), two.direct.read_output(gpu));
             assert!(a == b, "frame 0: the images differ");
         } else {
             // A sample whose cell reads zero radiance in one run is dropped there (W = 0);
@@ -622,23 +695,16 @@ fn plain_path_gi_on_one_buffer_matches_two_buffers() {
             );
         }
     }
-    // And the light the two add: their means over 16 more frames (0.07–0.12% apart in three
-    // runs; GI is a fifth of the box's light: with the shade's GI dropped it read 282 against
-    // 348).
     let total = |s: &mut Setup| -> f64 {
-        let (mean, _) = s.mean(&gpu, &scene, 0, 16);
+        let (mean, _) = s.mean(gpu, scene, 0, 16);
         mean.iter().flatten().map(|&v| v as f64).sum()
     };
-    let (a, b) = (total(&mut one), total(&mut two));
-    eprintln!("16-frame totals: one buffer {a:.3}, two {b:.3}");
-    assert!((a / b - 1.0).abs() < 0.01, "one buffer {a} against two {b}");
-    let e = one
-        .gi
-        .set_settings(RestirGiSettings::default())
-        .expect_err("reuse needs a history buffer")
-        .to_string();
-    assert!(e.contains("built without reuse"), "{e}");
-    assert_eq!(one.gi.settings(), plain, "a refused change changes nothing");
+    let (a, b) = (total(one), total(two));
+    eprintln!("16-frame totals: {a:.3} and {b:.3}");
+    assert!(
+        (a / b - 1.0).abs() < 0.01,
+        "one run {a} against the other {b}"
+    );
 }
 
 /// What another pass sharing `scratch` might leave there: `plausible` (real records of
