@@ -511,18 +511,7 @@ fn the_passes_are_built_for_their_settings() {
         );
         // Until `prepare` rebuilds, the passes do not fit the settings: encode refuses.
         if (chosen, multi) != (v == SpatialVisibility::Chosen, n > 1) {
-            let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            let d = &s.direct;
-            let e =
-                s.gi.encode(
-                    &mut encoder,
-                    d.context(),
-                    &d.gpu_scene,
-                    &d.gbuffer,
-                    &s.gi_target,
-                )
-                .expect_err("stale pipelines refused");
-            assert!(e.to_string().contains("RestirGi::prepare"), "{e}");
+            assert_stale_pipelines_refused(&gpu, &mut s);
         }
         s.frame(&gpu, &scene);
         assert_eq!(
@@ -549,6 +538,23 @@ fn the_passes_are_built_for_their_settings() {
     let default = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::default()));
     assert!(default.gi.spatial_chosen_only());
     assert!(!default.gi.initial_multi_candidate());
+}
+
+/// Encoding after a settings change that needs other pipelines, before `prepare` has built
+/// them, is refused with the way out named.
+fn assert_stale_pipelines_refused(gpu: &Gpu, s: &mut Setup) {
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let d = &s.direct;
+    let e =
+        s.gi.encode(
+            &mut encoder,
+            d.context(),
+            &d.gpu_scene,
+            &d.gbuffer,
+            &s.gi_target,
+        )
+        .expect_err("stale pipelines refused");
+    assert!(e.to_string().contains("RestirGi::prepare"), "{e}");
 }
 
 /// Plain path GI keeps one reservoir buffer (the shade stores each pixel's reservoir back
@@ -613,19 +619,7 @@ fn plain_path_gi_shaded_apart_matches_shaded_where_traced() {
             !apart,
             "built at the next frame"
         );
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        let d = &switched.direct;
-        let e = switched
-            .gi
-            .encode(
-                &mut encoder,
-                d.context(),
-                &d.gpu_scene,
-                &d.gbuffer,
-                &switched.gi_target,
-            )
-            .expect_err("stale pipelines refused");
-        assert!(e.to_string().contains("RestirGi::prepare"), "{e}");
+        assert_stale_pipelines_refused(&gpu, &mut switched);
         switched.frame(&gpu, &scene);
         assert_eq!(switched.gi.shades_apart(), apart);
     }
@@ -727,7 +721,8 @@ fn scribble(gpu: &Gpu, scratch: &wgpu::Buffer, plausible: &[u8], record: usize, 
 /// reservoirs and random bytes, the scratch changes nothing: DI alone, whose frames are
 /// deterministic, gives the same images bit for bit over 6 frames of temporal and spatial
 /// reuse; with GI, frame 0 (before the world cache's later, racing updates) gives the same
-/// image and reservoirs bit for bit, with reuse and without. (Real reservoirs pass the
+/// image and reservoirs bit for bit, with reuse and without, from every pixel and at half
+/// rate, path GI shaded where traced and apart. (Real reservoirs pass the
 /// passes' validity checks, which random bytes may not; a DI initial pass made to skip every
 /// fifth column fails the test either way.) Each pass counts only its own buffers, and a
 /// scratch too small is refused with both sizes named.
@@ -765,7 +760,24 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
         gpu.read_buffer(gi.reservoirs(), gi.scratch_bytes())
             .unwrap()
     };
-    for settings in [RestirGiSettings::default(), RestirGiSettings::plain()] {
+    let plain = RestirGiSettings::plain();
+    let apart = RestirGiSettings {
+        shade_apart: true,
+        ..plain
+    };
+    let half = |s: RestirGiSettings| RestirGiSettings {
+        half_rate: true,
+        ..s
+    };
+    // The second dispatches read what the first wrote: at half rate, with reuse, only the
+    // pixels on this frame's checkerboard.
+    for (what, settings) in [
+        ("reuse", RestirGiSettings::default()),
+        ("plain", plain),
+        ("plain, shaded apart", apart),
+        ("reuse, half rate", half(RestirGiSettings::default())),
+        ("plain, shaded apart, half rate", half(apart)),
+    ] {
         let mut donor = setup(&gpu, &scene, size, Mode::Gi(settings));
         donor.frame(&gpu, &scene);
         let plausible = read(&donor.gi);
@@ -787,7 +799,6 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
         scribble(&gpu, &scratch, &plausible, size_of::<GpuGiReservoir>(), 99);
         own.frame(&gpu, &scene);
         shared.frame(&gpu, &scene);
-        let what = if settings.reuse() { "reuse" } else { "plain" };
         let (a, b) = (
             own.direct.read_output(&gpu),
             shared.direct.read_output(&gpu),
