@@ -377,8 +377,9 @@ pub struct RealtimeArgs {
     /// file's stem; others get each setting's worst error over the table's scenes.
     #[arg(long, value_name = "FILE.csv")]
     pub quality_table: Option<PathBuf>,
-    /// Camera path, fixed or orbit (a ±20° swing around the scene's centre). Reference mode
-    /// renders the path's camera at real-time mode's last frame (`--frames`): its reference.
+    /// Camera path, fixed or orbit (a ±20° swing around the scene's centre). Reference and
+    /// debug modes render the path's camera at real-time mode's last frame (`--frames`): its
+    /// reference.
     #[arg(long, default_value = "fixed", value_parser = values::camera_path)]
     pub camera_path: CameraPath,
     /// G-buffer producer: raster (vertex and fragment shaders), traced (one primary ray per
@@ -742,8 +743,9 @@ pub struct RenderArgs {
     /// What to render.
     #[arg(long, value_enum, default_value_t = Mode::Debug)]
     pub mode: Mode,
-    /// Real-time mode: frames to run; the last one is written. Reference mode renders that
-    /// last frame's camera (it differs from the first only with `--camera-path orbit`).
+    /// Real-time mode: frames to run; the last one is written. Reference and debug modes
+    /// render that last frame's camera (it differs from the first only with `--camera-path
+    /// orbit`).
     #[arg(long, default_value_t = 64, value_parser = clap::value_parser!(u32).range(1..))]
     pub frames: u32,
     /// Real-time mode: write the mean of the last N frames instead of the last frame alone

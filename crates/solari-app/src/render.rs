@@ -183,13 +183,19 @@ fn run_debug(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     let (w, h) = args.size;
     let Prepared {
         name,
-        scene: _,
+        scene,
         camera,
         gpu,
         backend,
         gpu_scene,
         ..
     } = args.scene.prepare()?;
+    // As reference mode: the camera of real-time mode's last frame under the same
+    // `--camera-path` and `--frames`.
+    let camera = args
+        .realtime
+        .camera_path
+        .camera(&camera, &scene, args.frames - 1);
     let pass = ViewPass::primary(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
         .map_err(|e| e.to_string())?;
     let mut view = GpuView::new(&camera, w, h);
@@ -222,7 +228,9 @@ fn run_debug(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     let files: Vec<_> = plan.outputs.files.iter().map(|(p, _)| p).collect();
     if args.json {
         let v = serde_json::json!({"scene": name, "files": files, "view": view_name, "width": w, "height": h,
-            "tracer": backend.name(), "adapter": gpu.info.name, "camera": camera.name, "seconds": elapsed});
+            "tracer": backend.name(), "adapter": gpu.info.name, "camera": camera.name,
+            "camera_path": format!("{:?}", args.realtime.camera_path).to_lowercase(),
+            "camera_frame": args.frames - 1, "seconds": elapsed});
         println!("{v}");
     } else {
         println!(

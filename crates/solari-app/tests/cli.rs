@@ -703,4 +703,29 @@ fn the_reference_follows_the_camera_path() {
         own < 0.5 * fixed,
         "the orbit's frame 59 against its reference {own}, against the fixed camera's {fixed}"
     );
+    // The debug view follows it too: the orbit's frame 59 is another picture than the fixed
+    // camera's (instance ids; with the view left at the start camera they are equal).
+    let debug = |path: &str, out: &str| {
+        let json = run(&[
+            &common[..],
+            &[
+                "--camera-path",
+                path,
+                "--mode",
+                "debug",
+                "--view",
+                "instance",
+            ],
+            &["--json", "--out", out],
+        ]
+        .concat());
+        let v: Value = serde_json::from_slice(&json.stdout).unwrap();
+        assert_eq!(v["camera_path"], path);
+        assert_eq!(v["camera_frame"], 59);
+        std::fs::read(d.0.join(out)).unwrap()
+    };
+    assert!(
+        debug("orbit", "debug_orbit.exr") != debug("fixed", "debug_fixed.exr"),
+        "the debug view of the orbit's frame 59 is the fixed camera's"
+    );
 }

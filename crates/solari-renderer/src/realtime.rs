@@ -59,11 +59,11 @@ pub const DI_REUSE_LIGHT_THRESHOLD: u32 = 64;
 /// [`RealtimeSettings::path_gi_shade_apart_triangles`] by default: plain path GI shades in a
 /// dispatch of its own ([`RestirGiSettings::shade_apart`]) in scenes of at least this many
 /// triangles (counted per instance). Measured on an H100 at 1080p (defaults with the
-/// fallback denoiser, three reps): GI's pass −7.9% on `interior` (294,000 triangles; the
-/// frame 3.825 → 3.752 ms), −0.9% on many_lights (32,000, within noise), +6.1% on sun_boxes
-/// (8,000) and +19% on the Cornell box (32), whose traversal costs too little for the second
+/// fallback denoiser, three reps): GI's pass −7.9% on `interior` (294,424 triangles; the
+/// frame 3.825 → 3.752 ms), −0.9% on many_lights (32,122, within noise), +6.1% on sun_boxes
+/// (8,022) and +19% on the Cornell box (32), whose traversal costs too little for the second
 /// read of the G-buffer to pay (`benches/RESULTS.md`, "The temporal merge in a dispatch of
-/// its own"). Any threshold from 32,123 to 294,000 separates what was measured; 65,536
+/// its own"). Any threshold from 32,123 to 294,424 separates what was measured; 65,536
 /// leaves the scenes near many_lights' size as they were.
 pub const PATH_GI_SHADE_APART_TRIANGLES: u64 = 65_536;
 
