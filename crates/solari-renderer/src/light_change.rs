@@ -14,7 +14,10 @@ pub const LIGHT_CHANGE_SHARE: f32 = 0.1;
 /// The power that changed between `old` and `new` as a share of the power present in
 /// either: Σ |new − old| / Σ max(new, old) over the lights of both, matched by their stable
 /// keys (a light added or removed changes by all of its power). 0 for two lists of the same
-/// powers (also when empty), 1 when no light's power is kept. The environment is not counted.
+/// powers (also when empty), 1 when no light's power is kept. An environment map is a light
+/// of the list like any other (its factor changed, its power changes; a new map is a new
+/// light); a uniform environment colour is not a light (`Scene::environment_is_light`) and
+/// is not counted.
 pub fn power_change_share(old: &LightList, new: &LightList) -> f32 {
     let mut both: HashMap<_, (f64, f64)> = HashMap::new();
     for (k, p) in old.keys.iter().zip(&old.power) {
@@ -81,5 +84,33 @@ mod tests {
         // Every light replaced, and empty lists.
         assert_eq!(power_change_share(&two, &list(&[])), 1.0);
         assert_eq!(power_change_share(&list(&[]), &list(&[])), 0.0);
+    }
+
+    /// An environment map counts by its power: its factor doubled changes half the power
+    /// present beside nothing else; the uniform colour (not a light) counts nothing.
+    #[test]
+    fn an_environment_map_counts_and_a_uniform_sky_does_not() {
+        use solari_scene::EnvironmentMap;
+        use std::sync::Arc;
+        let map = Arc::new(EnvironmentMap::new(4, 2, vec![Vec3::splat(0.5); 8]).unwrap());
+        let sky = |factor: f32| {
+            LightList::build(&Scene {
+                environment_map: Some(map.clone()),
+                environment_radiance: Vec3::splat(factor),
+                ..Default::default()
+            })
+        };
+        let share = power_change_share(&sky(1.0), &sky(2.0));
+        assert!((share - 0.5).abs() < 1e-6, "{share}");
+        assert_eq!(power_change_share(&sky(1.0), &sky(1.0)), 0.0);
+        // Switched off (a black factor: no longer a light).
+        assert_eq!(power_change_share(&sky(1.0), &sky(0.0)), 1.0);
+        let uniform = |c: f32| {
+            LightList::build(&Scene {
+                environment_radiance: Vec3::splat(c),
+                ..Default::default()
+            })
+        };
+        assert_eq!(power_change_share(&uniform(1.0), &uniform(5.0)), 0.0);
     }
 }
