@@ -711,29 +711,22 @@ fn shortened_histories_lower_the_error_after_a_light_switch() {
         r.read_output(&c.gpu).expect("read back")
     };
     // The converged image without the bulb: the mean of frames 65-128.
-    let mut truth = vec![[0.0f64; 3]; (SIZE * SIZE) as usize];
+    let mut sum = vec![[0.0f64; 3]; (SIZE * SIZE) as usize];
     let mut r = c.renderer_of(&dark, with(8));
     for frame in 0..128 {
         let px = image(&mut r, &dark);
         if frame >= 64 {
-            for (t, p) in truth.iter_mut().zip(&px) {
+            for (t, p) in sum.iter_mut().zip(&px) {
                 for k in 0..3 {
-                    t[k] += f64::from(p[k]) / 64.0;
+                    t[k] += f64::from(p[k]);
                 }
             }
         }
     }
+    let truth: Vec<[f32; 3]> = sum.iter().map(|t| t.map(|v| (v / 64.0) as f32)).collect();
     let rmse = |px: &[[f32; 4]]| -> f64 {
-        let sum: f64 = px
-            .iter()
-            .zip(&truth)
-            .map(|(p, t)| {
-                (0..3)
-                    .map(|k| (f64::from(p[k]) - t[k]).powi(2))
-                    .sum::<f64>()
-            })
-            .sum();
-        (sum / (3 * px.len()) as f64).sqrt()
+        let rgb: Vec<[f32; 3]> = px.iter().map(|p| [p[0], p[1], p[2]]).collect();
+        solari_reference::metrics::rmse(&rgb, &truth)
     };
     let mut means = Vec::new();
     for frames in [0, 8] {
