@@ -367,7 +367,8 @@ impl RealtimeSettings {
         s
     }
 
-    /// The ReSTIR GI settings the GI mode runs with (reuse off for [`GiMode::Path`]).
+    /// The ReSTIR GI settings the GI mode runs with (reuse off for [`GiMode::Path`]), before
+    /// the scene-size rule: the renderer runs [`RealtimeSettings::gi_settings_for`].
     pub fn gi_settings(&self) -> RestirGiSettings {
         match self.gi {
             GiMode::Path => RestirGiSettings {
