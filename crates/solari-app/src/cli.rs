@@ -520,6 +520,11 @@ pub struct RealtimeArgs {
     /// GI counts a history as one sample, so indirect light follows the switch (0: never).
     #[arg(long, default_value_t = WorldCacheSettings::default().light_change_frames)]
     pub cache_light_change_frames: u32,
+    /// How fast a young world-cache cell's averaging lengthens: a cell of n samples averages
+    /// at most 1 + 29 (n / 30)^E of them, so new cells leave their early, darker samples
+    /// within a few frames (0: a plain running mean; at most 16).
+    #[arg(long, value_name = "E", default_value_t = WorldCacheSettings::default().warm_up_exponent)]
+    pub cache_warm_up: f32,
     /// Denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr (NVIDIA DLSS
     /// Ray Reconstruction; builds with `--features dlss` only). Default: the best available
     /// (DLSS-RR where it runs, else the fallback).
@@ -615,6 +620,7 @@ impl RealtimeArgs {
                 soft_lod: self.cache_soft_lod,
                 capacity: self.cache_capacity,
                 light_change_frames: self.cache_light_change_frames,
+                warm_up_exponent: self.cache_warm_up,
                 ..Default::default()
             },
             view,

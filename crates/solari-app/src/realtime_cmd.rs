@@ -221,6 +221,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         v["gi_adaptive_cap"] = applied.restir_gi.adaptive_cap.into();
         v["gi_shade_apart"] = renderer.gi_settings().is_some_and(|s| s.shade_apart).into();
         v["cache_light_change_frames"] = applied.cache.light_change_frames.into();
+        v["cache_warm_up"] = applied.cache.warm_up_exponent.into();
         v["di_reuse_skipped"] = renderer.di_reuse_skipped().into();
         println!("{v}");
     } else {

@@ -512,6 +512,8 @@ impl WorldCache {
             samples_per_tile: self.tiles.samples_per_tile,
             width: size.0,
             height: size.1,
+            warm_up_exponent: s.warm_up_exponent,
+            _pad: [0; 3],
         };
         self.size = size;
         gpu.queue

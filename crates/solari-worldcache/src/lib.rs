@@ -54,8 +54,11 @@
 //! 4. **Blend**: each new sample enters the cell's running mean with weight
 //!    `1 / min(samples, cap)`; the cap falls from
 //!    [`WorldCacheSettings::max_temporal_samples`] toward 1 as the cell's luminance changes
-//!    (an adaptive factor after Guillaume Boissé, as in Solari 0.18). Non-finite samples are
-//!    dropped. After [`WorldCache::follow_light_change`] the blend averages at most
+//!    (an adaptive factor after Guillaume Boissé, as in Solari 0.18), and while the cell is
+//!    young it is at most [`warm_up_window`] of its count
+//!    ([`WorldCacheSettings::warm_up_exponent`]): a cell's first samples read neighbours that
+//!    are still filling, and a plain running mean kept that darkness for dozens of frames.
+//!    Non-finite samples are dropped. After [`WorldCache::follow_light_change`] the blend averages at most
 //!    [`WorldCacheSettings::light_change_samples`] samples for a few frames: the adaptive factor
 //!    sees a change only once the mean has moved, and a switched-off light's bounce light,
 //!    fed from cell to cell, otherwise faded over dozens of frames.
@@ -85,7 +88,10 @@ pub use cache::{
     CACHE_BINDINGS, CacheStats, DISPATCH_BINDINGS, FIRST_BINDING, PASS_LABELS, TARGET_BINDINGS,
     WorldCache,
 };
-pub use settings::{CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, WorldCacheSettings};
+pub use settings::{
+    CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, MAX_WARM_UP_EXPONENT,
+    WorldCacheSettings, warm_up_window,
+};
 
 /// The crate's importable WGSL modules, by module name: `world_cache` (bindings, lookup,
 /// `query_world_cache`) and `world_cache_hash` (addressing).

@@ -433,3 +433,91 @@ fn default_probing_holds_a_table_well_past_what_scenes_fill() {
         "the test no longer reaches the old default's limit"
     );
 }
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+struct WarmUpCase {
+    samples: f32,
+    most: f32,
+    exponent: f32,
+    _pad: f32,
+}
+
+#[test]
+fn gpu_warm_up_window_matches_the_rust_twin() {
+    use solari_worldcache::warm_up_window;
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).unwrap();
+    let kernel = include_str!("shaders/world_cache_warm_up_test.wesl");
+    let mut modules = solari_worldcache::modules();
+    modules.push(("world_cache_warm_up_test", kernel));
+    let wgsl = compose("world_cache_warm_up_test", backend, &modules).expect("compose");
+    let io = gpu.buffer_layout(
+        "warm_up_test",
+        &[
+            wgpu::BufferBindingType::Storage { read_only: true },
+            wgpu::BufferBindingType::Storage { read_only: false },
+        ],
+    );
+    let pipeline = gpu
+        .compute_pipeline("warm_up_test", &wgsl, &[Some(&io)], ShaderChecks::All, &[])
+        .expect("pipeline");
+    let mut rng = Pcg32::seed_from_u64(11);
+    let case = |samples: f32, most: f32, exponent: f32| WarmUpCase {
+        samples,
+        most,
+        exponent,
+        _pad: 0.0,
+    };
+    // Edges: no samples, one, the count at and past the window's end, the exponent off,
+    // a cap of one sample, the light-change cap below the count.
+    let mut cases = vec![
+        case(0.0, 30.0, 2.0),
+        case(1.0, 30.0, 2.0),
+        case(30.0, 30.0, 2.0),
+        case(31.0, 30.0, 2.0),
+        case(12.0, 30.0, 0.0),
+        case(5.0, 1.0, 2.0),
+        case(30.0, 4.0, 2.0),
+        case(0.0, 30.0, 16.0),
+    ];
+    cases.extend((0..2000).map(|_| {
+        case(
+            rng.random_range(0u32..40) as f32,
+            rng.random_range(1.0f32..64.0),
+            if rng.random_bool(0.1) {
+                0.0
+            } else {
+                rng.random_range(0.0f32..16.0)
+            },
+        )
+    }));
+    let got: Vec<f32> = gpu
+        .run_cases("warm_up_test", &pipeline, &io, &[None], &cases)
+        .expect("run");
+    for (c, g) in cases.iter().zip(&got) {
+        let want = warm_up_window(c.samples, c.most, c.exponent);
+        assert!(
+            (g - want).abs() <= 1e-4 * want.max(1.0),
+            "{c:?}: GPU {g}, Rust {want}"
+        );
+        // A window: at least one sample, never past the cap, the whole cap once the count
+        // reaches it.
+        assert!(
+            *g >= 1.0 - 1e-5 && *g <= c.most.max(1.0) + 1e-4,
+            "{c:?}: {g}"
+        );
+        if c.samples >= c.most {
+            assert!((g - c.most).abs() <= 1e-4 * c.most, "{c:?}: {g}");
+        }
+    }
+    // Monotone in the count.
+    for exponent in [0.5f32, 1.0, 2.0, 4.0] {
+        let w: Vec<f32> = (0..=30)
+            .map(|n| warm_up_window(n as f32, 30.0, exponent))
+            .collect();
+        assert!(w.windows(2).all(|p| p[1] >= p[0]), "{exponent}: {w:?}");
+        assert_eq!(w[0], 1.0);
+        assert_eq!(w[30], 30.0);
+    }
+}
