@@ -1389,8 +1389,10 @@ impl RealtimeRenderer {
         let (w, h) = self.di.size();
         let pixels = w as u64 * h as u64;
         if let Some(c) = checker.as_mut() {
-            if !di_ran.contains(DI_LABELS[2]) {
-                let reservoirs = self.di.reservoirs();
+            // The final reservoirs this frame wrote: only a frame with reuse (its second
+            // pass) keeps them; the light of every frame is checked below.
+            if let (true, Some(reservoirs)) = (di_ran.contains(DI_LABELS[1]), self.di.reservoirs())
+            {
                 let cap = self.settings.di.confidence_cap;
                 let layout = solari_restir::reservoir_check(cap);
                 c.check_buffer(gpu, &mut encoder, SLOT_DI, reservoirs, pixels, layout)?;

@@ -311,9 +311,9 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
 /// The memory report counts what the components allocate: the G-buffer's two target sets
 /// (16 + 8 + 4 bytes per pixel each, and the 4-byte motion target they share) and the raster
 /// depth buffer (4) to within its uniforms (the box has no mirror, so no override buffer:
-/// `tests/psr.rs` has one), ReSTIR DI's 40 bytes per pixel, the denoiser's 48, the shared
-/// scratch's 32 (or the world cache's new samples, if more), and every other component
-/// something.
+/// `tests/psr.rs` has one), ReSTIR DI's 20 bytes per pixel (40 once a frame reuses), the
+/// denoiser's 48, the shared scratch's 32 (or the world cache's new samples, if more), and
+/// every other component something.
 #[test]
 fn memory_report_counts_each_component() {
     let Some(c) = Cornell::new() else { return };
@@ -333,13 +333,14 @@ fn memory_report_counts_each_component() {
         (64 * pixels..64 * pixels + 4096).contains(&gbuffer),
         "G-buffer {gbuffer} bytes for {pixels} pixels"
     );
-    // ReSTIR DI: the final reservoirs (20; one buffer serves as history), the image (16)
-    // and the shadow report (4), to within its uniforms and light table; its initial
-    // reservoirs live in the shared scratch, with ReSTIR GI's (32), the denoiser's
-    // transient words (32) and its second filter buffer (16).
+    // ReSTIR DI: the image (16) and the shadow report (4), to within its uniforms and
+    // light table; the box's two light triangles turn its reuse off (the light-count rule
+    // under the fallback denoiser), so it keeps no final reservoirs. Its initial reservoirs
+    // live in the shared scratch, with ReSTIR GI's (32), the denoiser's transient words (32)
+    // and its second filter buffer (16).
     let di = memory[3].1;
     assert!(
-        (40 * pixels..40 * pixels + 4096).contains(&di),
+        (20 * pixels..20 * pixels + 4096).contains(&di),
         "ReSTIR DI {di} bytes for {pixels} pixels"
     );
     // The fallback denoiser: one 24-byte packed history, the guide (8) and the filter
@@ -371,6 +372,22 @@ fn memory_report_counts_each_component() {
         assert!(bytes > 0, "{name} reports no memory");
     }
     assert!(gpu_scene.memory_bytes() > 0);
+    // With reuse (no light-count rule) its first frame adds the final reservoirs (20: one
+    // buffer serves as history).
+    let mut reusing = c.renderer(RealtimeSettings {
+        di: solari_restir::RestirDiSettings {
+            reuse_light_threshold: 0,
+            ..settings().di
+        },
+        ..settings()
+    });
+    assert_eq!(reusing.memory()[3].1, di, "nothing before the first frame");
+    c.mean_green(&mut reusing, &c.scene);
+    let di = reusing.memory()[3].1;
+    assert!(
+        (40 * pixels..40 * pixels + 4096).contains(&di),
+        "ReSTIR DI with reuse {di} bytes for {pixels} pixels"
+    );
 }
 
 /// ReSTIR GI's settings change in place; bad ones are refused with the knob named; plain path

@@ -753,7 +753,10 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
         );
         assert!(a == b, "DI frame {frame}: the images differ");
         plausible = gpu
-            .read_buffer(own.di.reservoirs(), own.di.scratch_bytes())
+            .read_buffer(
+                own.di.reservoirs().expect("DI with reuse keeps reservoirs"),
+                own.di.scratch_bytes(),
+            )
             .unwrap();
     }
     let read = |gi: &RestirGi| {

@@ -159,3 +159,49 @@ fn initial_visibility_acts_only_with_reuse() {
         "with reuse the initial test changes the image"
     );
 }
+
+/// Frames without reuse keep no final reservoirs (nothing would read them): none are
+/// allocated while the threshold skips reuse, the memory report leaves their 20 bytes a
+/// pixel out, and the first frame with reuse allocates them and renders finite light.
+#[test]
+fn frames_without_reuse_keep_no_reservoirs() {
+    let Some(gpu) = test_gpu() else { return };
+    let backend = gpu.backend(Default::default()).expect("backend");
+    let scene = default_scene::cornell_box();
+    let elements = LightList::build(&scene).sampling_elements();
+    let mut sunny = scene.clone();
+    sunny.directional_lights.push(DirectionalLight {
+        name: "sun".into(),
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        irradiance: Vec3::splat(2.0),
+        angular_diameter: 0.01,
+    });
+    let settings = with_threshold(elements);
+    let mut direct = DirectLight::new(&gpu, backend, &scene, SIZE, settings, tile_settings());
+    let camera = scene.camera(None).expect("camera");
+    let reservoir_bytes = (SIZE * SIZE) as u64 * size_of::<solari_restir::GpuReservoir>() as u64;
+    let without = direct.di.memory_bytes();
+    let mut now = &scene;
+    for frame in 0..6 {
+        if frame == 3 {
+            direct.set_lights(&gpu, &sunny);
+            now = &sunny;
+        }
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        direct.encode(&gpu, now, &camera, &mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+        let image = direct.read_output(&gpu);
+        assert!(
+            image.iter().flatten().all(|v| v.is_finite() && *v >= 0.0),
+            "frame {frame}: non-finite or negative light"
+        );
+        let kept = direct.di.reservoirs().is_some();
+        assert_eq!(kept, frame >= 3, "frame {frame}: reservoirs kept {kept}");
+        let expected = if kept {
+            without + reservoir_bytes
+        } else {
+            without
+        };
+        assert_eq!(direct.di.memory_bytes(), expected, "frame {frame}");
+    }
+}
