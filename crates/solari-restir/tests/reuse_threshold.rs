@@ -55,6 +55,18 @@ fn run(
     (images, skipped)
 }
 
+/// `scene` with a sun added: one sampling element more.
+fn with_sun(scene: &Scene) -> Scene {
+    let mut sunny = scene.clone();
+    sunny.directional_lights.push(DirectionalLight {
+        name: "sun".into(),
+        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
+        irradiance: Vec3::splat(2.0),
+        angular_diameter: 0.01,
+    });
+    sunny
+}
+
 fn with_threshold(reuse_light_threshold: u32) -> RestirDiSettings {
     RestirDiSettings {
         reuse_light_threshold,
@@ -99,13 +111,7 @@ fn few_lights_skip_reuse_exactly_and_more_bring_it_back() {
     assert_eq!(below, reuse, "above the threshold reuse runs as always");
 
     // A sun brings one more element: over the threshold from its first frame on.
-    let mut sunny = scene.clone();
-    sunny.directional_lights.push(DirectionalLight {
-        name: "sun".into(),
-        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
-        irradiance: Vec3::splat(2.0),
-        angular_diameter: 0.01,
-    });
+    let sunny = with_sun(&scene);
     let (_, skipped) = run(
         &gpu,
         backend,
@@ -169,13 +175,7 @@ fn frames_without_reuse_keep_no_reservoirs() {
     let backend = gpu.backend(Default::default()).expect("backend");
     let scene = default_scene::cornell_box();
     let elements = LightList::build(&scene).sampling_elements();
-    let mut sunny = scene.clone();
-    sunny.directional_lights.push(DirectionalLight {
-        name: "sun".into(),
-        direction: Vec3::new(0.3, -1.0, 0.2).normalize(),
-        irradiance: Vec3::splat(2.0),
-        angular_diameter: 0.01,
-    });
+    let sunny = with_sun(&scene);
     let settings = with_threshold(elements);
     let mut direct = DirectLight::new(&gpu, backend, &scene, SIZE, settings, tile_settings());
     let camera = scene.camera(None).expect("camera");
