@@ -69,7 +69,8 @@ pub struct WorldCacheSettings {
     /// 64² Cornell box 0.26–0.28 of a bulb's light was left 16 frames after the switch with
     /// path GI, 0.05–0.07 with this (0.036 averaging 2; `benches/RESULTS.md`, "The world
     /// cache follows a light switch").
-    /// Afterwards a cell's count grows back by one a frame, as from a fresh start.
+    /// Afterwards a cell's count grows back by one a frame, as from a fresh start (with the
+    /// [`WorldCacheSettings::warm_up_exponent`] window, which follows the count).
     pub light_change_samples: f32,
     /// Frames [`crate::WorldCache::follow_light_change`] shortens the averaging for (default
     /// 8; 0: never).
