@@ -307,3 +307,30 @@ fn the_shade_apart_rule_reaches_the_renderer_settings() {
             .shade_apart
     );
 }
+
+#[test]
+fn the_warm_up_exponent_reaches_the_cache_settings() {
+    let library = RealtimeSettings::default().cache.warm_up_exponent;
+    assert_eq!(library, 2.0);
+    let exponent = |args: &[&str]| settings(args).cache.warm_up_exponent;
+    assert_eq!(exponent(&[]), library);
+    assert_eq!(exponent(&["--cache-warm-up", "0"]), 0.0);
+    assert_eq!(exponent(&["--cache-warm-up", "3.5"]), 3.5);
+    // Out of range: refused before anything is built, the knob named.
+    let argv = [
+        "solari",
+        "render",
+        "--mode",
+        "realtime",
+        "--cache-warm-up",
+        "17",
+    ];
+    let Command::Render(r) = Cli::try_parse_from(argv).expect("parses").command else {
+        panic!("render");
+    };
+    let err = r
+        .realtime
+        .settings(FrameView::Lit)
+        .expect_err("17 is past the largest exponent");
+    assert!(err.to_string().contains("warm_up_exponent"), "{err}");
+}
