@@ -58,10 +58,10 @@
 //!    young it is at most [`warm_up_window`] of its count
 //!    ([`WorldCacheSettings::warm_up_exponent`]): a cell's first samples read neighbours that
 //!    are still filling, and a plain running mean kept that darkness for dozens of frames.
-//!    Non-finite samples are dropped. After [`WorldCache::follow_light_change`] the blend averages at most
-//!    [`WorldCacheSettings::light_change_samples`] samples for a few frames: the adaptive factor
-//!    sees a change only once the mean has moved, and a switched-off light's bounce light,
-//!    fed from cell to cell, otherwise faded over dozens of frames.
+//!    Non-finite samples are dropped. After [`WorldCache::follow_light_change`] the blend
+//!    averages at most [`WorldCacheSettings::light_change_samples`] samples for a few frames:
+//!    the adaptive factor sees a change only once the mean has moved, and a switched-off
+//!    light's bounce light, fed from cell to cell, otherwise faded over dozens of frames.
 //!
 //! ## Known limits
 //!
