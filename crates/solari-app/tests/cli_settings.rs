@@ -15,6 +15,18 @@ fn settings(args: &[&str]) -> RealtimeSettings {
     r.realtime.settings(FrameView::Lit).expect("valid settings")
 }
 
+/// Why `solari render --mode realtime ARGS` (parsed) has no valid settings.
+fn settings_error(args: &[&str]) -> String {
+    let argv = [&["solari", "render", "--mode", "realtime"], args].concat();
+    let cli = Cli::try_parse_from(argv).expect("parses");
+    let Command::Render(r) = cli.command else {
+        panic!("render");
+    };
+    r.realtime
+        .settings(FrameView::Lit)
+        .expect_err("settings refused")
+}
+
 /// `solari render ARGS`'s scene options, or clap's error.
 fn scene_args(args: &[&str]) -> Result<solari_app::cli::SceneArgs, clap::Error> {
     let argv = [&["solari", "render"], args].concat();
@@ -100,21 +112,7 @@ fn psr_and_gi_candidates_reach_the_settings() {
         4,
         "plain path GI keeps the candidates"
     );
-    let argv = [
-        "solari",
-        "render",
-        "--mode",
-        "realtime",
-        "--gi-samples",
-        "0",
-    ];
-    let Command::Render(r) = Cli::try_parse_from(argv).expect("parses").command else {
-        panic!("render");
-    };
-    let err = r
-        .realtime
-        .settings(FrameView::Lit)
-        .expect_err("0 candidates");
+    let err = settings_error(&["--gi-samples", "0"]);
     assert!(err.contains("initial_samples"), "{err}");
 }
 
@@ -317,20 +315,6 @@ fn the_warm_up_exponent_reaches_the_cache_settings() {
     assert_eq!(exponent(&["--cache-warm-up", "0"]), 0.0);
     assert_eq!(exponent(&["--cache-warm-up", "3.5"]), 3.5);
     // Out of range: refused before anything is built, the knob named.
-    let argv = [
-        "solari",
-        "render",
-        "--mode",
-        "realtime",
-        "--cache-warm-up",
-        "17",
-    ];
-    let Command::Render(r) = Cli::try_parse_from(argv).expect("parses").command else {
-        panic!("render");
-    };
-    let err = r
-        .realtime
-        .settings(FrameView::Lit)
-        .expect_err("17 is past the largest exponent");
-    assert!(err.to_string().contains("warm_up_exponent"), "{err}");
+    let err = settings_error(&["--cache-warm-up", "17"]);
+    assert!(err.contains("warm_up_exponent"), "{err}");
 }

@@ -66,6 +66,18 @@ struct PixelBuffers {
     group: wgpu::BindGroup,
 }
 
+const FINALS_LABEL: &str = "solari_restir/di_reservoirs";
+
+// One of DI's per-pixel buffers (storage, readable back for tests and the detector).
+fn pixel_buffer(gpu: &Gpu, label: &str, size: u64) -> wgpu::Buffer {
+    gpu.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
 /// Bind group 2 of the DI shaders (`restir_di.wesl`), by WGSL name.
 pub const DI_BINDINGS: BufferGroup = BufferGroup::new(
     2,
@@ -346,12 +358,7 @@ impl RestirDi {
             return;
         }
         let pixels = self.size.0 as u64 * self.size.1 as u64;
-        let finals = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("solari_restir/di_reservoirs"),
-            size: pixels * size_of::<GpuReservoir>() as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
+        let finals = pixel_buffer(gpu, FINALS_LABEL, pixels * size_of::<GpuReservoir>() as u64);
         let group = self.group_for(gpu, &finals, &b.initial, &b.output, &b.shadow);
         self.buffers = Some(PixelBuffers {
             finals,
@@ -362,9 +369,12 @@ impl RestirDi {
         self.history = false;
     }
 
-    /// Changes the settings; history is kept (every knob is valid with any history). Settings
-    /// that turn reuse off on an instance built with it have the one-pass pipeline built by
-    /// the next [`RestirDi::prepare`] (a one-time pipeline compile in that frame).
+    /// Changes the settings; history is kept (every knob is valid with any history), except
+    /// that frames without reuse keep none, so settings that turn reuse back on start
+    /// without it. Settings that turn reuse off on an instance built with it have the
+    /// one-pass pipeline built by the next [`RestirDi::prepare`] (a one-time pipeline compile
+    /// in that frame); settings that turn it on where it never ran have the final
+    /// reservoirs allocated there.
     pub fn set_settings(&mut self, settings: RestirDiSettings) -> Result<(), GpuError> {
         settings.validate()?;
         self.settings = settings;
@@ -390,18 +400,8 @@ impl RestirDi {
         // The reservoirs are the larger: checking the output alone let a size through whose
         // reservoir buffers could not be bound.
         gpu.check_storage_binding("ReSTIR DI reservoirs", reservoir_bytes)?;
-        let buffer = |label: &str, size: u64| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            })
-        };
-        let finals = buffer(
-            "solari_restir/di_reservoirs",
-            size_of::<GpuReservoir>() as u64,
-        );
+        let buffer = |label: &str, size: u64| pixel_buffer(gpu, label, size);
+        let finals = buffer(FINALS_LABEL, size_of::<GpuReservoir>() as u64);
         let initial = buffer("solari_restir/di_reservoirs_initial", reservoir_bytes);
         let output = buffer("solari_restir/di_output", output_bytes);
         let shadow = buffer("solari_restir/di_shadow", pixels * 4);

@@ -224,7 +224,7 @@ impl WorldCacheSettings {
     }
 
     /// Bytes of GPU memory the cache holds at this capacity (table, active list, new
-    /// samples, control), excluding the 80-byte parameters.
+    /// samples, control), excluding the 96-byte parameters ([`GpuCacheParams`]).
     pub fn memory_bytes(&self) -> u64 {
         let slots = self.capacity as u64;
         slots * (4 + 4 + size_of::<GpuCacheCell>() as u64 + 4 + size_of::<GpuNewSample>() as u64)
