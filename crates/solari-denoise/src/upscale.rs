@@ -6,6 +6,14 @@
 //! vectors and clamped to the range of this frame's neighbouring samples, the two merged by
 //! their weights. At a scale of 1 it antialiases (each pixel converges to its area average).
 //! DLSS-RR does this itself and does not use it.
+//!
+//! Memory: one accumulation buffer at the output size (16 bytes a pixel) persists from frame
+//! to frame and is the output. The pass writes this frame's accumulation elsewhere (it reads
+//! last frame's around each pixel, so it cannot write in place) and copies it back: into a
+//! work buffer of its own (16 bytes a pixel more), or into scratch that other passes share
+//! ([`TemporalUpscaler::use_scratch`]), as the real-time renderer does. Two accumulation
+//! buffers and a separate output took 48 bytes a pixel (95 MiB at 1920×1080); the copy costs
+//! one read and one write of the output per frame.
 
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
@@ -25,7 +33,6 @@ pub const UPSCALE_BINDINGS: BufferGroup = BufferGroup::new(
         ("render_color", Buf::Read),
         ("accum_before", Buf::Read),
         ("accum_now", Buf::ReadWrite),
-        ("upscaled", Buf::ReadWrite),
     ],
 );
 
@@ -96,11 +103,14 @@ pub struct TemporalUpscaler {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
-    accum: [wgpu::Buffer; 2],
-    output: wgpu::Buffer,
-    // Bind groups per parity for the input buffer last given (rebuilt when it changes).
-    groups: Option<(wgpu::Buffer, [wgpu::BindGroup; 2])>,
-    parity: usize,
+    // The accumulation (rgb, weight) that persists between frames: the output.
+    accum: wgpu::Buffer,
+    // Where the pass writes this frame's accumulation before the copy into `accum`: a
+    // buffer of its own, or shared scratch (`shared`).
+    work: wgpu::Buffer,
+    shared: bool,
+    // The bind group for the input buffer last given (rebuilt when it or `work` changes).
+    group: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     history: bool,
 }
 
@@ -146,7 +156,9 @@ impl TemporalUpscaler {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: bytes,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             })
         };
@@ -158,15 +170,41 @@ impl TemporalUpscaler {
             layout,
             params: gpu
                 .uniform_buffer("solari_denoise/upscale_params", &GpuUpscaleParams::zeroed()),
-            accum: [
-                storage("solari_denoise/upscale_accum_a"),
-                storage("solari_denoise/upscale_accum_b"),
-            ],
-            output: storage("solari_denoise/upscaled"),
-            groups: None,
-            parity: 0,
+            accum: storage("solari_denoise/upscale_accum"),
+            work: storage("solari_denoise/upscale_work"),
+            shared: false,
+            group: None,
             history: false,
         })
+    }
+
+    /// Bytes of shared scratch [`TemporalUpscaler::use_scratch`] needs: this frame's
+    /// accumulation, 16 per output pixel.
+    pub fn scratch_bytes(&self) -> u64 {
+        self.output_size.0 as u64 * self.output_size.1 as u64 * 16
+    }
+
+    /// Writes each frame's accumulation into `scratch` (a storage buffer with copies out, of
+    /// at least [`TemporalUpscaler::scratch_bytes`]) instead of a buffer of its own, which is
+    /// freed. The pass reads nothing there that it did not write in the same frame, so other
+    /// passes may use the buffer before it; after it, the scratch holds nothing anyone needs.
+    /// The history is kept.
+    pub fn use_scratch(&mut self, gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
+        if self.shared && self.work == *scratch {
+            return Ok(());
+        }
+        solari_scene::scratch::check("temporal upscaler", scratch, self.scratch_bytes())?;
+        if !scratch.usage().contains(wgpu::BufferUsages::COPY_SRC) {
+            return Err(GpuError::Validation(format!(
+                "temporal upscaler: the scratch buffer cannot be copied from (usage {:?})",
+                scratch.usage()
+            )));
+        }
+        gpu.check_storage_binding("temporal upscaler scratch", scratch.size())?;
+        self.work = scratch.clone();
+        self.shared = true;
+        self.group = None;
+        Ok(())
     }
 
     /// Records the pass: `input` (one `vec4<f32>` per render pixel, the frame's lighting)
@@ -200,45 +238,49 @@ impl TemporalUpscaler {
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        if self.groups.as_ref().is_none_or(|(b, _)| b != input) {
-            let groups = [0, 1].map(|parity| {
-                UPSCALE_BINDINGS.bind(
-                    gpu,
-                    "solari_denoise/upscale",
-                    &self.layout,
-                    &[
-                        ("upscale_params", &self.params),
-                        ("render_color", input),
-                        ("accum_before", &self.accum[parity ^ 1]),
-                        ("accum_now", &self.accum[parity]),
-                        ("upscaled", &self.output),
-                    ],
-                )
-            });
-            self.groups = Some((input.clone(), groups));
+        if self.group.as_ref().is_none_or(|(b, _)| b != input) {
+            let group = UPSCALE_BINDINGS.bind(
+                gpu,
+                "solari_denoise/upscale",
+                &self.layout,
+                &[
+                    ("upscale_params", &self.params),
+                    ("render_color", input),
+                    ("accum_before", &self.accum),
+                    ("accum_now", &self.work),
+                ],
+            );
+            self.group = Some((input.clone(), group));
         }
-        self.parity ^= 1;
-        let group = &self.groups.as_ref().expect("made above").1[self.parity];
+        let group = &self.group.as_ref().expect("made above").1;
         let gbuffer_group = gbuffer.bind_group()?;
         let (w, h) = self.output_size;
+        let bytes = self.scratch_bytes();
         let mut ran = Ran::none();
+        // The copy back counts in the pass's time: it is what one buffer less costs.
         frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| {
-            let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(PASS_LABELS[0]),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, group, &[]);
-            pass.set_bind_group(1, gbuffer_group, &[]);
-            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            {
+                let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(PASS_LABELS[0]),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, group, &[]);
+                pass.set_bind_group(1, gbuffer_group, &[]);
+                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            }
+            e.copy_buffer_to_buffer(&self.work, 0, &self.accum, 0, bytes);
         });
         self.history = true;
         Ok(ran)
     }
 
-    /// The upscaled image: one `vec4<f32>` per output pixel (alpha 1).
+    /// The upscaled image: one `vec4<f32>` per output pixel, rgb the colour and w the
+    /// weight accumulated there (frames of samples, at most about
+    /// [`UpscaleSettings::max_weight`] + 1; 0 where no sample has landed yet and the colour is
+    /// the nearest sample's). Read it as an image by ignoring w.
     pub fn output(&self) -> &wgpu::Buffer {
-        &self.output
+        &self.accum
     }
 
     /// Input size in pixels.
@@ -253,7 +295,8 @@ impl TemporalUpscaler {
 
     /// GPU memory the upscaler holds, in bytes.
     pub fn memory_bytes(&self) -> u64 {
-        self.accum.iter().map(|b| b.size()).sum::<u64>() + self.output.size() + self.params.size()
+        let work = if self.shared { 0 } else { self.work.size() };
+        self.accum.size() + work + self.params.size()
     }
 }
 

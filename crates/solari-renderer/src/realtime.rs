@@ -867,8 +867,8 @@ impl RealtimeRenderer {
     }
 
     // Moves the world cache's new samples, ReSTIR DI's and GI's initial reservoirs, the
-    // G-buffer's overrides and the denoiser's transient words and second filter buffer into
-    // one scratch buffer, allocated on first use at the largest size asked. Their lifetimes
+    // G-buffer's overrides, the denoiser's transient words and second filter buffer and the
+    // temporal upscaler's new accumulation (the frame's last pass) into one scratch buffer, allocated on first use at the largest size asked. Their lifetimes
     // within a frame do not overlap, except GI's, which ends in specular GI, the overrides'
     // writer: that pass reads each pixel's reservoir before it stores the pixel's override
     // (it is bound again here). Called again when the light readers are rebuilt.
@@ -879,6 +879,7 @@ impl RealtimeRenderer {
             self.gi.as_ref().map(|(g, _)| g.scratch_bytes()),
             self.psr.then(|| self.gbuffer.override_scratch_bytes()),
             self.denoiser.as_ref().map(|d| d.scratch_bytes()),
+            self.upscaler.as_ref().map(|u| u.scratch_bytes()),
         ]
         .into_iter()
         .flatten()
@@ -903,6 +904,9 @@ impl RealtimeRenderer {
             && d.scratch_bytes() > 0
         {
             d.use_scratch(gpu, scratch)?;
+        }
+        if let Some(u) = &mut self.upscaler {
+            u.use_scratch(gpu, scratch)?;
         }
         self.bind_specular(gpu)
     }
@@ -938,7 +942,8 @@ impl RealtimeRenderer {
     /// (ReSTIR GI's history reservoirs; path GI's only reservoirs are in `scratch`; 0
     /// without GI), `specular_gi` (0 without),
     /// `denoiser` (with the temporal upscaler's accumulation, when it runs), `scratch` (the
-    /// buffer the world cache, DI, GI, the G-buffer's overrides and the denoiser share for
+    /// buffer the world cache, DI, GI, the G-buffer's overrides, the denoiser and the
+    /// upscaler share for
     /// what lives only within one part of the frame; see [`solari_scene::scratch`]). The scene's own memory is the caller's
     /// ([`GpuScene::memory_bytes`]); the profiler's and the detector's few kilobytes are left
     /// out.
@@ -1603,7 +1608,10 @@ impl RealtimeRenderer {
         if let Some(u) = &self.upscaler {
             let (w, h) = u.output_size();
             let bytes = gpu.read_buffer(u.output(), w as u64 * h as u64 * 16)?;
-            return Ok(bytemuck::cast_slice(&bytes).to_vec());
+            // Its w is the accumulated weight, not a mask.
+            let mut image: Vec<[f32; 4]> = bytemuck::cast_slice(&bytes).to_vec();
+            image.iter_mut().for_each(|p| p[3] = 1.0);
+            return Ok(image);
         }
         match &self.denoiser {
             Some(d) if self.denoising() => {

@@ -178,3 +178,63 @@ fn a_first_frame_takes_the_frames_own_samples() {
         "{foreign} output pixels are not one of the frame's samples"
     );
 }
+
+/// The upscaler writes each frame's accumulation into the renderer's shared scratch and
+/// copies it into the one buffer that persists (its output): whatever the scratch held before
+/// a frame, the frame must come out the same, history included. Direct light only (the world
+/// cache's float atomics make two renderers differ), antialiased at full scale and upscaled
+/// from half: two renderers, one whose scratch is zeroed before each frame and one whose
+/// scratch is filled with garbage, give bit-identical images in all six frames. The upscaler
+/// holds 16 bytes per output pixel, and the scratch is at least its 16.
+#[test]
+fn garbage_in_the_shared_scratch_changes_no_upscaled_frame() {
+    use rand::{Rng, SeedableRng};
+    let Some(c) = Cornell::new() else { return };
+    for internal_scale in [1.0f32, 0.5] {
+        let make = || {
+            c.renderer(RealtimeSettings {
+                internal_scale,
+                antialias: true,
+                denoiser: Some(solari_denoise::DenoiserKind::Fallback),
+                ..settings()
+            })
+        };
+        let (mut clean, mut dirty) = (make(), make());
+        let outputs = (SIZE * SIZE) as u64;
+        let memory = clean.memory();
+        let denoiser_alone = clean.denoiser_memory_bytes();
+        assert_eq!(memory[6].0, "denoiser");
+        assert!(
+            (16 * outputs..16 * outputs + 256).contains(&(memory[6].1 - denoiser_alone)),
+            "scale {internal_scale}: the upscaler holds {} bytes for {outputs} pixels",
+            memory[6].1 - denoiser_alone
+        );
+        assert!(memory[7].1 >= 16 * outputs, "scratch {:?}", memory[7]);
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
+        for frame in 0..6 {
+            for (renderer, dirt) in [(&mut clean, false), (&mut dirty, true)] {
+                let scratch = renderer.shared_scratch().expect("scratch");
+                let bytes: Vec<u8> = (0..scratch.size())
+                    .map(|_| if dirt { rng.random() } else { 0 })
+                    .collect();
+                c.gpu.queue.write_buffer(scratch, 0, &bytes);
+                let report = renderer
+                    .render(&c.gpu, &c.scene, &c.gpu_scene, &c.camera)
+                    .expect("frame");
+                assert!(report.ran("temporal_upscale"), "no upscaler");
+            }
+            let (a, b) = (
+                clean.read_output(&c.gpu).expect("read back"),
+                dirty.read_output(&c.gpu).expect("read back"),
+            );
+            assert_eq!(a.len() as u64, outputs);
+            assert!(
+                a.iter()
+                    .zip(&b)
+                    .all(|(x, y)| x.map(f32::to_bits) == y.map(f32::to_bits)),
+                "scale {internal_scale}, frame {frame}: the scratch's garbage changed the image"
+            );
+            assert!(a.iter().all(|p| p[3] == 1.0 && p.iter().all(|v| v.is_finite())));
+        }
+    }
+}
