@@ -186,6 +186,7 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
         "temporal_upscale",
         include_str!("../shaders/temporal_upscale.wesl"),
     ),
+    ("upscale_copy", include_str!("../shaders/upscale_copy.wesl")),
 ];
 
 /// Every module the crate's shaders need beyond `solari-scene`'s.

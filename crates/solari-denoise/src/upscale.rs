@@ -12,8 +12,8 @@
 //! last frame's around each pixel, so it cannot write in place) and copies it back: into a
 //! work buffer of its own (16 bytes a pixel more), or into scratch that other passes share
 //! ([`TemporalUpscaler::use_scratch`]), as the real-time renderer does. Two accumulation
-//! buffers and a separate output took 48 bytes a pixel (95 MiB at 1920×1080); the copy costs
-//! one read and one write of the output per frame.
+//! buffers and a separate output took 48 bytes a pixel (95 MiB at 1920×1080); the copy, a
+//! second dispatch, costs one read and one write of the output per frame.
 
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
@@ -33,6 +33,18 @@ pub const UPSCALE_BINDINGS: BufferGroup = BufferGroup::new(
         ("render_color", Buf::Read),
         ("accum_before", Buf::Read),
         ("accum_now", Buf::ReadWrite),
+    ],
+);
+
+/// Bind group 0 of `upscale_copy.wesl`, the pass's second dispatch: this frame's
+/// accumulation copied over last frame's.
+pub const COPY_BINDINGS: BufferGroup = BufferGroup::new(
+    0,
+    0,
+    &[
+        ("upscale_params", Buf::Uniform),
+        ("copy_from", Buf::Read),
+        ("copy_to", Buf::ReadWrite),
     ],
 );
 
@@ -102,6 +114,10 @@ pub struct TemporalUpscaler {
     output_size: (u32, u32),
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    copy_pipeline: wgpu::ComputePipeline,
+    copy_layout: wgpu::BindGroupLayout,
+    // The copy's bind group, for the current `work`.
+    copy_group: wgpu::BindGroup,
     params: wgpu::Buffer,
     // The accumulation (rgb, weight) that persists between frames: the output.
     accum: wgpu::Buffer,
@@ -152,6 +168,14 @@ impl TemporalUpscaler {
             ShaderChecks::BoundsOnly,
             &[],
         )?;
+        let copy_layout = COPY_BINDINGS.layout(gpu, "solari_denoise/upscale_copy");
+        let copy_pipeline = gpu.compute_pipeline(
+            "solari_denoise/upscale_copy",
+            &compose("upscale_copy", Backend::Software, &crate::modules())?,
+            &[Some(&copy_layout)],
+            ShaderChecks::BoundsOnly,
+            &[],
+        )?;
         let storage = |label: &str| {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -162,16 +186,23 @@ impl TemporalUpscaler {
                 mapped_at_creation: false,
             })
         };
+        let params =
+            gpu.uniform_buffer("solari_denoise/upscale_params", &GpuUpscaleParams::zeroed());
+        let accum = storage("solari_denoise/upscale_accum");
+        let work = storage("solari_denoise/upscale_work");
+        let copy_group = copy_group(gpu, &copy_layout, &params, &work, &accum);
         Ok(Self {
             settings,
             render_size,
             output_size,
             pipeline,
             layout,
-            params: gpu
-                .uniform_buffer("solari_denoise/upscale_params", &GpuUpscaleParams::zeroed()),
-            accum: storage("solari_denoise/upscale_accum"),
-            work: storage("solari_denoise/upscale_work"),
+            copy_pipeline,
+            copy_layout,
+            copy_group,
+            params,
+            accum,
+            work,
             shared: false,
             group: None,
             history: false,
@@ -204,6 +235,13 @@ impl TemporalUpscaler {
         self.work = scratch.clone();
         self.shared = true;
         self.group = None;
+        self.copy_group = copy_group(
+            gpu,
+            &self.copy_layout,
+            &self.params,
+            &self.work,
+            &self.accum,
+        );
         Ok(())
     }
 
@@ -255,21 +293,20 @@ impl TemporalUpscaler {
         let group = &self.group.as_ref().expect("made above").1;
         let gbuffer_group = gbuffer.bind_group()?;
         let (w, h) = self.output_size;
-        let bytes = self.scratch_bytes();
         let mut ran = Ran::none();
         // The copy back counts in the pass's time: it is what one buffer less costs.
         frame.scope(PASS_LABELS[0], encoder, &mut ran, |e| {
-            {
-                let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(PASS_LABELS[0]),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, group, &[]);
-                pass.set_bind_group(1, gbuffer_group, &[]);
-                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
-            }
-            e.copy_buffer_to_buffer(&self.work, 0, &self.accum, 0, bytes);
+            let mut pass = e.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(PASS_LABELS[0]),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.set_bind_group(1, gbuffer_group, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            pass.set_pipeline(&self.copy_pipeline);
+            pass.set_bind_group(0, &self.copy_group, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         });
         self.history = true;
         Ok(ran)
@@ -298,6 +335,25 @@ impl TemporalUpscaler {
         let work = if self.shared { 0 } else { self.work.size() };
         self.accum.size() + work + self.params.size()
     }
+}
+
+fn copy_group(
+    gpu: &Gpu,
+    layout: &wgpu::BindGroupLayout,
+    params: &wgpu::Buffer,
+    from: &wgpu::Buffer,
+    to: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    COPY_BINDINGS.bind(
+        gpu,
+        "solari_denoise/upscale_copy",
+        layout,
+        &[
+            ("upscale_params", params),
+            ("copy_from", from),
+            ("copy_to", to),
+        ],
+    )
 }
 
 #[cfg(test)]

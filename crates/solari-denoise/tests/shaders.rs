@@ -91,6 +91,7 @@ fn bindings_are_bound_by_their_wgsl_names() {
                 "temporal_upscale",
                 &[&solari_denoise::upscale::UPSCALE_BINDINGS],
             ),
+            ("upscale_copy", &[&solari_denoise::upscale::COPY_BINDINGS]),
         ],
         &modules(),
     )
