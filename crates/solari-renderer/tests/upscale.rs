@@ -234,7 +234,10 @@ fn garbage_in_the_shared_scratch_changes_no_upscaled_frame() {
                     .all(|(x, y)| x.map(f32::to_bits) == y.map(f32::to_bits)),
                 "scale {internal_scale}, frame {frame}: the scratch's garbage changed the image"
             );
-            assert!(a.iter().all(|p| p[3] == 1.0 && p.iter().all(|v| v.is_finite())));
+            assert!(
+                a.iter()
+                    .all(|p| p[3] == 1.0 && p.iter().all(|v| v.is_finite()))
+            );
         }
     }
 }
