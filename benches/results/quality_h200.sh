@@ -34,7 +34,7 @@ mkdir -p "$R" "$OUT"
 flags() {
   local parts; IFS=- read -ra parts <<< "$1"
   case ${parts[0]} in 50) echo "--internal-scale 0.5" ;; 67) echo "--internal-scale 0.67" ;;
-    100) ;; aa) echo "--antialias" ;; *) echo "bad scale in $1" >&2; exit 2 ;; esac
+    100) echo "--antialias off" ;; aa) echo "--antialias on" ;; *) echo "bad scale in $1" >&2; exit 2 ;; esac
   case ${parts[1]} in cache) echo "--gi cache --specular-gi off" ;;
     path|restir) echo "--gi ${parts[1]} --specular-gi on" ;; *) echo "bad GI in $1" >&2; exit 2 ;; esac
   [ "${parts[2]:-}" = nodi ] && echo "--di-reuse none"

@@ -20,8 +20,10 @@ for s in $SCENES; do
   echo "== $s reference $(date -u +%T)" >&2
   "$BIN" render "$f" --mode reference --max-bounces 1 --spp "$SPP" --size "$SIZE" \
     --out "$R/${s}_ref.exr" --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
-  for cfg in "1:" "1:--antialias" "0.67:" "0.5:"; do
-    scale=${cfg%%:*}; extra=${cfg#*:}; name="${s}_${scale}${extra:+_aa}"
+  # (Antialiasing is on by default since the thirty-second session: named here.)
+  for cfg in "1:off" "1:on" "0.67:auto" "0.5:auto"; do
+    scale=${cfg%%:*}; aa=${cfg#*:}; extra="--antialias $aa"; name="${s}_${scale}"
+    [ "$aa" = on ] && name="${name}_aa"
     echo "== $name $(date -u +%T)" >&2
     "$BIN" render "$f" --mode realtime --gi off --denoiser fallback --internal-scale "$scale" \
       $extra --frames "$FRAMES" --size "$SIZE" --json --out "$R/$name.exr" \

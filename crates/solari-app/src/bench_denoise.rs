@@ -12,7 +12,7 @@ use crate::bench_io::{emit_csv, errors, frame_bar, load_reference};
 use solari_app::cli::{BenchDenoiseArgs, Prepared};
 use solari_denoise::DenoiserKind;
 use solari_denoise::fallback::PASS_LABELS;
-use solari_renderer::{RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{Antialias, RealtimeRenderer, RealtimeSettings};
 use std::time::{Duration, Instant};
 
 /// The CSV header; one row per (iterations, frame).
@@ -68,6 +68,8 @@ pub fn run(args: &BenchDenoiseArgs) -> Result<(), String> {
             timestamps: true,
             denoiser: Some(DenoiserKind::Fallback),
             denoise,
+            // The denoiser's own output, unjittered, against the pixel-centre reference.
+            antialias: Antialias::Off,
             ..RealtimeSettings::direct_only()
         };
         let new_renderer = || {

@@ -13,7 +13,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use solari_denoise::{AtrousKernel, DenoiserKind, DlssAvailability, FallbackSettings};
 use solari_lights::{LightGridSettings, LightTileSettings, Selection};
 use solari_renderer::{
-    CameraPath, DI_REUSE_LIGHT_THRESHOLD, FiniteCheck, FrameView, GBufferChoice, GiMode,
+    Antialias, CameraPath, DI_REUSE_LIGHT_THRESHOLD, FiniteCheck, FrameView, GBufferChoice, GiMode,
     PATH_GI_SHADE_APART_TRIANGLES, RealtimeSettings,
 };
 use solari_restir::{RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings};
@@ -364,7 +364,7 @@ pub struct RealtimeArgs {
     /// tiers and their measured basis: `solari_renderer::quality`); auto times the scene on
     /// this adapter at start-up and takes the setting with the least measured error that fits
     /// `--budget-ms` (`solari_renderer::auto_quality`). Absent: the flags as given, whose
-    /// defaults are the high tier.
+    /// defaults are the ultra tier.
     #[arg(long, value_parser = values::quality)]
     pub quality: Option<QualityArg>,
     /// GPU milliseconds per frame that `--quality auto` must fit (default 16.7: 60 frames a
@@ -557,10 +557,14 @@ pub struct RealtimeArgs {
     /// upscaler (jittered camera). Fallback denoiser or none only.
     #[arg(long, default_value_t = 1.0, value_parser = values::finite, allow_hyphen_values = true)]
     pub internal_scale: f32,
-    /// Run the temporal upscaler at full scale too: jittered samples accumulated per pixel,
-    /// antialiased edges.
-    #[arg(long)]
-    pub antialias: bool,
+    /// Antialiasing at full scale while the camera stands still (the camera jittered, the
+    /// temporal upscaler accumulating the samples per pixel; a moving camera's frames pass
+    /// unjittered): auto (on under the fallback denoiser, off with DLSS-RR, which antialiases
+    /// by itself, and with `--denoiser none`), on (the flag alone) or off. The figures:
+    /// `solari_renderer::Antialias`.
+    #[arg(long, default_value = "auto", num_args = 0..=1, default_missing_value = "on",
+          value_parser = values::antialias)]
+    pub antialias: Antialias,
 }
 
 impl RealtimeArgs {

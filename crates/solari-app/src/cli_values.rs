@@ -4,7 +4,7 @@
 
 use solari_denoise::{AtrousKernel, DenoiserKind};
 use solari_lights::{LightTileSettings, Selection};
-use solari_renderer::{CameraPath, FrameView, GBufferChoice, GiMode, QualityTier};
+use solari_renderer::{Antialias, CameraPath, FrameView, GBufferChoice, GiMode, QualityTier};
 use solari_restir::SpatialVisibility;
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
@@ -148,6 +148,11 @@ pub fn camera_path(s: &str) -> Result<CameraPath, String> {
 /// `raster`, `traced` or `auto`.
 pub fn gbuffer(s: &str) -> Result<GBufferChoice, String> {
     named(s, GBufferChoice::parse(s), "raster, traced or auto")
+}
+
+/// `auto`, `on` or `off` (`--antialias`).
+pub fn antialias(s: &str) -> Result<Antialias, String> {
+    named(s, Antialias::parse(s), "auto, on or off")
 }
 
 /// `off`, `cache`, `path` or `restir`.

@@ -123,8 +123,8 @@ pub struct Target<'a> {
 }
 
 /// `settings` as `--quality auto` chooses them (the probe runs here), or unchanged for any
-/// other `--quality`. An adapter without timestamp queries cannot be probed: the high tier is
-/// used and a warning says why.
+/// other `--quality`. An adapter without timestamp queries cannot be probed: the default tier
+/// (the library defaults) is used and a warning says why.
 pub fn resolve(
     args: &RealtimeArgs,
     target: &Target,
@@ -150,9 +150,10 @@ pub fn resolve(
         None => {
             log::warn!(
                 "quality auto: this adapter cannot time passes (no timestamp queries); using \
-                 the high tier"
+                 the {} tier (the defaults)",
+                QualityTier::default().name()
             );
-            return Ok((QualityTier::High.apply(&settings), None));
+            return Ok((QualityTier::default().apply(&settings), None));
         }
     };
     let probe_seconds = start.elapsed().as_secs_f64();
@@ -222,7 +223,7 @@ mod tests {
     }
 
     #[test]
-    fn auto_without_timestamps_falls_back_to_the_high_tier() {
+    fn auto_without_timestamps_falls_back_to_the_default_tier() {
         let Some(full) = solari_scene::gpu::test_gpu() else {
             return;
         };
@@ -231,12 +232,12 @@ mod tests {
         let report = report.expect("a probed choice");
         assert!(report.considered > 0 && report.budget_ms == 8.0);
         drop(full);
-        // Without, the high tier and no report (a warning says why).
+        // Without, the default tier and no report (a warning says why).
         let gpu = solari_scene::gpu::Gpu::new_without(wgpu::Features::TIMESTAMP_QUERY).unwrap();
         let line = ["--quality", "auto", "--budget-ms", "8"];
         let (settings, report) = resolve_on(&gpu, &line).unwrap();
         assert_eq!(report, None);
         let plain = args(&line).settings(FrameView::Lit).unwrap();
-        assert_eq!(settings, QualityTier::High.apply(&plain));
+        assert_eq!(settings, QualityTier::default().apply(&plain));
     }
 }

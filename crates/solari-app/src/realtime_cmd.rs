@@ -208,7 +208,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "gpu_frame_ms": gpu_frame_ms,
             "frames_in_flight": args.realtime.frames_in_flight,
             "internal_scale": applied.internal_scale,
-            "antialias": applied.antialias,
+            "antialias": renderer.upscaling(),
             "load_s": load_seconds, "upload_s": upload_seconds,
             "renderer_build_s": renderer_seconds,
             "triangles": scene.stats().triangles, "instances": scene.instances.len(),
@@ -216,6 +216,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "light_grid": grid_json});
         // (Outside the macro, which reaches its recursion limit with one more field.)
         v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
+        v["antialias_setting"] = applied.antialias.name().into();
         v["gi_half_rate"] = applied.restir_gi.half_rate.into();
         v["gi_ignore_cold_cells"] = applied.restir_gi.ignore_cold_cells.into();
         v["gi_adaptive_cap"] = applied.restir_gi.adaptive_cap.into();

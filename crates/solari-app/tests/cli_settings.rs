@@ -3,7 +3,8 @@
 use clap::Parser;
 use solari_app::cli::{Cli, Command};
 use solari_renderer::{
-    DI_REUSE_LIGHT_THRESHOLD, FrameView, GiMode, PATH_GI_SHADE_APART_TRIANGLES, RealtimeSettings,
+    Antialias, DI_REUSE_LIGHT_THRESHOLD, FrameView, GiMode, PATH_GI_SHADE_APART_TRIANGLES,
+    RealtimeSettings,
 };
 
 fn settings(args: &[&str]) -> RealtimeSettings {
@@ -253,8 +254,8 @@ fn a_quality_tier_sets_its_knobs_over_the_flags() {
         assert_eq!(QualityTier::of(&s), Some(tier));
         assert_eq!(s.tiles.sample_count(), 256);
     }
-    // No tier: the flags' defaults are the high tier.
-    assert_eq!(QualityTier::of(&settings(&[])), Some(QualityTier::High));
+    // No tier: the flags' defaults are the ultra tier (antialiased).
+    assert_eq!(QualityTier::of(&settings(&[])), Some(QualityTier::Ultra));
     let refused = solari_app::cli::Cli::try_parse_from([
         "solari",
         "render",
@@ -317,4 +318,37 @@ fn the_warm_up_exponent_reaches_the_cache_settings() {
     // Out of range: refused before anything is built, the knob named.
     let err = settings_error(&["--cache-warm-up", "17"]);
     assert!(err.contains("warm_up_exponent"), "{err}");
+}
+
+/// `--antialias` defaults to auto, as the library does; the flag alone means on; a bad value
+/// is refused by clap with the accepted ones named; and on with DLSS-RR is refused by name.
+#[test]
+fn antialias_reaches_the_settings() {
+    assert_eq!(settings(&[]).antialias, Antialias::Auto);
+    assert_eq!(RealtimeSettings::default().antialias, Antialias::Auto);
+    assert_eq!(settings(&["--antialias"]).antialias, Antialias::On);
+    for (arg, want) in [
+        ("auto", Antialias::Auto),
+        ("on", Antialias::On),
+        ("off", Antialias::Off),
+    ] {
+        assert_eq!(settings(&["--antialias", arg]).antialias, want);
+    }
+    let argv = [
+        "solari",
+        "render",
+        "--mode",
+        "realtime",
+        "--antialias",
+        "2x",
+    ];
+    let e = Cli::try_parse_from(argv).expect_err("refused").to_string();
+    assert!(e.contains("auto, on or off"), "{e}");
+    let e = settings_error(&["--antialias", "on", "--denoiser", "dlss"]);
+    assert!(e.contains("DLSS-RR"), "{e}");
+    assert_eq!(
+        settings(&["--denoiser", "dlss"]).antialias,
+        Antialias::Auto,
+        "auto stands aside for DLSS-RR"
+    );
 }

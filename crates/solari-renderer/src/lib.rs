@@ -18,9 +18,9 @@ pub use gbuffer_choice::{GBufferChoice, GBufferTiming};
 pub use present::Presenter;
 pub use quality::{QualitySetting, QualityTier, Resolution};
 pub use realtime::{
-    CameraPath, CameraRig, DI_REUSE_LIGHT_THRESHOLD, FINITE_SLOTS, FiniteCheck, FrameReport,
-    FrameView, GiMode, PASS_NAMES, PATH_GI_SHADE_APART_TRIANGLES, PassRun, RealtimeRenderer,
-    RealtimeSettings,
+    Antialias, CameraPath, CameraRig, DI_REUSE_LIGHT_THRESHOLD, FINITE_SLOTS, FiniteCheck,
+    FrameReport, FrameView, GiMode, PASS_NAMES, PATH_GI_SHADE_APART_TRIANGLES, PassRun,
+    RealtimeRenderer, RealtimeSettings,
 };
 pub use solari_scene::gbuffer::GBufferProducer;
 

@@ -3,8 +3,9 @@
 //! and error that automatic quality ([`crate::auto_quality`]) chooses from.
 //!
 //! A grid point is `SCALE-GI[-nodi]`: SCALE `50` or `67` (internal scale 0.5 or 0.67 with the
-//! temporal upscaler), `100` (native) or `aa` (native, jittered, through the upscaler:
-//! antialiased); GI `cache` (world-cache GI, specular GI off: it costs 0.6–2 ms without GI
+//! temporal upscaler), `100` (native, antialiasing off) or `aa` (native with
+//! [`Antialias::Auto`]: jittered and through the upscaler under the fallback denoiser, which
+//! the sweep ran; DLSS-RR antialiases by itself, and the raw image stays unjittered); GI `cache` (world-cache GI, specular GI off: it costs 0.6–2 ms without GI
 //! reservoirs to reuse), `path` or `restir` (specular GI on); `-nodi`: ReSTIR DI without
 //! reuse. Every other knob is the caller's.
 //!
@@ -16,14 +17,25 @@
 //! |---|---|---|---|---|
 //! | low | `50-path-nodi` | 2.1 / 1.6 / 2.1 / 3.5 | 0.97 / 2.22 / 1.51 / 1.29 | a quarter of the pixels; path GI beat cache GI at 0.5 on every scene but many_lights (equal) |
 //! | medium | `100-path-nodi` | 1.8 / 1.2 / 1.9 / 1.8 | 2.33 / 6.23 / 4.11 / 2.90 | native without DI reuse: at most 1.9× the best; the 0.67 points reached 2.0–2.3× (sun_boxes) |
-//! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 2.65 / 8.28 / 4.33 / 3.26 | the library defaults |
-//! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 2.75 / 8.39 / 4.44 / 3.36 | within 8% of the best everywhere |
+//! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 2.65 / 8.28 / 4.33 / 3.26 | native, no antialiasing |
+//! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 2.75 / 8.39 / 4.44 / 3.36 | within 8% of the best everywhere: the library defaults |
 //!
 //! The sweep's plainest finding: antialiasing (`aa`) costs 0.10–0.11 ms over native and cut
-//! relMSE 1.2–1.7× on every scene; the defaults do not use it yet (`benches/RESULTS.md`,
-//! "Automatic quality").
+//! relMSE 1.2–1.7× on every scene (`benches/RESULTS.md`, "Automatic quality"). So the
+//! defaults antialias since the thirty-second session, which makes them the ultra tier: the
+//! best point of the grid by its worst error, and no point of the grid has a lower one.
+//! Measured again then at 1920×1080 on an H100 with today's passes (`benches/RESULTS.md`,
+//! "Antialiasing by default"): 0.10–0.14 ms a frame, relMSE of the 136th frame against
+//! 1024-spp references 1.9× lower on the Cornell box, 1.8× on sun_boxes, 1.5× on many_lights,
+//! 1.2× on interior, with the camera still. Jittered under a moving camera it was 2–350×
+//! worse, so antialiasing jitters only while the camera stands still ([`Antialias`]).
+//!
+//! Every figure of the sweep is for a still camera. The upscaled points (`50`, `67`: the low
+//! tier among them) jitter every frame, and under the orbit camera they were far worse than
+//! the sweep says: at 0.5, relMSE 23× native's on interior (lavapipe, 160×90,
+//! `benches/RESULTS.md`, "Antialiasing by default"). Automatic quality does not know it yet.
 
-use crate::realtime::{GiMode, RealtimeSettings};
+use crate::realtime::{Antialias, GiMode, RealtimeSettings};
 use solari_denoise::DenoiserKind;
 
 /// The resolution part of a grid point.
@@ -124,7 +136,12 @@ impl QualitySetting {
         let mut s = *settings;
         let dlss = s.denoiser == Some(DenoiserKind::DlssRr);
         s.internal_scale = if dlss { 1.0 } else { self.resolution.scale() };
-        s.antialias = !dlss && self.resolution == Resolution::Antialiased;
+        // Auto, not On: DLSS-RR antialiases by itself, and the raw image stays unjittered.
+        s.antialias = if self.resolution == Resolution::Antialiased {
+            Antialias::Auto
+        } else {
+            Antialias::Off
+        };
         s.gi = self.gi;
         s.specular_gi = self.specular_gi();
         s.di.temporal = self.di_reuse;
@@ -140,10 +157,10 @@ pub enum QualityTier {
     Low,
     /// `100-path-nodi`: native, no DI reuse.
     Medium,
-    /// `100-path`: the library defaults.
-    #[default]
+    /// `100-path`: native, no antialiasing.
     High,
-    /// `aa-path`: native, antialiased.
+    /// `aa-path`: native, antialiased ([`Antialias::Auto`]): the library defaults.
+    #[default]
     Ultra,
 }
 
@@ -234,11 +251,12 @@ mod tests {
         }
         assert_eq!(QualityTier::parse("max"), None);
         assert_eq!(QualitySetting::parse("100-path-di"), None);
-        // The default settings are the high tier.
+        // The default settings are the ultra tier, the default tier.
         assert_eq!(
             QualityTier::of(&RealtimeSettings::default()),
-            Some(QualityTier::High)
+            Some(QualityTier::Ultra)
         );
+        assert_eq!(QualityTier::default(), QualityTier::Ultra);
         let custom = RealtimeSettings {
             internal_scale: 0.8,
             ..Default::default()

@@ -179,6 +179,69 @@ pub enum FiniteCheck {
     Fail,
 }
 
+/// Whether full-scale frames are antialiased: while the camera stands still, the camera is
+/// jittered within the pixel and the temporal upscaler ([`solari_denoise::TemporalUpscaler`])
+/// accumulates the samples, so each pixel converges to its area average (what the reference
+/// tracer's jittered paths give) and edges stop stair-stepping. A frame whose camera moved
+/// (and the first) is rendered unjittered and passes through the upscaler unchanged (its
+/// history dropped). Below
+/// an internal scale of 1 the upscaler runs, jittered, whatever this says.
+///
+/// Why only a still camera: a jittered sample estimates its pixel's area worse than the
+/// centre's does (at an edge, twice the squared error on average) until frames accumulate,
+/// and under motion neither the denoiser's history nor the upscaler's held them: jittered
+/// every frame, the orbit camera's images were 2–350× worse in relMSE (1920×1080 on an H100,
+/// `benches/RESULTS.md`, "Antialiasing by default"). Objects that move under a still camera
+/// are still accumulated through the motion vectors, and blur somewhat.
+///
+/// The default, [`Antialias::Auto`], antialiases under the fallback denoiser: on a still
+/// camera it cut relMSE of the 136th frame against 1024-spp references 1.9× on the Cornell
+/// box, 1.8× on sun_boxes, 1.5× on many_lights and 1.2× on interior for 0.10–0.14 ms a frame
+/// at 1920×1080 (H100), at 16 bytes per pixel (32 MiB at 1080p). It leaves DLSS-RR alone (it
+/// antialiases by itself) and the raw image ([`DenoiserKind::None`]), which stays one
+/// unjittered sample per pixel for those who measure the lighting itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Antialias {
+    /// On with the fallback denoiser; off with DLSS-RR and without a denoiser.
+    #[default]
+    Auto,
+    /// Always (with the fallback denoiser or none; refused with DLSS-RR, and a best-available
+    /// denoiser becomes the fallback).
+    On,
+    /// Never (one sample at each pixel's centre, as before antialiasing existed).
+    Off,
+}
+
+impl Antialias {
+    /// Parses `auto`, `on` or `off`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "auto" => Some(Self::Auto),
+            "on" | "true" => Some(Self::On),
+            "off" | "false" => Some(Self::Off),
+            _ => None,
+        }
+    }
+
+    /// `auto`, `on` or `off`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::On => "on",
+            Self::Off => "off",
+        }
+    }
+
+    /// Whether frames denoised by `denoiser` (the one in use) are antialiased.
+    pub fn applies(self, denoiser: DenoiserKind) -> bool {
+        match self {
+            Self::Auto => denoiser == DenoiserKind::Fallback,
+            Self::On => denoiser != DenoiserKind::DlssRr,
+            Self::Off => false,
+        }
+    }
+}
+
 /// Indirect light. The default, [`GiMode::Path`], is the measured choice (see
 /// [`RealtimeSettings::gi`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -342,9 +405,9 @@ pub struct RealtimeSettings {
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
     /// DLSS-RR, which chooses its own render size.
     pub internal_scale: f32,
-    /// Run the temporal upscaler at scale 1 too (jittered samples accumulated per pixel:
-    /// antialiased edges). Implied by an `internal_scale` below 1.
-    pub antialias: bool,
+    /// Antialiasing at scale 1 (default [`Antialias::Auto`]: on under the fallback
+    /// denoiser, with the figures behind it).
+    pub antialias: Antialias,
     /// The temporal upscaler's knob.
     pub upscale: UpscaleSettings,
 }
@@ -380,9 +443,16 @@ impl RealtimeSettings {
         }
     }
 
-    /// Whether frames go through the temporal upscaler (jittered).
+    /// Whether frames must go through the temporal upscaler (jittered) whichever denoiser
+    /// runs: an internal scale below 1 or [`Antialias::On`]. [`Antialias::Auto`] decides
+    /// once the denoiser is known: [`RealtimeSettings::upscaling_with`].
     pub fn upscaling(&self) -> bool {
-        self.internal_scale < 1.0 || self.antialias
+        self.internal_scale < 1.0 || self.antialias == Antialias::On
+    }
+
+    /// Whether frames go through the temporal upscaler when `denoiser` is the one in use.
+    pub fn upscaling_with(&self, denoiser: DenoiserKind) -> bool {
+        self.internal_scale < 1.0 || self.antialias.applies(denoiser)
     }
 
     /// The render size for an `output` size: each side scaled by
@@ -475,7 +545,7 @@ impl Default for RealtimeSettings {
             finite_check: FiniteCheck::Off,
             frames_in_flight: 2,
             internal_scale: 1.0,
-            antialias: false,
+            antialias: Antialias::Auto,
             upscale: UpscaleSettings::default(),
         }
     }
@@ -692,6 +762,9 @@ impl RealtimeRenderer {
             w => w,
         };
         let created = solari_denoise::create(gpu, wanted, dlss, lighting_size, settings.denoise)?;
+        // `Antialias::Auto` follows the denoiser that runs (at scale 1, so the sizes above
+        // hold either way).
+        let upscaling = settings.upscaling_with(created.kind);
         let (width, height) = created
             .denoiser
             .as_ref()
@@ -1314,8 +1387,18 @@ impl RealtimeRenderer {
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;
+        let view = FrameContext::new(frame, self.di.size(), camera, None).view;
+        // Antialiasing (the upscaler at full scale) jitters only while the camera stands
+        // still: a jittered sample is a worse estimate of its pixel's area than the centre's
+        // until frames accumulate, and under camera motion the history cannot hold them
+        // (the docs of `Antialias`). A moving frame is unjittered and drops the upscaler's
+        // history, so it passes the frame through unchanged; so is the first, which has no
+        // history to accumulate into.
+        let moved = self.last_view.is_none_or(|p| !same_camera(&p, &view));
+        let antialias_only = self.settings.internal_scale >= 1.0;
+        let unjittered = antialias_only && moved;
         // Jittered samples only where the temporal upscaler accumulates them.
-        let jitter = if self.upscaler.is_some() {
+        let jitter = if self.upscaler.is_some() && !unjittered {
             halton_jitter(frame)
         } else {
             [0.0; 2]
@@ -1457,6 +1540,7 @@ impl RealtimeRenderer {
         }
         let mut after = Vec::new();
         let reset = std::mem::take(&mut self.reset_next);
+        let upscaler_reset = reset || unjittered;
         if denoising {
             let denoiser = self.denoiser.as_mut().expect("denoising() checked it");
             // DI's shadow rays tell the denoiser hard shadows from noise, if it reads them.
@@ -1483,7 +1567,14 @@ impl RealtimeRenderer {
                 Some(d) if denoising => d.output(),
                 _ => self.di.output(),
             };
-            ran.add(&upscaler.encode(gpu, &mut encoder, &context, &self.gbuffer, input, reset)?);
+            ran.add(&upscaler.encode(
+                gpu,
+                &mut encoder,
+                &context,
+                &self.gbuffer,
+                input,
+                upscaler_reset,
+            )?);
         }
         if let Some(p) = &mut self.profiler {
             p.resolve_queries(&mut encoder);
@@ -1652,6 +1743,12 @@ impl RealtimeRenderer {
         Ok(())
     }
 
+    /// Whether frames go through the temporal upscaler: an internal scale below 1, or
+    /// antialiasing ([`RealtimeSettings::antialias`]) with the denoiser in use.
+    pub fn upscaling(&self) -> bool {
+        self.upscaler.is_some()
+    }
+
     /// Output image size in pixels.
     pub fn size(&self) -> (u32, u32) {
         if let Some(u) = &self.upscaler {
@@ -1662,6 +1759,16 @@ impl RealtimeRenderer {
             _ => self.di.size(),
         }
     }
+}
+
+// Whether two views see from the same place in the same direction (jitter and frame aside).
+fn same_camera(a: &GpuView, b: &GpuView) -> bool {
+    a.origin == b.origin
+        && a.forward == b.forward
+        && a.right == b.right
+        && a.up == b.up
+        && a.tan_half_fov == b.tan_half_fov
+        && a.aspect == b.aspect
 }
 
 /// A scripted camera path for `--camera-path`.

@@ -3,7 +3,7 @@
 //! edges at full scale, and at half scale it stays near native, still or moving (GPU: lavapipe
 //! in CI). The pass itself lives in solari-denoise (`upscale.rs`).
 
-use solari_renderer::{CameraPath, RealtimeSettings};
+use solari_renderer::{Antialias, CameraPath, RealtimeSettings};
 use solari_scene::Scene;
 use solari_scene::gpu::Gpu;
 use solari_scene::shaders::Backend;
@@ -51,7 +51,11 @@ fn lum_rmse(img: &[[f32; 4]], reference: &[[f32; 3]], pixels: &[usize]) -> f64 {
 
 /// 48 frames of the still Cornell box at `SIZE` output with the fallback denoiser: the last
 /// image and the renderer's output size.
-fn still_frames(c: &Cornell, internal_scale: f32, antialias: bool) -> (Vec<[f32; 4]>, (u32, u32)) {
+fn still_frames(
+    c: &Cornell,
+    internal_scale: f32,
+    antialias: Antialias,
+) -> (Vec<[f32; 4]>, (u32, u32)) {
     let mut r = c.renderer(RealtimeSettings {
         internal_scale,
         antialias,
@@ -75,9 +79,9 @@ fn the_temporal_upscaler_antialiases_edges() {
     let (area, centre) = area_and_centre_references(&c.gpu, c.backend, &c.scene);
     let (edges, flat): (Vec<usize>, Vec<usize>) =
         (0..area.len()).partition(|&i| (lum(area[i]) - lum(centre[i])).abs() > 0.05);
-    let (aa, size) = still_frames(&c, 1.0, true);
+    let (aa, size) = still_frames(&c, 1.0, Antialias::On);
     assert_eq!(size, (SIZE, SIZE));
-    let (plain, _) = still_frames(&c, 1.0, false);
+    let (plain, _) = still_frames(&c, 1.0, Antialias::Off);
     let (ae, pe) = (
         lum_rmse(&aa, &area, &edges),
         lum_rmse(&plain, &area, &edges),
@@ -104,9 +108,9 @@ fn half_scale_upscales_to_near_native_error() {
     let Some(c) = Cornell::new() else { return };
     let (area, _) = area_and_centre_references(&c.gpu, c.backend, &c.scene);
     let all: Vec<usize> = (0..area.len()).collect();
-    let (half, size) = still_frames(&c, 0.5, false);
+    let (half, size) = still_frames(&c, 0.5, Antialias::Off);
     assert_eq!(size, (SIZE, SIZE), "output at the full size");
-    let (native, _) = still_frames(&c, 1.0, false);
+    let (native, _) = still_frames(&c, 1.0, Antialias::Off);
     let (he, ne) = (lum_rmse(&half, &area, &all), lum_rmse(&native, &area, &all));
     println!("RMSE against the area average: half scale upscaled {he:.4}, native {ne:.4}");
     assert!(half.iter().flatten().all(|c| c.is_finite()));
@@ -194,7 +198,7 @@ fn garbage_in_the_shared_scratch_changes_no_upscaled_frame() {
         let make = || {
             c.renderer(RealtimeSettings {
                 internal_scale,
-                antialias: true,
+                antialias: Antialias::On,
                 denoiser: Some(solari_denoise::DenoiserKind::Fallback),
                 ..settings()
             })
@@ -239,5 +243,107 @@ fn garbage_in_the_shared_scratch_changes_no_upscaled_frame() {
                     .all(|p| p[3] == 1.0 && p.iter().all(|v| v.is_finite()))
             );
         }
+    }
+}
+
+/// Antialiasing's default ([`Antialias::Auto`]) follows the denoiser in use: the fallback
+/// denoiser's frames go through the upscaler at full scale, the raw image's do not; `On` antialiases the raw image too and `Off` leaves the
+/// fallback's alone. DLSS-RR antialiases by itself: `Auto` stands aside for it and `On` with
+/// it is refused by name.
+#[test]
+fn antialiasing_by_default_follows_the_denoiser() {
+    use solari_denoise::DenoiserKind;
+    assert_eq!(RealtimeSettings::default().antialias, Antialias::Auto);
+    for (aa, kind, want) in [
+        (Antialias::Auto, DenoiserKind::Fallback, true),
+        (Antialias::Auto, DenoiserKind::None, false),
+        (Antialias::Auto, DenoiserKind::DlssRr, false),
+        (Antialias::On, DenoiserKind::None, true),
+        (Antialias::On, DenoiserKind::Fallback, true),
+        (Antialias::Off, DenoiserKind::Fallback, false),
+    ] {
+        assert_eq!(aa.applies(kind), want, "{aa:?} with {kind:?}");
+    }
+    let dlss = |antialias| RealtimeSettings {
+        antialias,
+        denoiser: Some(DenoiserKind::DlssRr),
+        ..settings()
+    };
+    assert!(dlss(Antialias::Auto).validate().is_ok());
+    let e = dlss(Antialias::On).validate().expect_err("refused");
+    assert!(e.contains("antialias") && e.contains("DLSS-RR"), "{e}");
+    for name in ["auto", "on", "off"] {
+        assert_eq!(Antialias::parse(name).map(Antialias::name), Some(name));
+    }
+    assert_eq!(Antialias::parse("maybe"), None);
+
+    let Some(c) = Cornell::new() else { return };
+    for (antialias, denoiser, want) in [
+        (Antialias::Auto, DenoiserKind::Fallback, true),
+        (Antialias::Auto, DenoiserKind::None, false),
+        (Antialias::On, DenoiserKind::None, true),
+        (Antialias::Off, DenoiserKind::Fallback, false),
+    ] {
+        let mut r = c.renderer(RealtimeSettings {
+            antialias,
+            denoiser: Some(denoiser),
+            ..settings()
+        });
+        for _ in 0..3 {
+            let report = r
+                .render(&c.gpu, &c.scene, &c.gpu_scene, &c.camera)
+                .expect("frame");
+            assert_eq!(
+                report.ran("temporal_upscale"),
+                want,
+                "{antialias:?} with {denoiser:?}"
+            );
+        }
+        assert_eq!(r.upscaling(), want);
+        assert_eq!(r.size(), (SIZE, SIZE), "full scale");
+    }
+}
+
+/// Antialiasing jitters only while the camera stands still: the first frame and every frame
+/// along the orbit are bit for bit the unantialiased renderer's (unjittered, passed through
+/// the upscaler with its history dropped); once the camera stops, jittered frames accumulate
+/// and differ from it (and a still Cornell box's edges come out smoother: the test above).
+#[test]
+fn a_moving_camera_is_not_jittered() {
+    use solari_denoise::DenoiserKind;
+    let Some(c) = Cornell::new() else { return };
+    let make = |antialias| {
+        c.renderer(RealtimeSettings {
+            antialias,
+            denoiser: Some(DenoiserKind::Fallback),
+            ..settings()
+        })
+    };
+    let (mut aa, mut plain) = (make(Antialias::On), make(Antialias::Off));
+    // Colours only: the upscaler's w is 1 everywhere, the denoiser's 0 on the background.
+    let same = |a: &[[f32; 4]], b: &[[f32; 4]]| {
+        a.iter()
+            .zip(b)
+            .all(|(x, y)| (0..3).all(|k| x[k].to_bits() == y[k].to_bits()))
+    };
+    let stop = 6;
+    for frame in 0..stop + 3 {
+        let cam = CameraPath::Orbit.camera(&c.camera, &c.scene, frame.min(stop));
+        for r in [&mut aa, &mut plain] {
+            r.render(&c.gpu, &c.scene, &c.gpu_scene, &cam)
+                .expect("frame");
+        }
+        assert!(aa.upscaling() && !plain.upscaling());
+        let (a, p) = (
+            aa.read_output(&c.gpu).expect("read back"),
+            plain.read_output(&c.gpu).expect("read back"),
+        );
+        let moving = frame <= stop;
+        assert_eq!(
+            same(&a, &p),
+            moving,
+            "frame {frame}: the antialiased image should equal the plain one exactly while \
+             the camera moves, and only then"
+        );
     }
 }

@@ -5,7 +5,7 @@
 use solari_lights::LightTileSettings;
 #[allow(unused_imports)] // not every test file compares images
 pub use solari_reference::rmse;
-use solari_renderer::{FiniteCheck, RealtimeRenderer, RealtimeSettings};
+use solari_renderer::{Antialias, FiniteCheck, RealtimeRenderer, RealtimeSettings};
 use solari_restir::RestirDiSettings;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
@@ -32,6 +32,10 @@ pub fn settings() -> RealtimeSettings {
         },
         // Every test frame is checked for NaN, infinite and negative values in every pass.
         finite_check: FiniteCheck::Fail,
+        // One sample at each pixel's centre, as the pixel-centre references the tests compare
+        // with; antialiasing (the default under the fallback denoiser) has its own tests in
+        // `upscale.rs`.
+        antialias: Antialias::Off,
         // Tests name the GI they exercise; the rest compare with direct-only references.
         ..RealtimeSettings::direct_only()
     }
