@@ -5,9 +5,10 @@
 //! A grid point is `SCALE-GI[-nodi]`: SCALE `50` or `67` (internal scale 0.5 or 0.67 with the
 //! temporal upscaler), `100` (native, antialiasing off) or `aa` (native with
 //! [`Antialias::Auto`]: jittered and through the upscaler under the fallback denoiser, which
-//! the sweep ran; DLSS-RR antialiases by itself, and the raw image stays unjittered); GI `cache` (world-cache GI, specular GI off: it costs 0.6–2 ms without GI
-//! reservoirs to reuse), `path` or `restir` (specular GI on); `-nodi`: ReSTIR DI without
-//! reuse. Every other knob is the caller's.
+//! the sweep ran; DLSS-RR antialiases by itself, and the raw image stays unjittered); GI
+//! `cache` (world-cache GI, specular GI off: it costs 0.6–2 ms without GI reservoirs to
+//! reuse), `path` or `restir` (specular GI on); `-nodi`: ReSTIR DI without reuse. Every other
+//! knob is the caller's.
 //!
 //! The tiers, chosen from the grid's sweep on four scenes (`data/quality_h100.csv`; relMSE as
 //! a multiple of each scene's best grid point, cornell_box / interior / many_lights /
@@ -27,7 +28,7 @@
 //! Measured again then at 1920×1080 on an H100 with today's passes (`benches/RESULTS.md`,
 //! "Antialiasing by default"): 0.10–0.14 ms a frame, relMSE of the 136th frame against
 //! 1024-spp references 1.9× lower on the Cornell box, 1.8× on sun_boxes, 1.5× on many_lights,
-//! 1.2× on interior, with the camera still. Jittered under a moving camera it was 2–350×
+//! 1.2× on interior, with the camera still. Jittered under a moving camera it was 1.7–420×
 //! worse, so antialiasing jitters only while the camera stands still ([`Antialias`]).
 //!
 //! Every figure of the sweep is for a still camera. The upscaled points (`50`, `67`: the low

@@ -184,13 +184,13 @@ pub enum FiniteCheck {
 /// accumulates the samples, so each pixel converges to its area average (what the reference
 /// tracer's jittered paths give) and edges stop stair-stepping. A frame whose camera moved
 /// (and the first) is rendered unjittered and passes through the upscaler unchanged (its
-/// history dropped). Below
-/// an internal scale of 1 the upscaler runs, jittered, whatever this says.
+/// history dropped). Below an internal scale of 1 the upscaler runs, jittered, whatever this
+/// says.
 ///
 /// Why only a still camera: a jittered sample estimates its pixel's area worse than the
 /// centre's does (at an edge, twice the squared error on average) until frames accumulate,
 /// and under motion neither the denoiser's history nor the upscaler's held them: jittered
-/// every frame, the orbit camera's images were 2–350× worse in relMSE (1920×1080 on an H100,
+/// every frame, the orbit camera's images were 1.7–420× worse in relMSE (1920×1080 on an H100,
 /// `benches/RESULTS.md`, "Antialiasing by default"). Objects that move under a still camera
 /// are still accumulated through the motion vectors, and blur somewhat.
 ///
@@ -941,8 +941,9 @@ impl RealtimeRenderer {
 
     // Moves the world cache's new samples, ReSTIR DI's and GI's initial reservoirs, the
     // G-buffer's overrides, the denoiser's transient words and second filter buffer and the
-    // temporal upscaler's new accumulation (the frame's last pass) into one scratch buffer, allocated on first use at the largest size asked. Their lifetimes
-    // within a frame do not overlap, except GI's, which ends in specular GI, the overrides'
+    // temporal upscaler's new accumulation (the frame's last pass) into one scratch buffer,
+    // allocated on first use at the largest size asked. Their lifetimes within a frame do
+    // not overlap, except GI's, which ends in specular GI, the overrides'
     // writer: that pass reads each pixel's reservoir before it stores the pixel's override
     // (it is bound again here). Called again when the light readers are rebuilt.
     fn share_scratch(&mut self, gpu: &Gpu) -> Result<(), GpuError> {

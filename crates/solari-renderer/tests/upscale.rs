@@ -247,9 +247,9 @@ fn garbage_in_the_shared_scratch_changes_no_upscaled_frame() {
 }
 
 /// Antialiasing's default ([`Antialias::Auto`]) follows the denoiser in use: the fallback
-/// denoiser's frames go through the upscaler at full scale, the raw image's do not; `On` antialiases the raw image too and `Off` leaves the
-/// fallback's alone. DLSS-RR antialiases by itself: `Auto` stands aside for it and `On` with
-/// it is refused by name.
+/// denoiser's frames go through the upscaler at full scale, the raw image's do not; `On`
+/// antialiases the raw image too and `Off` leaves the fallback's alone. DLSS-RR antialiases
+/// by itself: `Auto` stands aside for it and `On` with it is refused by name.
 #[test]
 fn antialiasing_by_default_follows_the_denoiser() {
     use solari_denoise::DenoiserKind;
