@@ -180,9 +180,7 @@ impl TemporalUpscaler {
             gpu.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size: bytes,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                 mapped_at_creation: false,
             })
         };
@@ -215,9 +213,9 @@ impl TemporalUpscaler {
         self.output_size.0 as u64 * self.output_size.1 as u64 * 16
     }
 
-    /// Writes each frame's accumulation into `scratch` (a storage buffer with copies out, of
-    /// at least [`TemporalUpscaler::scratch_bytes`]) instead of a buffer of its own, which is
-    /// freed. The pass reads nothing there that it did not write in the same frame, so other
+    /// Writes each frame's accumulation into `scratch` (a storage buffer of at least
+    /// [`TemporalUpscaler::scratch_bytes`]; a smaller one or another usage is refused, naming
+    /// both sizes) instead of a buffer of its own, which is freed. The pass reads nothing there that it did not write in the same frame, so other
     /// passes may use the buffer before it; after it, the scratch holds nothing anyone needs.
     /// The history is kept.
     pub fn use_scratch(&mut self, gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {
@@ -225,12 +223,6 @@ impl TemporalUpscaler {
             return Ok(());
         }
         solari_scene::scratch::check("temporal upscaler", scratch, self.scratch_bytes())?;
-        if !scratch.usage().contains(wgpu::BufferUsages::COPY_SRC) {
-            return Err(GpuError::Validation(format!(
-                "temporal upscaler: the scratch buffer cannot be copied from (usage {:?})",
-                scratch.usage()
-            )));
-        }
         gpu.check_storage_binding("temporal upscaler scratch", scratch.size())?;
         self.work = scratch.clone();
         self.shared = true;

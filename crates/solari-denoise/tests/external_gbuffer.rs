@@ -48,6 +48,24 @@ fn the_fallback_denoiser_and_upscaler_read_an_external_gbuffer_exactly_as_their_
         .expect("upscaler")
     };
     let (mut own_upscaler, mut external_upscaler) = (upscaler(), upscaler());
+    // One upscaler keeps its work buffer, the other writes into shared scratch (refused when
+    // too small): the images must not differ either way, and the shared one holds 16 bytes
+    // per output pixel less.
+    let outputs = (4 * SIZE * SIZE) as u64;
+    let small = solari_scene::scratch::allocate(&h.gpu, 16 * outputs - 16).expect("scratch");
+    let e = external_upscaler
+        .use_scratch(&h.gpu, &small)
+        .expect_err("too small")
+        .to_string();
+    assert!(e.contains(&(16 * outputs).to_string()), "{e}");
+    let scratch = solari_scene::scratch::allocate(&h.gpu, 16 * outputs).expect("scratch");
+    external_upscaler
+        .use_scratch(&h.gpu, &scratch)
+        .expect("scratch taken");
+    assert_eq!(
+        own_upscaler.memory_bytes() - external_upscaler.memory_bytes(),
+        16 * outputs
+    );
     let sets = [targets(&h.gpu), targets(&h.gpu)];
     let views: Vec<Vec<wgpu::TextureView>> = sets
         .iter()
