@@ -405,8 +405,8 @@ pub struct RealtimeSettings {
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
     /// DLSS-RR, which chooses its own render size.
     pub internal_scale: f32,
-    /// Antialiasing at scale 1 (default [`Antialias::Auto`]: on under the fallback
-    /// denoiser, with the figures behind it).
+    /// Antialiasing at scale 1, jittered only while the camera stands still (default
+    /// [`Antialias::Auto`]: on under the fallback denoiser; the figures are on the type).
     pub antialias: Antialias,
     /// The temporal upscaler's knob.
     pub upscale: UpscaleSettings,
@@ -1388,7 +1388,8 @@ impl RealtimeRenderer {
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
         let light_count = self.lights.light_count;
-        let view = FrameContext::new(frame, self.di.size(), camera, None).view;
+        let (w, h) = self.di.size();
+        let view = GpuView::new(camera, w, h);
         // Antialiasing (the upscaler at full scale) jitters only while the camera stands
         // still: a jittered sample is a worse estimate of its pixel's area than the centre's
         // until frames accumulate, and under camera motion the history cannot hold them
