@@ -6,6 +6,8 @@
 #   error: the same settings at 960x540 (a quarter of the pixels, so `compare` stays quick;
 #          ERROR_SIZE=1920x1080 measures at the output size): frame 136 of a still camera
 #          against a full-bounce reference (--spp $SPP);
+#   orbit: the same settings and size along the orbit camera (a moving camera): frames
+#          ORBIT_FRAMES (default "32 96"), each against a reference of that frame;
 #   auto:  `render --quality auto --budget-ms B` at 1920x1080 for B in BUDGETS: the setting
 #          it picks (its JSON) and that setting's own frame time.
 # A setting is SCALE-GI[-nodi]: SCALE 50, 67 (internal scale 0.5, 0.67 with the temporal
@@ -14,7 +16,7 @@
 # The time and error phases are sweep_phases.sh's. Carry .gl, .dev/bins.tar.xz (stripped `solari`)
 # and .dev/SOLARI_COMMIT; scenes come from
 # crates/solari-testdata. Usage: PHASES="time error auto" bash benches/results/quality_h200.sh
-# (SCENES, SETTINGS, BUDGETS, SPP, QUALITY_TABLE override). Results: $OUT/quality_h200.tar.gz and
+# (SCENES, SETTINGS, BUDGETS, SPP, ORBIT_FRAMES, QUALITY_TABLE override). Results: $OUT/quality_h200.tar.gz and
 # $OUT/quality_table.csv (benches/results/quality_table.py).
 set -u
 source benches/results/device_env.sh
@@ -44,6 +46,7 @@ source benches/results/sweep_phases.sh
 sweep_describe
 [[ " $PHASES " == *" time "* ]] && sweep_time
 [[ " $PHASES " == *" error "* ]] && sweep_error
+[[ " $PHASES " == *" orbit "* ]] && sweep_orbit
 if [[ " $PHASES " == *" auto "* ]]; then
   for s in $SCENES; do
     f=$(scene_file "$s")

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """The CSV of a quality_h200.sh run: one row per scene and setting with the frame's GPU and
-wall time at 1080p and the one-frame error at 960x540, then one row per scene and budget with
+wall time at 1080p, the one-frame error at 960x540 of a still camera, and the mean relMSE of
+the orbit frames measured (rel_mse_moving: a moving camera, the orbit phase), then one row per scene and budget with
 auto quality's pick (setting "auto<B>": the setting it chose in the `chosen` column, its own
 frame time in gpu_ms). Usage: quality_table.py RESULTS_DIR > quality_table.csv."""
-import json, os, sys
+import json, os, re, sys
 
 r = sys.argv[1]
 SCENES = ("cornell_box", "sun_boxes", "many_lights", "interior")
@@ -17,21 +18,31 @@ def load(p):
 
 
 nan = float("nan")
-print("scene,setting,gpu_ms,wall_ms,rel_mse,flip,mean_ratio,chosen")
-for f in sorted(os.listdir(r)):
+print("scene,setting,gpu_ms,wall_ms,rel_mse,flip,mean_ratio,chosen,rel_mse_moving")
+ORBIT = re.compile(r"^(.*)_orbit(\d+)\.compare\.json$")
+stems = set()
+for f in os.listdir(r):
     if f.endswith("_time.json"):
-        stem, auto = f[: -len("_time.json")], False
+        stems.add((f[: -len("_time.json")], False))
     elif f.endswith(".json") and "_auto" in f:
-        stem, auto = f[: -len(".json")], True
-    else:
-        continue
+        stems.add((f[: -len(".json")], True))
+    elif ORBIT.match(f):
+        stems.add((ORBIT.match(f).group(1), False))
+for stem, auto in sorted(stems):
     scene = next((s for s in SCENES if stem.startswith(s + "_")), None)
     if scene is None:
         continue
     setting = stem[len(scene) + 1:]
-    t = load(f) or {}
+    t = (load(f"{stem}.json") if auto else load(f"{stem}_time.json")) or {}
     e = (load(f"{scene}_{setting}_error.compare.json") or {}).get("all", {})
     chosen = (t.get("quality") or {}).get("chosen", "") if auto else ""
+    moving = [
+        (load(f) or {}).get("all", {}).get("rel_mse")
+        for f in os.listdir(r)
+        if ORBIT.match(f) and ORBIT.match(f).group(1) == stem
+    ]
+    moving = [m for m in moving if m is not None]
     row = [t.get("gpu_frame_ms") or nan, t.get("wall_frame_ms") or nan,
            e.get("rel_mse", nan), e.get("flip", nan), e.get("mean_ratio") or nan]
-    print(",".join([scene, setting] + [f"{v:.6g}" for v in row] + [chosen]))
+    mv = sum(moving) / len(moving) if moving else nan
+    print(",".join([scene, setting] + [f"{v:.6g}" for v in row] + [chosen, f"{mv:.6g}"]))

@@ -5,7 +5,10 @@
 #   time:  ${s}_${g}_time.json/.log: 1920x1080, 200 frames, fallback denoiser, --json;
 #   error: ${s}_ref.json/.log (the --spp $SPP full-bounce reference at $ERROR_SIZE, default
 #          960x540) and ${s}_${g}_error.json/.log/.compare.json: frame 136 of a still camera
-#          against it.
+#          against it;
+#   orbit: ${s}_ref_orbit${n}.json/.log (a reference of frame n of the orbit camera, n in
+#          ORBIT_FRAMES, default "32 96") and ${s}_${g}_orbit${n}.json/.log/.compare.json:
+#          frame n of the orbit (a moving camera) against it, at $ERROR_SIZE.
 
 # scene_file comes from device_env.sh, which every device script sources first.
 
@@ -46,5 +49,26 @@ sweep_error() {
       rm -f "$R/$n.exr"
     done
     rm -f "$R/${s}_ref.exr"
+  done
+}
+
+sweep_orbit() {
+  local s f g n m size=${ERROR_SIZE:-960x540}
+  for s in $SCENES; do
+    f=$(scene_file "$s")
+    for n in ${ORBIT_FRAMES:-32 96}; do
+      echo "== $s orbit reference $n $(date -u +%T)" >&2
+      $BIN render "$f" --mode reference --camera-path orbit --frames "$n" --spp "$SPP" \
+        --size "$size" --out "$R/${s}_ref_orbit$n.exr" --json > "$R/${s}_ref_orbit$n.json" \
+        2> "$R/${s}_ref_orbit$n.log"
+      for g in $SETTINGS; do
+        m="${s}_${g}_orbit$n"
+        $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --camera-path orbit \
+          --frames "$n" --size "$size" --json --out "$R/$m.exr" > "$R/$m.json" 2> "$R/$m.log"
+        $BIN compare "$R/$m.exr" "$R/${s}_ref_orbit$n.exr" --json > "$R/$m.compare.json" 2>> "$R/$m.log"
+        rm -f "$R/$m.exr"
+      done
+      rm -f "$R/${s}_ref_orbit$n.exr"
+    done
   done
 }
