@@ -372,9 +372,11 @@ pub struct RealtimeArgs {
     #[arg(long, default_value_t = 16.7, value_parser = values::finite)]
     pub budget_ms: f32,
     /// Time-against-error table for `--quality auto` (CSV with scene, setting, gpu_ms and
-    /// rel_mse columns, as `benches/results/quality_table.py` writes from a sweep of your own
-    /// scenes); default: the table shipped in `solari-renderer`. A scene is looked up by its
-    /// file's stem; others get each setting's worst error over the table's scenes.
+    /// rel_mse columns, and optionally rel_mse_moving (a moving camera's error: a setting
+    /// counts by the worse of the two), as `benches/results/quality_table.py` writes from a
+    /// sweep of your own scenes); default: the table shipped in `solari-renderer`. A scene is
+    /// looked up by its file's stem; others get each setting's worst error over the table's
+    /// scenes.
     #[arg(long, value_name = "FILE.csv")]
     pub quality_table: Option<PathBuf>,
     /// Camera path, fixed or orbit (a ±20° swing around the scene's centre). Reference and

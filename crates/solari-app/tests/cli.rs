@@ -594,9 +594,11 @@ fn quality_auto_chooses_reports_and_refuses_bad_input() {
     assert_eq!(q["fitting"], json!(24));
     assert_eq!(q["considered"], json!(24));
     // The built-in box is the table's cornell_box; with every setting in budget its best
-    // measured setting is taken, and the JSON shows the applied knobs.
+    // measured setting is taken (the best still, within 0.4% of the best moving), and the
+    // JSON shows the applied knobs.
     assert_eq!(q["table_scene"], json!("cornell_box"));
-    assert_eq!(q["expected_error"], json!(1.0));
+    let expected = q["expected_error"].as_f64().expect("a number");
+    assert!((1.0..1.01).contains(&expected), "{q}");
     assert_eq!(q["chosen"], json!("aa-path-nodi"));
     assert_eq!(generous["antialias"], json!(true));
     assert_eq!(generous["di_reuse"], json!("none"));
