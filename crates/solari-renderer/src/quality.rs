@@ -13,14 +13,16 @@
 //! The tiers, chosen from the grid's sweep on four scenes (`data/quality_h100.csv`; relMSE as
 //! a multiple of each scene's best grid point, cornell_box / interior / many_lights /
 //! sun_boxes, with the camera still (frame 136) and moving (the orbit camera, frames 32 and
-//! 96, each against a reference of its own), and GPU ms at 1920×1080 on an H100):
+//! 96, each against a reference of its own), and today's GPU ms at 1920×1080 on an H100
+//! (`--quality TIER`, fallback denoiser, 300 frames, thirty-third session; the sweep's own
+//! times are older and higher):
 //!
 //! | tier | point | error × best, still | moving | GPU ms | why |
 //! |---|---|---|---|---|---|
-//! | low | `100-cache-nodi` | 3.9 / 2.2 / 1.9 / 5.8 | 2.5 / 1.2 / 1.0 / 2.5 | 1.92 / 4.20 / 3.29 / 2.27 | the cheapest native point (below) |
-//! | medium | `100-path-nodi` | 1.8 / 1.2 / 1.9 / 1.8 | 1.1 / 1.0 / 1.0 / 1.0 | 2.33 / 6.23 / 4.11 / 2.90 | native without DI reuse: at most 1.9× the best |
-//! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 1.0 / 1.0 / 1.0 / 1.0 | 2.65 / 8.28 / 4.33 / 3.26 | native, no antialiasing |
-//! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 1.0 / 1.0 / 1.0 / 1.0 | 2.75 / 8.39 / 4.44 / 3.36 | within 8% of the best everywhere: the library defaults |
+//! | low | `100-cache-nodi` | 3.9 / 2.2 / 1.9 / 5.8 | 2.5 / 1.2 / 1.0 / 2.5 | 1.27 / 2.53 / 2.05 / 1.47 | the cheapest native point (below) |
+//! | medium | `100-path-nodi` | 1.8 / 1.2 / 1.9 / 1.8 | 1.1 / 1.0 / 1.0 / 1.0 | 1.52 / 3.74 / 2.54 / 1.84 | native without DI reuse: at most 1.9× the best |
+//! | high | `100-path` | 1.8 / 1.3 / 1.6 / 1.8 | 1.0 / 1.0 / 1.0 / 1.0 | 1.52 / 3.74 / 2.80 / 1.84 | native, no antialiasing |
+//! | ultra | `aa-path` | 1.05 / 1.08 / 1.02 / 1.08 | 1.0 / 1.0 / 1.0 / 1.0 | 1.62 / 3.88 / 2.93 / 1.97 | within 8% of the best everywhere: the library defaults |
 //!
 //! The sweep's plainest finding: antialiasing (`aa`) costs 0.10–0.11 ms over native and cut
 //! relMSE 1.2–1.7× on every scene (`benches/RESULTS.md`, "Automatic quality"). So the
