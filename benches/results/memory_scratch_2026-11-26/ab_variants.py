@@ -5,11 +5,14 @@ import json,glob,statistics,collections,re,sys
 root=sys.argv[1]; bins=sys.argv[2].split()
 d=collections.defaultdict(lambda: collections.defaultdict(list)); mem={}
 for f in sorted(glob.glob(root+'/ab_*.json')):
-    m=re.match(r'ab_(.+?)_(solari(?:_\w+)?)_(\d+)\.json',f.split('/')[-1])
-    s,b,rep=m.groups()
-    for x in bins:
-        if f.split('/')[-1].startswith(f'ab_') and f'_{x}_{rep}.json' in f: 
-            if f.endswith(f'_{x}_{rep}.json'): b=x; s=f.split('/')[-1][3:-len(f'_{x}_{rep}.json')]
+    # ab_SCENE_BINARY_REP.json: the binary is whichever of BINS ends the stem (longest first,
+    # so `solari` does not take `x_solari`'s files); others are skipped.
+    m=re.match(r'ab_(.+)_(\d+)\.json$',f.split('/')[-1])
+    if not m: continue
+    stem,rep=m.groups()
+    b=next((x for x in sorted(bins,key=len,reverse=True) if stem.endswith('_'+x)),None)
+    if b is None: continue
+    s=stem[:len(stem)-len(b)-1]
     j=json.load(open(f))
     mem[(s,b)]=j['memory_bytes']['renderer_total']/2**20
     for k,v in j['passes'].items():
