@@ -21,6 +21,10 @@ nan = float("nan")
 print("scene,setting,gpu_ms,wall_ms,rel_mse,flip,mean_ratio,chosen,rel_mse_moving")
 ORBIT = re.compile(r"^(.*)_orbit(\d+)\.compare\.json$")
 stems = set()
+orbit = {}  # stem -> the orbit frames' compare files
+for f in os.listdir(r):
+    if ORBIT.match(f):
+        orbit.setdefault(ORBIT.match(f).group(1), []).append(f)
 for f in os.listdir(r):
     if f.endswith("_time.json"):
         stems.add((f[: -len("_time.json")], False))
@@ -36,11 +40,7 @@ for stem, auto in sorted(stems):
     t = (load(f"{stem}.json") if auto else load(f"{stem}_time.json")) or {}
     e = (load(f"{scene}_{setting}_error.compare.json") or {}).get("all", {})
     chosen = (t.get("quality") or {}).get("chosen", "") if auto else ""
-    moving = [
-        (load(f) or {}).get("all", {}).get("rel_mse")
-        for f in os.listdir(r)
-        if ORBIT.match(f) and ORBIT.match(f).group(1) == stem
-    ]
+    moving = [(load(f) or {}).get("all", {}).get("rel_mse") for f in orbit.get(stem, [])]
     moving = [m for m in moving if m is not None]
     row = [t.get("gpu_frame_ms") or nan, t.get("wall_frame_ms") or nan,
            e.get("rel_mse", nan), e.get("flip", nan), e.get("mean_ratio") or nan]

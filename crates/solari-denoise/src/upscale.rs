@@ -214,8 +214,9 @@ impl TemporalUpscaler {
     }
 
     /// Writes each frame's accumulation into `scratch` (a storage buffer of at least
-    /// [`TemporalUpscaler::scratch_bytes`]; a smaller one or another usage is refused, naming
-    /// both sizes) instead of a buffer of its own, which is freed. The pass reads nothing there that it did not write in the same frame, so other
+    /// [`TemporalUpscaler::scratch_bytes`]; a smaller one is refused naming both sizes, one
+    /// without storage usage naming its usage) instead of a buffer of its own, which is
+    /// freed. The pass reads nothing there that it did not write in the same frame, so other
     /// passes may use the buffer before it; after it, the scratch holds nothing anyone needs.
     /// The history is kept.
     pub fn use_scratch(&mut self, gpu: &Gpu, scratch: &wgpu::Buffer) -> Result<(), GpuError> {

@@ -144,7 +144,25 @@ impl ErrorTable {
         if rows.is_empty() {
             return Err("quality table: no rows of grid settings".into());
         }
-        Ok(Self { rows })
+        let table = Self { rows };
+        // A point without a moving figure is judged by its still one alone, which flatters it
+        // beside points that have both: say so where a scene's rows are only partly measured.
+        for scene in table.scenes() {
+            let (with, all) = table
+                .rows
+                .iter()
+                .filter(|r| r.scene == scene)
+                .fold((0, 0), |(w, a), r| {
+                    (w + r.rel_mse_moving.is_some() as usize, a + 1)
+                });
+            if with > 0 && with < all {
+                log::warn!(
+                    "quality table: {scene} has rel_mse_moving for {with} of its {all} settings; \
+                     the others are judged by their still error alone"
+                );
+            }
+        }
+        Ok(table)
     }
 
     /// The scenes the table holds, sorted.
@@ -166,11 +184,18 @@ impl ErrorTable {
         self.row(scene, setting).map(|r| r.gpu_ms)
     }
 
+    /// relMSE of `setting` on `scene` along a moving camera, where the table has it.
+    pub fn rel_mse_moving(&self, scene: &str, setting: &QualitySetting) -> Option<f64> {
+        self.row(scene, setting).and_then(|r| r.rel_mse_moving)
+    }
+
     /// relMSE of `setting` on `scene` as a multiple of the scene's best grid point: with the
     /// camera still and, where the table has it, moving (each against the best of its own
     /// kind), the larger of the two. A user's camera moves and stops, and a point is only as
     /// good as its worse case: the upscaled points that lead a still camera's table are tens
-    /// of times worse than native along the orbit (module docs).
+    /// of times worse than native along the orbit (module docs). A point without a moving
+    /// figure counts by its still one alone (`parse_csv` warns where a scene is only partly
+    /// measured).
     pub fn relative_error(&self, scene: &str, setting: &QualitySetting) -> Option<f64> {
         let rows = || self.rows.iter().filter(|r| r.scene == scene);
         let ratio = |e: f64, best: f64| if best > 0.0 { e / best } else { 1.0 };

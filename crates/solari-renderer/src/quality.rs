@@ -305,14 +305,7 @@ mod tests {
     fn no_tier_falls_apart_under_a_moving_camera() {
         let table = ErrorTable::builtin();
         for s in table.scenes() {
-            let moving = |g: &QualitySetting| {
-                table
-                    .rows
-                    .iter()
-                    .find(|r| r.scene == s && r.setting == *g)
-                    .and_then(|r| r.rel_mse_moving)
-                    .expect("measured moving")
-            };
+            let moving = |g: &QualitySetting| table.rel_mse_moving(&s, g).expect("measured moving");
             let best = QualitySetting::grid()
                 .iter()
                 .map(moving)

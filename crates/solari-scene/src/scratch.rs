@@ -5,9 +5,10 @@
 //! dispatch, read by its second), ReSTIR GI's, the G-buffer's overrides (written by specular
 //! GI for every pixel, read by the apply pass), the fallback denoiser's transient bytes and
 //! one of its filter buffers, and the temporal upscaler's new accumulation (written by its
-//! first dispatch, copied into its history by its second). Passes run one after another, so one buffer can hold each in
-//! turn. A renderer asks each component how much it needs (`scratch_bytes`), allocates the
-//! largest with [`allocate`], and hands it to each (`use_scratch`). The contract for a
+//! first dispatch, copied into its history by its second). Passes run one after another, so
+//! one buffer can hold each in turn. A renderer asks each component how much it needs
+//! (`scratch_bytes`), allocates the largest with [`allocate`], and hands it to each
+//! (`use_scratch`). The contract for a
 //! component that takes scratch: it reads only what its own dispatches (or, for the
 //! overrides, their one writer) of the same frame wrote there, so whatever ran before may
 //! have left anything in it.
