@@ -17,7 +17,7 @@
 //!   scene against a reference, as `benches/results/quality_h200.sh` writes it), with the
 //!   camera still and, where measured, moving (the orbit camera): a point counts by the worse
 //!   of its two errors, each as a multiple of the scene's best, since a user's camera both
-//!   moves and stands still (the upscaled points lead some still scenes and are 4.8–840× worse
+//!   moves and stands still (the upscaled points lead some still scenes and are 2.9–386× worse
 //!   moving: [`crate::quality`]). A scene the table holds uses its own rows; any other scene
 //!   uses, for each point, its worst error over the table's scenes (the choice that was never
 //!   far off). [`ErrorTable::builtin`] holds the four bundled scenes measured on an H100.

@@ -404,9 +404,10 @@ pub struct RealtimeSettings {
     /// default 1). Below 1 the camera is jittered and the temporal upscaler
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
     /// DLSS-RR, which chooses its own render size. Best for a still camera: along a moving
-    /// one, 0.5 and 0.67 read 4.8–840× native's relMSE on the four bundled scenes (an H100
-    /// at 960×540, `benches/RESULTS.md`, "Upscaled points under a moving camera"): the
-    /// upscaler's history blurs and lags small bright features.
+    /// one, 0.5 and 0.67 read 2.9–386× native's best relMSE on the four bundled scenes (an
+    /// H100 at 960×540, `benches/RESULTS.md`, "The upscaler under motion"): the upscaler's
+    /// history blurs under motion, and edges and small emitters come out a render pixel
+    /// wide.
     pub internal_scale: f32,
     /// Antialiasing at scale 1, jittered only while the camera stands still (default
     /// [`Antialias::Auto`]: on under the fallback denoiser; the figures are on the type).
