@@ -315,7 +315,9 @@ fn pan_errors(gpu: &Gpu, backend: Backend, speed: f32) -> [(f64, f64); 2] {
 /// 3%. Single runs in the thirty-fourth session read −3.6% to −6.5% here and −2.8% panning on
 /// CI's machine (−7.2% static), failing that bar: each setting is now the mean of
 /// [`PAN_RUNS`] renders (here −5.2% static, −4.6% panning, the mean's sd near 0.9%), and
-/// the bar asks for a gain of 1%: about four of those sds short of the gains measured. The rest of the image must stay within 3%. The world cache's racing updates make each
+/// the bar asks for a gain of 1%: about four of those sds short of the gains measured.
+///
+/// The rest of the image must stay within 3%. The world cache's racing updates make each
 /// run differ: in the sixteenth session, thirteen runs read the rest's RMSE at 0.02896–0.02942
 /// with replacement off alone, and the ratio on/off at −1.0% to +1.55%, failing the old 1%
 /// bar twice; the 2% bar that followed left CI's machine, whose runs differ from these, a

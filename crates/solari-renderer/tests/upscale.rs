@@ -372,9 +372,9 @@ fn small_emitter() -> Scene {
 /// reference stays black. The upscaler's history used to smear the emitter along its path:
 /// background has no motion vectors, so its history stayed where the camera had looked, and
 /// the clamp to the nine samples around a pixel (six output pixels across at half scale) let
-/// the emitter's colour through wherever it was among them. Then five or six pixels two
-/// pixels away held the emitter's full brightness (19.7 of 20) at turns of 0.5°, 1° and 2°
-/// a frame; none since.
+/// the emitter's colour through wherever it was among them. Then five or six pixels more
+/// than one pixel away held the emitter's full brightness (19.7 of 20) at turns of 0.5°, 1°
+/// and 2° a frame; none since.
 #[test]
 fn a_small_emitter_leaves_no_trail_at_half_scale() {
     let scene = small_emitter();
