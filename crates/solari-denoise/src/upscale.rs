@@ -6,15 +6,14 @@
 //! vectors (background, which has none, through the camera's turn) and clamped to the range
 //! of this frame's neighbouring samples (the nine around a still pixel, the four nearest a
 //! moving one), the two merged by their weights. At a scale of 1 it antialiases (each pixel
-//! converges to its area average).
+//! converges to its area average). DLSS-RR does this itself and does not use it.
 //!
-//! Under a moving camera the upscaled image is still far from native: history resampled
-//! every frame blurs, and a frame's own samples cover a quarter of the pixels at half scale.
-//! Along the orbit camera (lavapipe, 320×180, frame 8, relMSE against a 256-spp reference)
-//! the tighter clamp and the background's reprojection took half scale from 14.3 to 7.2 on
-//! many_lights and 0.185 to 0.146 on interior (native: 0.089, 0.060); see
-//! `benches/RESULTS.md`.
-//! DLSS-RR does this itself and does not use it.
+//! Under a moving camera the upscaled image is still far from native: at half scale a
+//! frame's own samples fall in a quarter of the output pixels, and the history that fills the
+//! rest places edges up to a render pixel off. Along the orbit camera (lavapipe, 320×180,
+//! frame 8, relMSE against a 256-spp reference) the tighter clamp and the background's
+//! reprojection took half scale from 14.3 to 7.2 on many_lights and 0.185 to 0.146 on
+//! interior (native: 0.089, 0.060); see `benches/RESULTS.md`.
 //!
 //! Memory: one accumulation buffer at the output size (16 bytes a pixel) persists from frame
 //! to frame and is the output. The pass writes this frame's accumulation elsewhere (it reads
