@@ -178,6 +178,28 @@ impl GpuView {
             + Vec3::from(self.up) * (ndc.y * self.tan_half_fov)
     }
 
+    /// Where direction `d` appears in this view, in pixels from the top left, the jitter left
+    /// out: the inverse of [`GpuView::ray_direction`] for an unjittered view (with jitter,
+    /// `ray_direction(p)` projects to `p + jitter`). `None` where `d` points behind the view or
+    /// along its image plane. The twin of `view_project_direction` in `view.wesl`, which
+    /// returns (−1e9, −1e9) for `None`. The temporal upscaler finds where background (seen at
+    /// infinity, so moved by the camera's turn alone) was last frame with it.
+    pub fn project_direction(&self, d: glam::Vec3) -> Option<glam::Vec2> {
+        use glam::Vec3;
+        let z = d.dot(Vec3::from(self.forward));
+        if !(z > 0.0) {
+            return None;
+        }
+        let ndc = glam::Vec2::new(
+            d.dot(Vec3::from(self.right)) / (z * self.tan_half_fov * self.aspect),
+            d.dot(Vec3::from(self.up)) / (z * self.tan_half_fov),
+        );
+        Some(glam::Vec2::new(
+            (ndc.x + 1.0) * 0.5 * self.width as f32,
+            (1.0 - ndc.y) * 0.5 * self.height as f32,
+        ))
+    }
+
     /// This view with its samples moved `jitter` pixels from the pixel centres
     /// ([`GpuView::jitter`]).
     pub fn with_jitter(self, jitter: [f32; 2]) -> Self {
