@@ -405,9 +405,9 @@ pub struct RealtimeSettings {
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
     /// DLSS-RR, which chooses its own render size. Best for a still camera: along a moving
     /// one, 0.5 and 0.67 read 2.9–386× native's best relMSE on the four bundled scenes (an
-    /// H100 at 960×540, `benches/RESULTS.md`, "The upscaler under motion"): the upscaler's
-    /// history blurs under motion, and edges and small emitters come out a render pixel
-    /// wide.
+    /// H100 at 960×540, `benches/RESULTS.md`, "The upscaler under motion"): a moving frame's
+    /// own samples fall in a fraction of the output pixels, and the history that fills the
+    /// rest places edges and small emitters up to a render pixel off.
     pub internal_scale: f32,
     /// Antialiasing at scale 1, jittered only while the camera stands still (default
     /// [`Antialias::Auto`]: on under the fallback denoiser; the figures are on the type).
