@@ -186,8 +186,9 @@ impl GpuView {
     /// infinity, so moved by the camera's turn alone) was last frame with it.
     pub fn project_direction(&self, d: glam::Vec3) -> Option<glam::Vec2> {
         use glam::Vec3;
+        // NaN fails the comparison too: no position.
         let z = d.dot(Vec3::from(self.forward));
-        if !(z > 0.0) {
+        if z.is_nan() || z <= 0.0 {
             return None;
         }
         let ndc = glam::Vec2::new(
