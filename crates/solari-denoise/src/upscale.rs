@@ -26,6 +26,7 @@
 use bytemuck::{Pod, Zeroable};
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
+use solari_scene::finite_check::RecordLayout;
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::{Gpu, ShaderChecks};
@@ -55,6 +56,16 @@ pub const COPY_BINDINGS: BufferGroup = BufferGroup::new(
         ("copy_to", Buf::ReadWrite),
     ],
 );
+
+/// The record layout of [`TemporalUpscaler::output`] for the non-finite detector: four
+/// finite floats, the colour non-negative, the weight signed (its sign marks background).
+pub const OUTPUT_LAYOUT: RecordLayout = RecordLayout {
+    stride_words: 4,
+    float_mask: 0xf,
+    non_negative_mask: 0x7,
+    upper_mask: 0,
+    upper_bound: 0.0,
+};
 
 /// The pass's label (profiler scope and report name).
 pub const PASS_LABELS: [&str; 1] = ["temporal_upscale"];
@@ -316,7 +327,9 @@ impl TemporalUpscaler {
     /// The upscaled image: one `vec4<f32>` per output pixel, rgb the colour and w the
     /// weight accumulated there (frames of samples, at most about
     /// [`UpscaleSettings::max_weight`] + 1; 0 where no sample has landed yet and the colour is
-    /// the nearest sample's). Read it as an image by ignoring w.
+    /// the nearest sample's), negative where the pixel was taken to see background (the next
+    /// frame's history reads the sign). Read it as an image by ignoring w; its layout for
+    /// [`solari_scene::finite_check`] is [`OUTPUT_LAYOUT`].
     pub fn output(&self) -> &wgpu::Buffer {
         &self.accum
     }

@@ -1598,11 +1598,12 @@ impl RealtimeRenderer {
                 c.check_buffer(gpu, &mut last, SLOT_DENOISE, d.output(), outputs, rgba)?;
             }
             if let Some(u) = &self.upscaler {
-                // The upscaler's output counts with the denoiser's: the frame's last image.
+                // The upscaler's output counts with the denoiser's: the frame's last image
+                // (its weights are signed).
                 let (ow, oh) = u.output_size();
-                let rgba = RecordLayout::RGBA_NON_NEGATIVE;
+                let layout = solari_denoise::upscale::OUTPUT_LAYOUT;
                 let outputs = ow as u64 * oh as u64;
-                c.check_buffer(gpu, &mut last, SLOT_DENOISE, u.output(), outputs, rgba)?;
+                c.check_buffer(gpu, &mut last, SLOT_DENOISE, u.output(), outputs, layout)?;
             }
             readback = Some(c.end_frame(&mut last));
         }
