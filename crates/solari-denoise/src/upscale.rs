@@ -58,7 +58,7 @@ pub const COPY_BINDINGS: BufferGroup = BufferGroup::new(
 );
 
 /// The record layout of [`TemporalUpscaler::output`] for the non-finite detector: four
-/// finite floats, the colour non-negative, the weight signed (its sign marks background).
+/// finite floats, the colour non-negative, the weight signed (its sign bit marks background).
 pub const OUTPUT_LAYOUT: RecordLayout = RecordLayout {
     stride_words: 4,
     float_mask: 0xf,
@@ -327,8 +327,8 @@ impl TemporalUpscaler {
     /// The upscaled image: one `vec4<f32>` per output pixel, rgb the colour and w the
     /// weight accumulated there (frames of samples, at most about
     /// [`UpscaleSettings::max_weight`] + 1; 0 where no sample has landed yet and the colour is
-    /// the nearest sample's), negative where the pixel was taken to see background (the next
-    /// frame's history reads the sign). Read it as an image by ignoring w; its layout for
+    /// the nearest sample's), its sign bit set where the pixel was taken to see background
+    /// (-0 with no weight yet; the next frame's history reads it). Read it as an image by ignoring w; its layout for
     /// [`solari_scene::finite_check`] is [`OUTPUT_LAYOUT`].
     pub fn output(&self) -> &wgpu::Buffer {
         &self.accum
