@@ -67,6 +67,11 @@ pub const OUTPUT_LAYOUT: RecordLayout = RecordLayout {
     upper_bound: 0.0,
 };
 
+/// Pipeline constant of `temporal_upscale.wesl`: the pass built for frames whose camera moved
+/// since last frame ([`GBufferSource::camera_moved`]), which tells background pixels beside a
+/// moving silhouette from the surface's (`@id(7150) override MOVING_CAMERA`).
+const MOVING_CAMERA: &str = "7150";
+
 /// The pass's label (profiler scope and report name).
 pub const PASS_LABELS: [&str; 1] = ["temporal_upscale"];
 
@@ -131,7 +136,9 @@ pub struct TemporalUpscaler {
     settings: UpscaleSettings,
     render_size: (u32, u32),
     output_size: (u32, u32),
+    // For a still camera, and for one that moved since last frame (MOVING_CAMERA).
     pipeline: wgpu::ComputePipeline,
+    moving_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     copy_pipeline: wgpu::ComputePipeline,
     copy_layout: wgpu::BindGroupLayout,
@@ -180,13 +187,17 @@ impl TemporalUpscaler {
         let layout = UPSCALE_BINDINGS.layout(gpu, "solari_denoise/upscale");
         let gbuffer_layout = GBuffer::reader_layout(gpu);
         let wgsl = compose("temporal_upscale", Backend::Software, &crate::modules())?;
-        let pipeline = gpu.compute_pipeline(
-            "solari_denoise/temporal_upscale",
-            &wgsl,
-            &[Some(&layout), Some(&gbuffer_layout)],
-            ShaderChecks::BoundsOnly,
-            &[],
-        )?;
+        let build = |label: &str, moving: bool| {
+            gpu.compute_pipeline(
+                label,
+                &wgsl,
+                &[Some(&layout), Some(&gbuffer_layout)],
+                ShaderChecks::BoundsOnly,
+                &[(MOVING_CAMERA, moving as u32 as f64)],
+            )
+        };
+        let pipeline = build("solari_denoise/temporal_upscale", false)?;
+        let moving_pipeline = build("solari_denoise/temporal_upscale_moving", true)?;
         let copy_layout = COPY_BINDINGS.layout(gpu, "solari_denoise/upscale_copy");
         let copy_pipeline = gpu.compute_pipeline(
             "solari_denoise/upscale_copy",
@@ -213,6 +224,7 @@ impl TemporalUpscaler {
             render_size,
             output_size,
             pipeline,
+            moving_pipeline,
             layout,
             copy_pipeline,
             copy_layout,
@@ -312,7 +324,11 @@ impl TemporalUpscaler {
                 label: Some(PASS_LABELS[0]),
                 timestamp_writes: None,
             });
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(if gbuffer.camera_moved() {
+                &self.moving_pipeline
+            } else {
+                &self.pipeline
+            });
             pass.set_bind_group(0, group, &[]);
             pass.set_bind_group(1, gbuffer_group, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);

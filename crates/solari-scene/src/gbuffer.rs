@@ -321,6 +321,8 @@ pub struct GBuffer {
     // (vertex count, instance) per draw, for the raster producer.
     draws: Vec<(u32, u32)>,
     history_valid: bool,
+    // This frame's camera differs from last frame's (`GBufferSource::camera_moved`).
+    camera_moved: bool,
     // Bind group 1 for readers: views plus both target sets, one group per parity.
     frame_views: wgpu::Buffer,
     last_view: Option<GpuView>,
@@ -433,6 +435,7 @@ impl GBuffer {
             last_instances: Vec::new(),
             draws: Vec::new(),
             history_valid: false,
+            camera_moved: true,
             frame_views,
             last_view: None,
             reader_layout,
@@ -672,6 +675,10 @@ impl GBuffer {
         };
         gpu.queue
             .write_buffer(&self.view_buffer, 0, bytemuck::bytes_of(&view));
+        self.camera_moved = !self.history_valid
+            || self
+                .last_view
+                .is_none_or(|last| !last.same_camera(&current));
         let views = GpuFrameViews {
             current,
             previous: self.last_view.unwrap_or(current),
@@ -791,6 +798,10 @@ impl GBufferSource for GBuffer {
 
     fn history_valid(&self) -> bool {
         self.history_valid
+    }
+
+    fn camera_moved(&self) -> bool {
+        self.camera_moved
     }
 }
 

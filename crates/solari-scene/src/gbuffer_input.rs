@@ -51,6 +51,11 @@ pub trait GBufferSource {
     /// Whether the `*_before` bindings and the motion vectors refer to a real previous frame
     /// (false on the first frame, after a resize or a reset): passes drop history otherwise.
     fn history_valid(&self) -> bool;
+    /// Whether this frame's camera differs from last frame's (the jitter aside; true without
+    /// history). Passes may specialise for a still camera; the default, true, is always safe.
+    fn camera_moved(&self) -> bool {
+        true
+    }
 }
 
 /// The check every pass that reads a G-buffer makes before recording: `gbuffer` has the
@@ -229,6 +234,8 @@ pub struct ExternalGBuffer {
     size: (u32, u32),
     last_view: Option<GpuView>,
     history_valid: bool,
+    // This frame's camera differs from last frame's (`GBufferSource::camera_moved`).
+    camera_moved: bool,
     // Most recently used last.
     groups: Vec<([wgpu::TextureView; 7], wgpu::BindGroup)>,
 }
@@ -246,6 +253,7 @@ impl ExternalGBuffer {
             size: (width, height),
             last_view: None,
             history_valid: false,
+            camera_moved: true,
             groups: Vec::new(),
         })
     }
@@ -282,6 +290,8 @@ impl ExternalGBuffer {
         }
         let view = GpuView::new(camera, self.size.0, self.size.1).with_jitter(jitter);
         self.history_valid = previous.is_some() && self.last_view.is_some();
+        self.camera_moved =
+            !self.history_valid || self.last_view.is_none_or(|last| !last.same_camera(&view));
         let before = previous.unwrap_or(current);
         let views = GpuFrameViews {
             current: view,
@@ -345,5 +355,9 @@ impl GBufferSource for ExternalGBuffer {
 
     fn history_valid(&self) -> bool {
         self.history_valid
+    }
+
+    fn camera_moved(&self) -> bool {
+        self.camera_moved
     }
 }

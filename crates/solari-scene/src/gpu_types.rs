@@ -206,6 +206,19 @@ impl GpuView {
     pub fn with_jitter(self, jitter: [f32; 2]) -> Self {
         Self { jitter, ..self }
     }
+
+    /// Whether `other` sees the scene from the same place in the same directions: the same
+    /// origin, axes, field of view and aspect, whatever its jitter, frame, size or mode. A
+    /// frame whose view is not the same camera as last frame's moves every background
+    /// direction's neighbours (the temporal upscaler's `camera_moved`).
+    pub fn same_camera(&self, other: &GpuView) -> bool {
+        self.origin == other.origin
+            && self.right == other.right
+            && self.up == other.up
+            && self.forward == other.forward
+            && self.tan_half_fov == other.tan_half_fov
+            && self.aspect == other.aspect
+    }
 }
 
 /// Camera jitter for frame `frame`: the Halton (2, 3) sequence, 16 offsets in [-0.5, 0.5)²

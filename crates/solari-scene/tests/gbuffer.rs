@@ -439,3 +439,57 @@ fn override_scratch_is_refused_when_it_cannot_serve() {
     assert_eq!(own - gb.memory_bytes(), 32 * (w * h) as u64);
     gpu.check_errors().expect("no wgpu error");
 }
+
+/// `GBufferSource::camera_moved`: true on the first frame, after a resize and when the camera
+/// moves, turns or zooms; false when only the jitter changes (the temporal upscaler's still
+/// pipeline keeps a still camera's frames as they were).
+#[test]
+fn camera_moved_ignores_jitter_and_sees_every_change_of_view() {
+    use solari_scene::gbuffer_input::GBufferSource;
+    let Some(gpu) = test_gpu() else { return };
+    let backend = Backend::Software;
+    let scene = default_scene::cornell_box();
+    let camera = scene.camera(None).unwrap();
+    let gs = GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).unwrap();
+    let mut gb = GBuffer::with_producer(
+        &gpu,
+        backend,
+        GBufferProducer::Traced,
+        TraceVariant::General,
+        16,
+        16,
+    )
+    .unwrap();
+    let mut frame = |gb: &mut GBuffer, camera: &Camera, jitter: [f32; 2]| {
+        render_jittered(&gpu, gb, &gs, &scene, camera, jitter);
+        gb.camera_moved()
+    };
+    assert!(
+        frame(&mut gb, &camera, [0.0; 2]),
+        "the first frame has no still camera"
+    );
+    assert!(
+        !frame(&mut gb, &camera, [0.3, -0.2]),
+        "a new jitter is not a move"
+    );
+    assert!(!frame(&mut gb, &camera, [-0.4, 0.1]), "nor is another");
+    let mut stepped = camera.clone();
+    stepped.transform = camera.transform * Mat4::from_translation(Vec3::X * 1e-3);
+    assert!(
+        frame(&mut gb, &stepped, [0.0; 2]),
+        "a millimetre's step is a move"
+    );
+    assert!(!frame(&mut gb, &stepped, [0.0; 2]));
+    let mut turned = stepped.clone();
+    turned.transform = stepped.transform * Mat4::from_rotation_y(1e-3);
+    assert!(frame(&mut gb, &turned, [0.0; 2]), "a turn is a move");
+    let mut zoomed = turned.clone();
+    zoomed.yfov *= 0.99;
+    assert!(frame(&mut gb, &zoomed, [0.0; 2]), "a zoom is a move");
+    assert!(!frame(&mut gb, &zoomed, [0.0; 2]));
+    gb.resize(&gpu, 18, 16).unwrap();
+    assert!(
+        frame(&mut gb, &zoomed, [0.0; 2]),
+        "after a resize there is no history to be still against"
+    );
+}

@@ -117,10 +117,12 @@ fn history_follows_the_frames_given_and_groups_are_reused() {
     g.prepare(&gpu, &cam, views(&a), Some(views(&b)))
         .expect("frame 0");
     assert!(!g.history_valid());
+    assert!(g.camera_moved(), "no history: nothing to be still against");
     let first = g.bind_group().expect("bound").clone();
     g.prepare(&gpu, &cam, views(&b), Some(views(&a)))
         .expect("frame 1");
     assert!(g.history_valid());
+    assert!(!g.camera_moved(), "the same camera");
     let second = g.bind_group().expect("bound").clone();
     assert_ne!(first, second, "another texture set, another group");
     g.prepare(&gpu, &cam, views(&a), Some(views(&b)))
@@ -132,14 +134,24 @@ fn history_follows_the_frames_given_and_groups_are_reused() {
     );
     g.prepare(&gpu, &cam, views(&b), None).expect("a cut");
     assert!(!g.history_valid(), "no previous frame given");
+    assert!(g.camera_moved());
     g.prepare(&gpu, &cam, views(&a), Some(views(&b)))
         .expect("after the cut");
     assert!(g.history_valid());
+    assert!(!g.camera_moved());
+    let mut turned = cam.clone();
+    turned.transform = cam.transform * glam::Mat4::from_rotation_y(1e-3);
+    g.prepare(&gpu, &turned, views(&b), Some(views(&a)))
+        .expect("turned");
+    assert!(g.camera_moved(), "a turn is a move");
+    g.prepare(&gpu, &cam, views(&a), Some(views(&b)))
+        .expect("turned back");
     g.reset();
     assert!(!g.history_valid());
     g.prepare(&gpu, &cam, views(&b), Some(views(&a)))
         .expect("after a reset");
     assert!(!g.history_valid(), "a reset drops the last camera");
+    assert!(g.camera_moved());
     assert_eq!(g.size(), (SIZE, SIZE));
     assert!(gpu.check_errors().is_ok());
 }
