@@ -460,7 +460,7 @@ fn camera_moved_ignores_jitter_and_sees_every_change_of_view() {
         16,
     )
     .unwrap();
-    let mut frame = |gb: &mut GBuffer, camera: &Camera, jitter: [f32; 2]| {
+    let frame = |gb: &mut GBuffer, camera: &Camera, jitter: [f32; 2]| {
         render_jittered(&gpu, gb, &gs, &scene, camera, jitter);
         gb.camera_moved()
     };
