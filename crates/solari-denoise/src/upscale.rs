@@ -10,10 +10,16 @@
 //!
 //! Under a moving camera the upscaled image is still far from native: at half scale a
 //! frame's own samples fall in a quarter of the output pixels, and the history that fills the
-//! rest places edges up to a render pixel off. Along the orbit camera (lavapipe, 320×180,
-//! frame 8, relMSE against a 256-spp reference) the tighter clamp and the background's
-//! reprojection took half scale from 14.3 to 7.2 on many_lights and 0.185 to 0.146 on
-//! interior (native: 0.089, 0.060); see `benches/RESULTS.md`.
+//! rest places edges up to a render pixel off. The pass has a pipeline for frames whose
+//! camera moved ([`GBufferSource::camera_moved`]): there every pixel is clamped as a moving
+//! one, and a pixel whose four nearest samples see both a surface and background is told
+//! apart (background when the sample inside it saw background, or when the surface, followed
+//! back along its motion, comes from where last frame saw background), so that background
+//! beside a moving silhouette does not keep the surface. Along the orbit camera (lavapipe,
+//! 320×180, relMSE against 256-spp references) the tighter clamp and the background's
+//! reprojection took half scale from 14.3 to 7.2 on many_lights frame 8, and telling the
+//! silhouettes apart to 2.2, interior frame 32 from 0.253 to 0.102 (native: 0.089 and 0.060
+//! at frame 8); see `benches/RESULTS.md`.
 //!
 //! Memory: one accumulation buffer at the output size (16 bytes a pixel) persists from frame
 //! to frame and is the output. The pass writes this frame's accumulation elsewhere (it reads
@@ -348,8 +354,8 @@ impl TemporalUpscaler {
     /// weight accumulated there (frames of samples, at most about
     /// [`UpscaleSettings::max_weight`] + 1; 0 where no sample has landed yet and the colour is
     /// the nearest sample's), its sign bit set where the pixel was taken to see background
-    /// (-0 with no weight yet; the next frame's history reads it). Read it as an image by ignoring w; its layout for
-    /// [`solari_scene::finite_check`] is [`OUTPUT_LAYOUT`].
+    /// (-0 with no weight yet; the next frame's history reads it). Read it as an image by
+    /// ignoring w; its layout for [`solari_scene::finite_check`] is [`OUTPUT_LAYOUT`].
     pub fn output(&self) -> &wgpu::Buffer {
         &self.accum
     }

@@ -1400,7 +1400,7 @@ impl RealtimeRenderer {
         // (the docs of `Antialias`). A moving frame is unjittered and drops the upscaler's
         // history, so it passes the frame through unchanged; so is the first, which has no
         // history to accumulate into.
-        let moved = self.last_view.is_none_or(|p| !same_camera(&p, &view));
+        let moved = self.last_view.is_none_or(|p| !p.same_camera(&view));
         let antialias_only = self.settings.internal_scale >= 1.0;
         let unjittered = antialias_only && moved;
         // Jittered samples only where the temporal upscaler accumulates them.
@@ -1766,16 +1766,6 @@ impl RealtimeRenderer {
             _ => self.di.size(),
         }
     }
-}
-
-// Whether two views see from the same place in the same direction (jitter and frame aside).
-fn same_camera(a: &GpuView, b: &GpuView) -> bool {
-    a.origin == b.origin
-        && a.forward == b.forward
-        && a.right == b.right
-        && a.up == b.up
-        && a.tan_half_fov == b.tan_half_fov
-        && a.aspect == b.aspect
 }
 
 /// A scripted camera path for `--camera-path`.

@@ -210,7 +210,8 @@ impl GpuView {
     /// Whether `other` sees the scene from the same place in the same directions: the same
     /// origin, axes, field of view and aspect, whatever its jitter, frame, size or mode. A
     /// frame whose view is not the same camera as last frame's moves every background
-    /// direction's neighbours (the temporal upscaler's `camera_moved`).
+    /// direction's neighbours (the temporal upscaler's `camera_moved`); the real-time
+    /// renderer jitters antialiasing only between frames of the same camera.
     pub fn same_camera(&self, other: &GpuView) -> bool {
         self.origin == other.origin
             && self.right == other.right
