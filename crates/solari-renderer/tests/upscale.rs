@@ -367,6 +367,22 @@ fn small_emitter() -> Scene {
     scene
 }
 
+/// The box's camera moved by `m` in its own frame.
+fn moved_camera(c: &Cornell, m: glam::Mat4) -> solari_scene::Camera {
+    let mut cam = c.camera.clone();
+    cam.transform = c.camera.transform * m;
+    cam
+}
+
+/// A renderer at half scale with the fallback denoiser (the moving-camera tests' setting).
+fn half_scale_renderer(c: &Cornell) -> solari_renderer::RealtimeRenderer {
+    c.renderer(RealtimeSettings {
+        internal_scale: 0.5,
+        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
+        ..settings()
+    })
+}
+
 /// A camera turning in place crosses a small emitter over black background at half scale: in
 /// the last frame every pixel more than one output pixel from the emitter's pixels in the
 /// reference stays black. The upscaler's history used to smear the emitter along its path:
@@ -383,17 +399,13 @@ fn a_small_emitter_leaves_no_trail_at_half_scale() {
     };
     // A degree per frame: about a pixel and a half at SIZE.
     let turn = |frame: u32| {
-        let mut cam = c.camera.clone();
-        cam.transform = c.camera.transform
-            * glam::Mat4::from_rotation_y((frame as f32 - 8.0) * 1f32.to_radians());
-        cam
+        moved_camera(
+            &c,
+            glam::Mat4::from_rotation_y((frame as f32 - 8.0) * 1f32.to_radians()),
+        )
     };
     let frames = 16;
-    let mut r = c.renderer(RealtimeSettings {
-        internal_scale: 0.5,
-        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
-        ..settings()
-    });
+    let mut r = half_scale_renderer(&c);
     for frame in 0..frames {
         r.render(&c.gpu, &c.scene, &c.gpu_scene, &turn(frame))
             .expect("frame");
@@ -464,16 +476,12 @@ fn a_moving_silhouette_leaves_no_fringe_on_black_at_half_scale() {
         return;
     };
     let slide = |frame: u32| {
-        let mut cam = c.camera.clone();
-        cam.transform = c.camera.transform
-            * glam::Mat4::from_translation(glam::Vec3::X * (frame as f32 - 8.0) * 0.08);
-        cam
+        moved_camera(
+            &c,
+            glam::Mat4::from_translation(glam::Vec3::X * (frame as f32 - 8.0) * 0.08),
+        )
     };
-    let mut r = c.renderer(RealtimeSettings {
-        internal_scale: 0.5,
-        denoiser: Some(solari_denoise::DenoiserKind::Fallback),
-        ..settings()
-    });
+    let mut r = half_scale_renderer(&c);
     let mut fringe_per_frame = vec![];
     for frame in 0..16 {
         let cam = slide(frame);
