@@ -12,14 +12,14 @@
 //! frame's own samples fall in a quarter of the output pixels, and the history that fills the
 //! rest places edges up to a render pixel off. The pass has a pipeline for frames whose
 //! camera moved ([`GBufferSource::camera_moved`]): there every pixel is clamped as a moving
-//! one, and a pixel whose four nearest samples see both a surface and background is told
-//! apart (background when the sample inside it saw background, or when the surface, followed
-//! back along its motion, comes from where last frame saw background), so that background
-//! beside a moving silhouette does not keep the surface. Along the orbit camera (lavapipe,
-//! 320×180, relMSE against 256-spp references) the tighter clamp and the background's
-//! reprojection took half scale from 14.3 to 7.2 on many_lights frame 8, and telling the
-//! silhouettes apart to 2.2, interior frame 32 from 0.253 to 0.102 (native: 0.089 and 0.060
-//! at frame 8); see `benches/RESULTS.md`.
+//! one, and the samples among a pixel's four nearest that lie in front of the nearest one's
+//! surface (more than 10% nearer) are left out of its clamp, so that a pixel beside a moving
+//! silhouette, whose history comes with its own surface's motion from where the occluder
+//! was, does not keep the occluder's colour. Along the orbit camera (lavapipe, 320×180,
+//! relMSE against 256-spp references) the tighter clamp and the background's reprojection
+//! took half scale from 14.3 to 7.2 on many_lights frame 8, and leaving the occluders out
+//! to 1.05, interior frame 32 from 0.253 to 0.020 (native: 0.089 and 0.014); see
+//! `benches/RESULTS.md`.
 //!
 //! Memory: one accumulation buffer at the output size (16 bytes a pixel) persists from frame
 //! to frame and is the output. The pass writes this frame's accumulation elsewhere (it reads
@@ -64,18 +64,12 @@ pub const COPY_BINDINGS: BufferGroup = BufferGroup::new(
 );
 
 /// The record layout of [`TemporalUpscaler::output`] for the non-finite detector: four
-/// finite floats, the colour non-negative, the weight signed (its sign bit marks background).
-pub const OUTPUT_LAYOUT: RecordLayout = RecordLayout {
-    stride_words: 4,
-    float_mask: 0xf,
-    non_negative_mask: 0x7,
-    upper_mask: 0,
-    upper_bound: 0.0,
-};
+/// finite, non-negative floats (the colour and the accumulated weight).
+pub const OUTPUT_LAYOUT: RecordLayout = RecordLayout::RGBA_NON_NEGATIVE;
 
 /// Pipeline constant of `temporal_upscale.wesl`: the pass built for frames whose camera moved
-/// since last frame ([`GBufferSource::camera_moved`]), which tells background pixels beside a
-/// moving silhouette from the surface's (`@id(7150) override MOVING_CAMERA`).
+/// since last frame ([`GBufferSource::camera_moved`]), which leaves a moving silhouette's
+/// occluder out of the clamp of the pixels beside it (`@id(7150) override MOVING_CAMERA`).
 const MOVING_CAMERA: &str = "7150";
 
 /// The pass's label (profiler scope and report name).
@@ -353,9 +347,8 @@ impl TemporalUpscaler {
     /// The upscaled image: one `vec4<f32>` per output pixel, rgb the colour and w the
     /// weight accumulated there (frames of samples, at most about
     /// [`UpscaleSettings::max_weight`] + 1; 0 where no sample has landed yet and the colour is
-    /// the nearest sample's), its sign bit set where the pixel was taken to see background
-    /// (-0 with no weight yet; the next frame's history reads it). Read it as an image by
-    /// ignoring w; its layout for [`solari_scene::finite_check`] is [`OUTPUT_LAYOUT`].
+    /// the nearest sample's). Read it as an image by ignoring w; its layout for
+    /// [`solari_scene::finite_check`] is [`OUTPUT_LAYOUT`].
     pub fn output(&self) -> &wgpu::Buffer {
         &self.accum
     }

@@ -1598,8 +1598,7 @@ impl RealtimeRenderer {
                 c.check_buffer(gpu, &mut last, SLOT_DENOISE, d.output(), outputs, rgba)?;
             }
             if let Some(u) = &self.upscaler {
-                // The upscaler's output counts with the denoiser's: the frame's last image
-                // (its weights are signed).
+                // The upscaler's output counts with the denoiser's: the frame's last image.
                 let (ow, oh) = u.output_size();
                 let layout = solari_denoise::upscale::OUTPUT_LAYOUT;
                 let outputs = ow as u64 * oh as u64;
