@@ -557,7 +557,7 @@ pub struct RealtimeArgs {
     /// Render the lighting at this fraction of the output's width and height (0.25–1;
     /// 0.5 and 0.67 are the usual ones) and bring it to the output size with the temporal
     /// upscaler (jittered camera). Fallback denoiser or none only. Best for a still
-    /// camera: a moving one read 2.3-179x native's best error on the bundled scenes.
+    /// camera: a moving one read 1.7-14x native's best error on the bundled scenes.
     #[arg(long, default_value_t = 1.0, value_parser = values::finite, allow_hyphen_values = true)]
     pub internal_scale: f32,
     /// Antialiasing at full scale while the camera stands still (the camera jittered, the

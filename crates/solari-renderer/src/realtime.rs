@@ -404,8 +404,8 @@ pub struct RealtimeSettings {
     /// default 1). Below 1 the camera is jittered and the temporal upscaler
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
     /// DLSS-RR, which chooses its own render size. Best for a still camera: along a moving
-    /// one, 0.5 and 0.67 read 2.3–179× native's best relMSE on the four bundled scenes (an
-    /// H100 at 960×540, `benches/RESULTS.md`, "Moving silhouettes"): a moving frame's
+    /// one, 0.5 and 0.67 read 1.7–14× native's best relMSE on the four bundled scenes (an
+    /// H100 at 960×540, `benches/RESULTS.md`, "Occluders out of the clamp"): a moving frame's
     /// own samples fall in a fraction of the output pixels, and the history that fills the
     /// rest places edges and small emitters up to a render pixel off.
     pub internal_scale: f32,
