@@ -8,7 +8,7 @@
 //! moving one), the two merged by their weights. At a scale of 1 it antialiases (each pixel
 //! converges to its area average). DLSS-RR does this itself and does not use it.
 //!
-//! Under a moving camera the upscaled image is still far from native: at half scale a
+//! Under a moving camera the upscaled image is still short of native: at half scale a
 //! frame's own samples fall in a quarter of the output pixels, and the history that fills the
 //! rest places edges up to a render pixel off. The pass has a pipeline for frames whose
 //! camera moved ([`GBufferSource::camera_moved`]): there every pixel is clamped as a moving
@@ -18,7 +18,7 @@
 //! was, does not keep the occluder's colour. Along the orbit camera (lavapipe, 320×180,
 //! relMSE against 256-spp references) the tighter clamp and the background's reprojection
 //! took half scale from 14.3 to 7.2 on many_lights frame 8, and leaving the occluders out
-//! to 1.05, interior frame 32 from 0.253 to 0.020 (native: 0.089 and 0.014); see
+//! to 1.04, interior frame 32 from 0.253 to 0.020 (native: 0.089 and 0.014); see
 //! `benches/RESULTS.md`.
 //!
 //! Memory: one accumulation buffer at the output size (16 bytes a pixel) persists from frame
