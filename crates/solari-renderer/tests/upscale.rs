@@ -460,6 +460,40 @@ fn bright_block() -> Scene {
     scene
 }
 
+/// Slides the box's camera sideways (0.08 a frame) through 16 half-scale frames of `c` and,
+/// from the fifth, counts the output pixels lit above 1 whose pixel-area reference is `dark`
+/// (`check` sees each reference first); every output must be finite.
+fn slide_past(
+    c: &Cornell,
+    check: impl Fn(&[[f32; 3]]),
+    dark: impl Fn([f32; 3]) -> bool,
+) -> Vec<usize> {
+    let mut r = half_scale_renderer(c);
+    let mut fringe_per_frame = vec![];
+    for frame in 0..16 {
+        let cam = moved_camera(
+            c,
+            glam::Mat4::from_translation(glam::Vec3::X * (frame as f32 - 8.0) * 0.08),
+        );
+        r.render(&c.gpu, &c.scene, &c.gpu_scene, &cam)
+            .expect("frame");
+        if frame < 4 {
+            continue;
+        }
+        let out = r.read_output(&c.gpu).expect("read back");
+        assert!(out.iter().flatten().all(|v| v.is_finite()));
+        let mut at = c.scene.clone();
+        at.cameras = vec![cam];
+        let (area, _) = area_and_centre_references(&c.gpu, c.backend, &at);
+        check(&area);
+        let fringe = (0..area.len())
+            .filter(|&i| dark(area[i]) && lum([out[i][0], out[i][1], out[i][2]]) > 1.0)
+            .count();
+        fringe_per_frame.push(fringe);
+    }
+    fringe_per_frame
+}
+
 /// A camera sliding sideways past a bright block over black background at half scale (the
 /// block's silhouette moves about a pixel a frame): in every frame from the fifth, the output
 /// pixels that the block does not touch at all (the reference's pixel-area average is exactly
@@ -471,40 +505,20 @@ fn bright_block() -> Scene {
 /// frame; with the first mended alone, 1 to 19.
 #[test]
 fn a_moving_silhouette_leaves_no_fringe_on_black_at_half_scale() {
-    let scene = bright_block();
-    let Some(c) = Cornell::with_scene(scene) else {
+    let Some(c) = Cornell::with_scene(bright_block()) else {
         return;
     };
-    let slide = |frame: u32| {
-        moved_camera(
-            &c,
-            glam::Mat4::from_translation(glam::Vec3::X * (frame as f32 - 8.0) * 0.08),
-        )
-    };
-    let mut r = half_scale_renderer(&c);
-    let mut fringe_per_frame = vec![];
-    for frame in 0..16 {
-        let cam = slide(frame);
-        r.render(&c.gpu, &c.scene, &c.gpu_scene, &cam)
-            .expect("frame");
-        if frame < 4 {
-            continue;
-        }
-        let out = r.read_output(&c.gpu).expect("read back");
-        assert!(out.iter().flatten().all(|v| v.is_finite()));
-        let mut at = c.scene.clone();
-        at.cameras = vec![cam];
-        let (area, _) = area_and_centre_references(&c.gpu, c.backend, &at);
-        let covered = area.iter().filter(|&&p| lum(p) > 0.0).count();
-        assert!(
-            (100..1500).contains(&covered),
-            "the block should cover a few hundred pixels, not {covered}"
-        );
-        let fringe = (0..area.len())
-            .filter(|&i| lum(area[i]) == 0.0 && lum([out[i][0], out[i][1], out[i][2]]) > 1.0)
-            .count();
-        fringe_per_frame.push(fringe);
-    }
+    let fringe_per_frame = slide_past(
+        &c,
+        |area| {
+            let covered = area.iter().filter(|&&p| lum(p) > 0.0).count();
+            assert!(
+                (100..1500).contains(&covered),
+                "the block should cover a few hundred pixels, not {covered}"
+            );
+        },
+        |reference| lum(reference) == 0.0,
+    );
     println!(
         "pixels lit above 1 where the reference is black, frames 4 to 15: {fringe_per_frame:?}"
     );
@@ -552,37 +566,21 @@ fn a_moving_silhouette_leaves_no_fringe_on_a_far_surface_at_half_scale() {
     let Some(c) = Cornell::with_scene(scene) else {
         return;
     };
-    let mut r = half_scale_renderer(&c);
-    let mut fringe_per_frame = vec![];
-    for frame in 0..16 {
-        let cam = moved_camera(
-            &c,
-            glam::Mat4::from_translation(glam::Vec3::X * (frame as f32 - 8.0) * 0.08),
-        );
-        r.render(&c.gpu, &c.scene, &c.gpu_scene, &cam)
-            .expect("frame");
-        if frame < 4 {
-            continue;
-        }
-        let out = r.read_output(&c.gpu).expect("read back");
-        assert!(out.iter().flatten().all(|v| v.is_finite()));
-        let mut at = c.scene.clone();
-        at.cameras = vec![cam];
-        let (area, _) = area_and_centre_references(&c.gpu, c.backend, &at);
-        let wall = area
-            .iter()
-            .filter(|&&p| (lum(p) - 0.02).abs() < 1e-4)
-            .count();
-        assert!(
-            wall > area.len() / 2,
-            "the wall should fill most of the view, not {wall} of {} pixels",
-            area.len()
-        );
-        let fringe = (0..area.len())
-            .filter(|&i| lum(area[i]) < 0.05 && lum([out[i][0], out[i][1], out[i][2]]) > 1.0)
-            .count();
-        fringe_per_frame.push(fringe);
-    }
+    let fringe_per_frame = slide_past(
+        &c,
+        |area| {
+            let wall = area
+                .iter()
+                .filter(|&&p| (lum(p) - 0.02).abs() < 1e-4)
+                .count();
+            assert!(
+                wall > area.len() / 2,
+                "the wall should fill most of the view, not {wall} of {} pixels",
+                area.len()
+            );
+        },
+        |reference| lum(reference) < 0.05,
+    );
     println!(
         "pixels lit above 1 where the reference is the dark wall, frames 4 to 15: {fringe_per_frame:?}"
     );
