@@ -48,6 +48,7 @@ pub const UPSCALE_BINDINGS: BufferGroup = BufferGroup::new(
         ("render_color", Buf::Read),
         ("accum_before", Buf::Read),
         ("accum_now", Buf::ReadWrite),
+        ("guide_depth", Buf::Read),
     ],
 );
 
@@ -87,8 +88,11 @@ pub struct GpuUpscaleParams {
     pub reset: u32,
     /// Most weight the history may hold ([`UpscaleSettings::max_weight`]).
     pub max_weight: f32,
+    /// 1: `guide_depth` holds each output pixel's depth ([`TemporalUpscaler::encode`]'s
+    /// `guide`).
+    pub guided: u32,
     /// Padding.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 const _: () = assert!(size_of::<GpuUpscaleParams>() == 32);
@@ -151,8 +155,11 @@ pub struct TemporalUpscaler {
     // buffer of its own, or shared scratch (`shared`).
     work: wgpu::Buffer,
     shared: bool,
-    // The bind group for the input buffer last given (rebuilt when it or `work` changes).
-    group: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    // The bind group for the input and guide buffers last given (rebuilt when they or
+    // `work` change).
+    group: Option<(wgpu::Buffer, Option<wgpu::Buffer>, wgpu::BindGroup)>,
+    // Bound as the guide when there is none (the shader reads it only when guided).
+    no_guide: wgpu::Buffer,
     history: bool,
 }
 
@@ -219,7 +226,14 @@ impl TemporalUpscaler {
         let accum = storage("solari_denoise/upscale_accum");
         let work = storage("solari_denoise/upscale_work");
         let copy_group = copy_group(gpu, &copy_layout, &params, &work, &accum);
+        let no_guide = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("solari_denoise/upscale_no_guide"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         Ok(Self {
+            no_guide,
             settings,
             render_size,
             output_size,
@@ -273,6 +287,14 @@ impl TemporalUpscaler {
     /// upscaled into [`TemporalUpscaler::output`], reading jitter and motion from `gbuffer`
     /// (which must be [`TemporalUpscaler::render_size`]). `reset` drops the history (camera
     /// cut); it is dropped too on the first frame and when the G-buffer has none.
+    ///
+    /// `guide`: this frame's G-buffer depth at the output size, one `f32` per output pixel
+    /// in rows ([`solari_scene::primary_depth::PrimaryDepth`]), read on frames whose camera
+    /// moved: a moving pixel's history is then clamped by those of its four nearest samples
+    /// on its own surface and follows their motion, where without it the nearest sample
+    /// decides, a choice that is wrong for a pixel's width along every moving silhouette
+    /// (`temporal_upscale.wesl`). A buffer smaller than the output is refused.
+    #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,
         gpu: &Gpu,
@@ -280,8 +302,18 @@ impl TemporalUpscaler {
         frame: &FrameContext,
         gbuffer: &dyn GBufferSource,
         input: &wgpu::Buffer,
+        guide: Option<&wgpu::Buffer>,
         reset: bool,
     ) -> Result<Ran, GpuError> {
+        let out_pixels = self.output_size.0 as u64 * self.output_size.1 as u64;
+        if let Some(g) = guide
+            && g.size() < out_pixels * 4
+        {
+            return Err(GpuError::Validation(format!(
+                "temporal upscaler: guide of {} bytes for {out_pixels} output pixels",
+                g.size()
+            )));
+        }
         solari_scene::gbuffer_input::check_size("temporal upscaler", self.render_size, gbuffer)?;
         let pixels = self.render_size.0 as u64 * self.render_size.1 as u64;
         if input.size() < pixels * 16 {
@@ -296,11 +328,16 @@ impl TemporalUpscaler {
             output_size: [self.output_size.0, self.output_size.1],
             reset: reset as u32,
             max_weight: self.settings.max_weight,
-            _pad: [0; 2],
+            guided: guide.is_some() as u32,
+            _pad: 0,
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
-        if self.group.as_ref().is_none_or(|(b, _)| b != input) {
+        if self
+            .group
+            .as_ref()
+            .is_none_or(|(b, g, _)| b != input || g.as_ref() != guide)
+        {
             let group = UPSCALE_BINDINGS.bind(
                 gpu,
                 "solari_denoise/upscale",
@@ -310,11 +347,12 @@ impl TemporalUpscaler {
                     ("render_color", input),
                     ("accum_before", &self.accum),
                     ("accum_now", &self.work),
+                    ("guide_depth", guide.unwrap_or(&self.no_guide)),
                 ],
             );
-            self.group = Some((input.clone(), group));
+            self.group = Some((input.clone(), guide.cloned(), group));
         }
-        let group = &self.group.as_ref().expect("made above").1;
+        let group = &self.group.as_ref().expect("made above").2;
         let gbuffer_group = gbuffer.bind_group()?;
         let (w, h) = self.output_size;
         let mut ran = Ran::none();

@@ -151,7 +151,15 @@ fn the_fallback_denoiser_and_upscaler_read_an_external_gbuffer_exactly_as_their_
             ),
         ] {
             upscaler
-                .encode(&h.gpu, &mut encoder, &context, gbuffer, denoised, false)
+                .encode(
+                    &h.gpu,
+                    &mut encoder,
+                    &context,
+                    gbuffer,
+                    denoised,
+                    None,
+                    false,
+                )
                 .expect("upscale");
         }
         h.gpu

@@ -48,7 +48,8 @@ fn gpu_upscale_mapping_matches_the_cpu_twin() {
             output_size: [output.0, output.1],
             reset: 0,
             max_weight: 16.0,
-            _pad: [0; 2],
+            guided: 0,
+            _pad: 0,
         };
         let buffer = gpu.uniform_buffer("test/upscale_params", &params);
         let group = PARAMS.bind(

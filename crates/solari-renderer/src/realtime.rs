@@ -33,6 +33,7 @@ use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::{GpuView, halton_jitter};
 use solari_scene::pass::{FrameContext, Ran};
+use solari_scene::primary_depth::PrimaryDepth;
 use solari_scene::shaders::Backend;
 use solari_scene::{Camera, GpuError, Scene};
 use solari_worldcache::{CacheStats, WorldCache, WorldCacheSettings};
@@ -87,7 +88,7 @@ fn di_settings_for(settings: RestirDiSettings, denoiser: DenoiserKind) -> Restir
 /// surface replacement, [`solari_scene::gbuffer_override::OVERRIDE_PASS_LABELS`]), then the fallback
 /// denoiser's passes ([`solari_denoise::fallback::PASS_LABELS`]) or DLSS-RR's input copy
 /// (DLSS-RR itself records outside the profiler's reach).
-pub const PASS_NAMES: [&str; 20] = [
+pub const PASS_NAMES: [&str; 21] = [
     solari_scene::gbuffer::PASS_LABELS[0],
     solari_lights::PASS_LABELS[0],
     CACHE[0],
@@ -106,6 +107,7 @@ pub const PASS_NAMES: [&str; 20] = [
     DENOISE[0],
     DENOISE[1],
     DENOISE[2],
+    solari_scene::primary_depth::PASS_LABELS[0],
     solari_denoise::upscale::PASS_LABELS[0],
     solari_denoise::dlss_io::COPY_LABELS[0],
 ];
@@ -405,7 +407,8 @@ pub struct RealtimeSettings {
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
     /// DLSS-RR, which chooses its own render size. Best for a still camera: along a moving
     /// one, 0.5 and 0.67 read 1.7–14× native's best relMSE on the four bundled scenes (an
-    /// H100 at 960×540, `benches/RESULTS.md`, "Occluders out of the clamp"): a moving frame's
+    /// H100 at 960×540, before [`RealtimeSettings::upscale_guide`], `benches/RESULTS.md`,
+    /// "Occluders out of the clamp"): a moving frame's
     /// own samples fall in a fraction of the output pixels, and the history that fills the
     /// rest places edges and small emitters up to a render pixel off.
     pub internal_scale: f32,
@@ -414,6 +417,16 @@ pub struct RealtimeSettings {
     pub antialias: Antialias,
     /// The temporal upscaler's knob.
     pub upscale: UpscaleSettings,
+    /// Below an internal scale of 1, trace each output pixel's depth on frames whose camera
+    /// moved and let it tell the upscaler which of a pixel's nearest samples lie on its own
+    /// surface (default on; [`solari_scene::primary_depth::PrimaryDepth`], which traces only
+    /// where those samples straddle a silhouette). Along the orbit on an H200 at 960×540
+    /// (frames 32 / 96) it took 12% / 25% off interior's relMSE at 0.67 and 28% / 30% at
+    /// 0.5, 7–13% off sun_boxes' and 14–16% off many_lights' at 0.67 (many_lights' frame 32
+    /// at 0.5 read 24% worse); the Cornell box within ±4%. Cost at 1080p: 0.035–0.12 ms for
+    /// the guide and 0.04 ms in the upscaler, only on frames whose camera moved, and 8 MiB
+    /// (`benches/RESULTS.md`, "An output-resolution depth as the upscaler's guide").
+    pub upscale_guide: bool,
 }
 
 impl RealtimeSettings {
@@ -549,6 +562,7 @@ impl Default for RealtimeSettings {
             finite_check: FiniteCheck::Off,
             frames_in_flight: 2,
             internal_scale: 1.0,
+            upscale_guide: true,
             antialias: Antialias::Auto,
             upscale: UpscaleSettings::default(),
         }
@@ -644,6 +658,9 @@ pub struct RealtimeRenderer {
     cache_readbacks: Vec<wgpu::Buffer>,
     next_cache_readback: usize,
     upscaler: Option<TemporalUpscaler>,
+    // Each output pixel's depth for the upscaler on moving frames
+    // (`RealtimeSettings::upscale_guide`).
+    guide: Option<PrimaryDepth>,
     // One buffer for what lives only within the passes of ReSTIR DI, GI and the fallback
     // denoiser, which run one after another (`solari_scene::scratch`).
     scratch: Option<wgpu::Buffer>,
@@ -937,6 +954,15 @@ impl RealtimeRenderer {
             in_flight: Default::default(),
             cache_readbacks,
             next_cache_readback: 0,
+            guide: match upscaling && settings.internal_scale < 1.0 && settings.upscale_guide {
+                true => Some(PrimaryDepth::new(
+                    gpu,
+                    backend,
+                    TraceVariant::for_scene(gpu_scene),
+                    (output_width, output_height),
+                )?),
+                false => None,
+            },
             upscaler,
             scratch: None,
         }
@@ -1048,7 +1074,8 @@ impl RealtimeRenderer {
             (
                 "denoiser",
                 self.denoiser_memory_bytes()
-                    + self.upscaler.as_ref().map_or(0, |u| u.memory_bytes()),
+                    + self.upscaler.as_ref().map_or(0, |u| u.memory_bytes())
+                    + self.guide.as_ref().map_or(0, |g| g.memory_bytes()),
             ),
             ("scratch", self.scratch.as_ref().map_or(0, |s| s.size())),
         ]
@@ -1099,7 +1126,11 @@ impl RealtimeRenderer {
             .gbuffer
             .trace_variant()
             .is_none_or(|v| v.check(gpu_scene).is_ok());
-        if di_fits && cache_fits && gbuffer_fits {
+        let guide_fits = self
+            .guide
+            .as_ref()
+            .is_none_or(|g| g.variant().check(gpu_scene).is_ok());
+        if di_fits && cache_fits && gbuffer_fits && guide_fits {
             return Ok(());
         }
         let variant = TraceVariant::for_scene(gpu_scene);
@@ -1116,6 +1147,11 @@ impl RealtimeRenderer {
             if self.psr {
                 self.psr = enable_overrides(gpu, &mut self.gbuffer)?;
             }
+        }
+        if let Some(g) = &mut self.guide
+            && !guide_fits
+        {
+            *g = PrimaryDepth::new(gpu, backend, variant, g.size())?;
         }
         self.rebuild_light_readers(gpu, variant)
     }
@@ -1573,12 +1609,28 @@ impl RealtimeRenderer {
                 Some(d) if denoising => d.output(),
                 _ => self.di.output(),
             };
+            // The guide only serves the moving pipeline: a still or reset frame skips it.
+            let guide = match &self.guide {
+                Some(g)
+                    if solari_scene::gbuffer_input::GBufferSource::camera_moved(&self.gbuffer)
+                        && self.gbuffer.history_valid()
+                        && !upscaler_reset =>
+                {
+                    g.prepare(gpu, camera);
+                    let at_output = FrameContext::new(frame, g.size(), camera, None)
+                        .with_profiler(self.profiler.as_ref());
+                    ran.add(&g.encode(&mut encoder, &at_output, gpu_scene, &self.gbuffer)?);
+                    Some(g.depth())
+                }
+                _ => None,
+            };
             ran.add(&upscaler.encode(
                 gpu,
                 &mut encoder,
                 &context,
                 &self.gbuffer,
                 input,
+                guide,
                 upscaler_reset,
             )?);
         }

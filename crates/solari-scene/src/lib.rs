@@ -39,6 +39,7 @@ pub mod gpu_types;
 pub mod model;
 pub mod packing;
 pub mod pass;
+pub mod primary_depth;
 pub mod ray_differentials;
 pub mod render_setup;
 pub mod rng;

@@ -72,6 +72,10 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
         include_str!("../shaders/gbuffer_traced.wesl"),
     ),
     (
+        "primary_depth",
+        include_str!("../shaders/primary_depth.wesl"),
+    ),
+    (
         "gbuffer_override_apply",
         include_str!("../shaders/gbuffer_override_apply.wesl"),
     ),

@@ -1,0 +1,106 @@
+//! The temporal upscaler's guide (`primary_depth`) against its CPU twin: at 128×96 over a
+//! 64×48 traced G-buffer of the Cornell box, each pixel whose four nearest render samples lie
+//! on one surface (depths within 1.1× of the nearest's) holds exactly the nearest sample's
+//! depth, and every other pixel the depth the traced G-buffer finds at 128×96 (its own
+//! primary ray), within 1e-5 relative; on a first frame (every ray unbounded) and on a
+//! second whose camera moved (first tries bounded by the first frame's depth). GPU: lavapipe
+//! in CI.
+
+use glam::{Mat4, Vec3};
+use solari_scene::gbuffer::GBuffer;
+use solari_scene::gpu::{Gpu, test_gpu};
+use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions, TraceVariant};
+use solari_scene::pass::FrameContext;
+use solari_scene::primary_depth::PrimaryDepth;
+use solari_scene::shaders::Backend;
+use solari_scene::*;
+
+const OUTPUT: (u32, u32) = (128, 96);
+const RENDER: (u32, u32) = (64, 48);
+
+/// A traced G-buffer of `size` rendered from `camera` (its second frame when `gb` has one).
+fn render(gpu: &Gpu, gb: &mut GBuffer, gs: &GpuScene, scene: &Scene, camera: &Camera) -> Vec<f32> {
+    gb.prepare(gpu, scene, camera).expect("prepare");
+    let frame = FrameContext::new(0, gb.size(), camera, None);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    gb.encode(&mut encoder, &frame, gs).expect("encode");
+    gpu.queue.submit([encoder.finish()]);
+    gb.current().read(gpu).expect("read back").depth
+}
+
+/// The shader's test, in f32 as there: two depths of one surface.
+fn same_surface(a: f32, b: f32) -> bool {
+    a <= b * 1.1 && a * 1.1 >= b && (a > 0.0) == (b > 0.0)
+}
+
+#[test]
+fn the_guide_copies_one_surface_and_traces_silhouettes() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let camera = scene.camera(None).unwrap();
+    let mut moved = camera.clone();
+    moved.transform = camera.transform * Mat4::from_translation(Vec3::new(0.3, -0.1, 0.4));
+    let gs = GpuScene::new(&gpu, &scene, Backend::Software, &GpuSceneOptions::default())
+        .expect("upload");
+    let variant = TraceVariant::for_scene(&gs);
+    let traced = |size: (u32, u32)| {
+        GBuffer::traced(&gpu, Backend::Software, variant, size.0, size.1).expect("G-buffer")
+    };
+    let (mut full, mut low) = (traced(OUTPUT), traced(RENDER));
+    let guide = PrimaryDepth::new(&gpu, Backend::Software, variant, OUTPUT).expect("guide");
+    for (frame, camera) in [&camera, &moved].into_iter().enumerate() {
+        let want = render(&gpu, &mut full, &gs, &scene, camera);
+        let samples = render(&gpu, &mut low, &gs, &scene, camera);
+        guide.prepare(&gpu, camera);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        let context = FrameContext::new(0, OUTPUT, camera, None);
+        guide
+            .encode(&mut encoder, &context, &gs, &low)
+            .expect("encode");
+        gpu.queue.submit([encoder.finish()]);
+        let bytes = gpu
+            .read_buffer(guide.depth(), guide.depth().size())
+            .expect("read back");
+        let got: &[f32] = bytemuck::cast_slice(&bytes);
+        let at = |x: i32, y: i32| {
+            let (x, y) = (
+                x.clamp(0, RENDER.0 as i32 - 1),
+                y.clamp(0, RENDER.1 as i32 - 1),
+            );
+            samples[(y * RENDER.0 as i32 + x) as usize]
+        };
+        let (mut copied, mut own) = (0, 0);
+        for y in 0..OUTPUT.1 {
+            for x in 0..OUTPUT.0 {
+                let i = (y * OUTPUT.0 + x) as usize;
+                // Same aspect: the render position is the output's scaled (no jitter).
+                let c = [
+                    (x as f32 + 0.5) * RENDER.0 as f32 / OUTPUT.0 as f32,
+                    (y as f32 + 0.5) * RENDER.1 as f32 / OUTPUT.1 as f32,
+                ];
+                let nearest = at(c[0].floor() as i32, c[1].floor() as i32);
+                let base = [(c[0] - 0.5).floor() as i32, (c[1] - 0.5).floor() as i32];
+                let one = (0..4)
+                    .all(|k| same_surface(at(base[0] + (k & 1), base[1] + (k >> 1)), nearest));
+                if one {
+                    assert_eq!(got[i], nearest, "frame {frame}: pixel ({x}, {y}) copies");
+                    copied += 1;
+                } else {
+                    let close = (got[i] - want[i]).abs() <= 1e-5 * want[i].abs()
+                        || (got[i] == 0.0 && want[i] == 0.0);
+                    assert!(
+                        close,
+                        "frame {frame}: pixel ({x}, {y}) traced {} where the G-buffer has {}",
+                        got[i], want[i]
+                    );
+                    own += 1;
+                }
+            }
+        }
+        // The box's blocks and walls give silhouettes; most pixels are inside a surface.
+        assert!(
+            own > 100 && copied > 4 * own,
+            "frame {frame}: {own} traced, {copied} copied"
+        );
+    }
+}
