@@ -190,3 +190,36 @@ fn the_fallback_denoiser_and_upscaler_read_an_external_gbuffer_exactly_as_their_
     assert!(h.gpu.check_errors().is_ok());
     println!("{compared} pixels over 8 frames identical on both G-buffers");
 }
+
+/// A depth guide smaller than the upscaler's output (one `f32` per output pixel) is refused
+/// with an error that names its size, and nothing is recorded.
+#[test]
+fn the_upscaler_refuses_a_guide_smaller_than_its_output() {
+    let Some(mut h) = Harness::new() else { return };
+    let mut upscaler = TemporalUpscaler::new(
+        &h.gpu,
+        (SIZE, SIZE),
+        (2 * SIZE, 2 * SIZE),
+        UpscaleSettings::default(),
+    )
+    .expect("upscaler");
+    let outputs = (4 * SIZE * SIZE) as u64;
+    let guide = solari_scene::scratch::allocate(&h.gpu, 4 * outputs - 4).expect("buffer");
+    let mut encoder = h.gbuffer_encoder();
+    let camera = grey_box().camera(None).expect("camera");
+    let frame = FrameContext::new(0, (SIZE, SIZE), &camera, None);
+    let lighting = h.lighting().clone();
+    let e = upscaler
+        .encode(
+            &h.gpu,
+            &mut encoder,
+            &frame,
+            h.gbuffer(),
+            &lighting,
+            Some(&guide),
+            false,
+        )
+        .expect_err("a short guide")
+        .to_string();
+    assert!(e.contains(&(4 * outputs - 4).to_string()), "{e}");
+}

@@ -1,6 +1,8 @@
 //! GPU twin test: the temporal upscaler's `render_to_output` and `output_to_render`
 //! (`temporal_upscale.wesl`) map positions as `upscale::render_to_output` and
 //! `upscale::output_to_render` do, at sizes whose rounded render size changes the aspect.
+//! Both call `view.wesl`'s `render_to_output_of` / `output_to_render_of`, which the
+//! upscaler's depth guide (`solari_scene::primary_depth`) maps with too.
 
 use solari_denoise::modules;
 use solari_denoise::upscale::{GpuUpscaleParams, output_to_render, render_to_output};

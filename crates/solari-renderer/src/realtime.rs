@@ -29,6 +29,7 @@ use solari_restir::{
 use solari_scene::finite_check::{FiniteChecker, FiniteCount, RecordLayout, first_offender};
 use solari_scene::gbuffer::GBuffer;
 use solari_scene::gbuffer_debug::{GBufferChannel, GBufferDebug};
+use solari_scene::gbuffer_input::GBufferSource;
 use solari_scene::gpu::Gpu;
 use solari_scene::gpu_scene::{GpuScene, TraceVariant};
 use solari_scene::gpu_types::{GpuView, halton_jitter};
@@ -1612,7 +1613,7 @@ impl RealtimeRenderer {
             // The guide only serves the moving pipeline: a still or reset frame skips it.
             let guide = match &self.guide {
                 Some(g)
-                    if solari_scene::gbuffer_input::GBufferSource::camera_moved(&self.gbuffer)
+                    if self.gbuffer.camera_moved()
                         && self.gbuffer.history_valid()
                         && !upscaler_reset =>
                 {

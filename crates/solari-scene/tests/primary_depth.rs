@@ -104,3 +104,32 @@ fn the_guide_copies_one_surface_and_traces_silhouettes() {
         );
     }
 }
+
+/// An empty guide is refused at construction, and a G-buffer larger than the guide (it maps
+/// output pixels into the render image, so the render size must not exceed the output's) at
+/// encode, each with an error naming the sizes.
+#[test]
+fn the_guide_refuses_an_empty_size_and_a_larger_gbuffer() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let camera = scene.camera(None).unwrap();
+    let gs = GpuScene::new(&gpu, &scene, Backend::Software, &GpuSceneOptions::default())
+        .expect("upload");
+    let variant = TraceVariant::for_scene(&gs);
+    let e = PrimaryDepth::new(&gpu, Backend::Software, variant, (0, 8))
+        .err()
+        .expect("an empty guide")
+        .to_string();
+    assert!(e.contains("0×8"), "{e}");
+    let guide = PrimaryDepth::new(&gpu, Backend::Software, variant, RENDER).expect("guide");
+    let mut larger =
+        GBuffer::traced(&gpu, Backend::Software, variant, OUTPUT.0, OUTPUT.1).expect("G-buffer");
+    render(&gpu, &mut larger, &gs, &scene, &camera);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    let context = FrameContext::new(0, RENDER, &camera, None);
+    let e = guide
+        .encode(&mut encoder, &context, &gs, &larger)
+        .expect_err("a larger G-buffer")
+        .to_string();
+    assert!(e.contains("128×96") && e.contains("64×48"), "{e}");
+}
