@@ -88,8 +88,8 @@ pub struct GpuUpscaleParams {
     pub reset: u32,
     /// Most weight the history may hold ([`UpscaleSettings::max_weight`]).
     pub max_weight: f32,
-    /// 1: `guide_depth` holds each output pixel's depth ([`TemporalUpscaler::encode`]'s
-    /// `guide`).
+    /// 1: `guide_depth` holds each output pixel's depth, negated where it emits
+    /// ([`TemporalUpscaler::encode`]'s `guide`).
     pub guided: u32,
     /// Padding.
     pub _pad: u32,
@@ -288,12 +288,14 @@ impl TemporalUpscaler {
     /// (which must be [`TemporalUpscaler::render_size`]). `reset` drops the history (camera
     /// cut); it is dropped too on the first frame and when the G-buffer has none.
     ///
-    /// `guide`: this frame's G-buffer depth at the output size, one `f32` per output pixel
-    /// in rows ([`solari_scene::primary_depth::PrimaryDepth`]), read on frames whose camera
-    /// moved: a moving pixel's history is then clamped by those of its four nearest samples
-    /// on its own surface and follows their motion, where without it the nearest sample
-    /// decides, a choice that is wrong for a pixel's width along every moving silhouette
-    /// (`temporal_upscale.wesl`). A buffer smaller than the output is refused.
+    /// `guide`: this frame's G-buffer depth at the output size, negated where the surface
+    /// emits, one `f32` per output pixel in rows
+    /// ([`solari_scene::primary_depth::PrimaryDepth`]), read on frames whose camera moved: a
+    /// moving pixel's history is then clamped by those of its four nearest samples on its own
+    /// surface (depth within 1.1×, emitting as the pixel does) and follows their motion, where
+    /// without it the nearest sample decides, a choice that is wrong for a pixel's width
+    /// along every moving silhouette (`temporal_upscale.wesl`). A buffer smaller than the
+    /// output is refused.
     #[allow(clippy::too_many_arguments)]
     pub fn encode(
         &mut self,

@@ -406,12 +406,12 @@ pub struct RealtimeSettings {
     /// Fraction of the output's width and height the lighting is rendered at (0.25–1,
     /// default 1). Below 1 the camera is jittered and the temporal upscaler
     /// ([`solari_denoise::TemporalUpscaler`]) brings each frame to the output size. Not with
-    /// DLSS-RR, which chooses its own render size. Best for a still camera: along a moving
-    /// one, 0.5 and 0.67 read 1.7–14× native's best relMSE on the four bundled scenes (an
-    /// H100 at 960×540, before [`RealtimeSettings::upscale_guide`], `benches/RESULTS.md`,
-    /// "Occluders out of the clamp"): a moving frame's
-    /// own samples fall in a fraction of the output pixels, and the history that fills the
-    /// rest places edges and small emitters up to a render pixel off.
+    /// DLSS-RR, which chooses its own render size. Along a moving camera, 0.5 and 0.67 with
+    /// path GI read 1.1–3.1× native's best relMSE on the four bundled scenes (an H200 at
+    /// 960×540, with [`RealtimeSettings::upscale_guide`], `benches/RESULTS.md`, "An emitter
+    /// is a surface of its own"): a moving frame's own samples fall in a fraction of the
+    /// output pixels, and the history that fills the rest places some edges up to a render
+    /// pixel off.
     pub internal_scale: f32,
     /// Antialiasing at scale 1, jittered only while the camera stands still (default
     /// [`Antialias::Auto`]: on under the fallback denoiser; the figures are on the type).

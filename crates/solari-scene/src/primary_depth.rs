@@ -1,15 +1,19 @@
 //! The temporal upscaler's guide (`shaders/primary_depth.wesl`): each output pixel's G-buffer
-//! depth (znear / view-axis distance, 0 for background) in a storage buffer, one `f32` per
-//! pixel in rows.
+//! depth (znear / view-axis distance, 0 for background), negated where the surface emits,
+//! in a storage buffer, one `f32` per pixel in rows.
 //!
 //! The upscaler reads it to tell which surface each output pixel shows where its nearest
-//! render samples, 1.5–2 output pixels apart, straddle a silhouette
-//! (`solari_denoise::TemporalUpscaler::encode`'s `guide`). Only those pixels trace a
-//! primary ray of their own (unjittered, through the scene's tracing backend, its first try
-//! no farther than the pixel's last depth, as the traced G-buffer's); the others copy their
-//! nearest sample's depth from the render-size G-buffer, which is what the upscaler would
-//! decide by anyway. 4 bytes a pixel and nothing else: the buffer keeps last frame's depth
-//! for the first try.
+//! render samples, 1.5–2 output pixels apart, straddle a silhouette or an emitter's edge
+//! (`solari_denoise::TemporalUpscaler::encode`'s `guide`). Two samples are of one surface
+//! when their depths are within 1.1× of each other and both emit or neither: a lamp low over
+//! a floor, or a light panel in a ceiling, is within 1.1× of the depth behind its edge, and
+//! by depth alone its light spread a pixel into the dark around it along a moving camera.
+//! Only the straddling pixels trace a primary ray of their own (unjittered, through the
+//! scene's tracing backend, its first try no farther than the pixel's last depth, as the
+//! traced G-buffer's; whether the hit emits as the G-buffer writes it: front faces, or
+//! double-sided materials); the others copy their nearest sample's value from the
+//! render-size G-buffer, which is what the upscaler would decide by anyway. 4 bytes a pixel
+//! and nothing else: the buffer keeps last frame's depth for the first try.
 //!
 //! ```no_run
 //! # use solari_scene::{gbuffer::GBuffer, gpu::Gpu, gpu_scene::{GpuScene, TraceVariant},
@@ -21,7 +25,7 @@
 //! let mut encoder = gpu.device.create_command_encoder(&Default::default());
 //! guide.encode(&mut encoder, &FrameContext::new(0, (640, 360), camera, None), gpu_scene, gbuffer)?;
 //! gpu.queue.submit([encoder.finish()]);
-//! // guide.depth(): 640 × 360 f32, row by row.
+//! // guide.depth(): 640 × 360 f32, row by row (negative: an emitting surface).
 //! # Ok(()) }
 //! ```
 
@@ -164,7 +168,8 @@ impl PrimaryDepth {
         Ok(ran)
     }
 
-    /// The depth: one `f32` per pixel, rows top to bottom.
+    /// The guide: one `f32` per pixel, rows top to bottom, the G-buffer depth negated where
+    /// the surface emits.
     pub fn depth(&self) -> &wgpu::Buffer {
         &self.depth
     }

@@ -1,10 +1,11 @@
 //! The temporal upscaler's guide (`primary_depth`) against its CPU twin: at 128×96 over a
 //! 64×48 traced G-buffer of the Cornell box, each pixel whose four nearest render samples lie
-//! on one surface (depths within 1.1× of the nearest's) holds exactly the nearest sample's
-//! depth, and every other pixel the depth the traced G-buffer finds at 128×96 (its own
-//! primary ray), within 1e-5 relative; on a first frame (every ray unbounded) and on a
-//! second whose camera moved (first tries bounded by the first frame's depth). GPU: lavapipe
-//! in CI.
+//! on one surface (depths within 1.1× of the nearest's, and all emitting or none) holds
+//! exactly the nearest sample's value (its depth, negated where it emits), and every other
+//! pixel what the traced G-buffer finds at 128×96 (its own primary ray): the depth within
+//! 1e-5 relative, its sign whether the surface emits; on a first frame (every ray unbounded)
+//! and on a second whose camera moved (first tries bounded by the first frame's depth). GPU:
+//! lavapipe in CI.
 
 use glam::{Mat4, Vec3};
 use solari_scene::gbuffer::GBuffer;
@@ -18,19 +19,36 @@ use solari_scene::*;
 const OUTPUT: (u32, u32) = (128, 96);
 const RENDER: (u32, u32) = (64, 48);
 
-/// A traced G-buffer of `size` rendered from `camera` (its second frame when `gb` has one).
+/// A traced G-buffer of `size` rendered from `camera` (its second frame when `gb` has one):
+/// each pixel's guide value, its depth negated where it emits (`gbuffer_read.wesl`'s
+/// `guide_value`).
 fn render(gpu: &Gpu, gb: &mut GBuffer, gs: &GpuScene, scene: &Scene, camera: &Camera) -> Vec<f32> {
     gb.prepare(gpu, scene, camera).expect("prepare");
     let frame = FrameContext::new(0, gb.size(), camera, None);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     gb.encode(&mut encoder, &frame, gs).expect("encode");
     gpu.queue.submit([encoder.finish()]);
-    gb.current().read(gpu).expect("read back").depth
+    let texels = gb.current().read(gpu).expect("read back");
+    let emits = |e: &[half::f16; 4]| e[..3].iter().any(|c| c.to_f32() > 0.0);
+    texels
+        .depth
+        .iter()
+        .zip(&texels.emission)
+        .map(|(&d, e)| if emits(e) && d > 0.0 { -d } else { d })
+        .collect()
 }
 
-/// The shader's test, in f32 as there: two depths of one surface.
+/// The shader's test, in f32 as there: two guide values of one surface (one depth surface,
+/// both emitting or neither).
 fn same_surface(a: f32, b: f32) -> bool {
-    a <= b * 1.1 && a * 1.1 >= b && (a > 0.0) == (b > 0.0)
+    let (da, db) = (a.abs(), b.abs());
+    da <= db * 1.1 && da * 1.1 >= db && (da > 0.0) == (db > 0.0) && (a < 0.0) == (b < 0.0)
+}
+
+/// The depths alone of one surface, as before emission counted: a pixel traced only because
+/// an emitter's edge crosses its samples.
+fn same_depth(a: f32, b: f32) -> bool {
+    same_surface(a.abs(), b.abs())
 }
 
 #[test]
@@ -69,7 +87,7 @@ fn the_guide_copies_one_surface_and_traces_silhouettes() {
             );
             samples[(y * RENDER.0 as i32 + x) as usize]
         };
-        let (mut copied, mut own) = (0, 0);
+        let (mut copied, mut own, mut emitter_edges, mut emitting) = (0, 0, 0, 0);
         for y in 0..OUTPUT.1 {
             for x in 0..OUTPUT.0 {
                 let i = (y * OUTPUT.0 + x) as usize;
@@ -80,8 +98,12 @@ fn the_guide_copies_one_surface_and_traces_silhouettes() {
                 ];
                 let nearest = at(c[0].floor() as i32, c[1].floor() as i32);
                 let base = [(c[0] - 0.5).floor() as i32, (c[1] - 0.5).floor() as i32];
-                let one = (0..4)
-                    .all(|k| same_surface(at(base[0] + (k & 1), base[1] + (k >> 1)), nearest));
+                let four = (0..4).map(|k| at(base[0] + (k & 1), base[1] + (k >> 1)));
+                let one = four.clone().all(|d| same_surface(d, nearest));
+                if !one && four.clone().all(|d| same_depth(d, nearest)) {
+                    emitter_edges += 1;
+                }
+                emitting += usize::from(got[i] < 0.0);
                 if one {
                     assert_eq!(got[i], nearest, "frame {frame}: pixel ({x}, {y}) copies");
                     copied += 1;
@@ -97,10 +119,16 @@ fn the_guide_copies_one_surface_and_traces_silhouettes() {
                 }
             }
         }
-        // The box's blocks and walls give silhouettes; most pixels are inside a surface.
+        // The box's blocks and walls give silhouettes; most pixels are inside a surface. The
+        // ceiling light lies within 1.1× of the ceiling's depth: its edge is traced for its
+        // emission alone.
         assert!(
             own > 100 && copied > 4 * own,
             "frame {frame}: {own} traced, {copied} copied"
+        );
+        assert!(
+            emitter_edges > 10 && emitting > 20,
+            "frame {frame}: {emitter_edges} traced at the light's edge, {emitting} emitting"
         );
     }
 }
