@@ -11,7 +11,8 @@
 #   auto:  `render --quality auto --budget-ms B` at 1920x1080 for B in BUDGETS: the setting
 #          it picks (its JSON) and that setting's own frame time.
 # A setting is SCALE-GI[-nodi]: SCALE 50, 67 (internal scale 0.5, 0.67 with the temporal
-# upscaler), 100 (native) or aa (native, jittered + upscaler); GI cache (specular GI off),
+# upscaler; any other two digits 50-99 too, as 0.NN: settings off the grid), 100 (native)
+# or aa (native, jittered + upscaler); GI cache (specular GI off),
 # path or restir (specular GI on); -nodi: ReSTIR DI without reuse.
 # The time and error phases are sweep_phases.sh's. Carry .gl, .dev/bins.tar.xz (stripped `solari`)
 # and .dev/SOLARI_COMMIT; scenes come from
@@ -36,6 +37,7 @@ mkdir -p "$R" "$OUT"
 flags() {
   local parts; IFS=- read -ra parts <<< "$1"
   case ${parts[0]} in 50) echo "--internal-scale 0.5" ;; 67) echo "--internal-scale 0.67" ;;
+    [5-9][0-9]) echo "--internal-scale 0.${parts[0]}" ;;
     100) echo "--antialias off" ;; aa) echo "--antialias on" ;; *) echo "bad scale in $1" >&2; exit 2 ;; esac
   case ${parts[1]} in cache) echo "--gi cache --specular-gi off" ;;
     path|restir) echo "--gi ${parts[1]} --specular-gi on" ;; *) echo "bad GI in $1" >&2; exit 2 ;; esac
