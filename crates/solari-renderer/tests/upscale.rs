@@ -463,19 +463,25 @@ fn bright_block() -> Scene {
     scene
 }
 
-/// The bright block of [`bright_block`] before a dark far wall (black, emitting 0.02): the
-/// box's back wall three times as wide and high about its centre, behind every silhouette.
-fn block_before_far_wall() -> Scene {
-    let mut scene = bright_block();
-    let cornell = solari_scene::default_scene::cornell_box();
+/// The Cornell box's back wall: its mesh and its centre (in the box's frame: the wall has no
+/// transform of its own).
+fn back_wall(cornell: &Scene) -> (solari_scene::Mesh, glam::Vec3) {
     let wall = cornell
         .instances
         .iter()
         .find(|i| i.name == "back_wall")
         .expect("the box has a back wall");
-    let wall_mesh = cornell.meshes[wall.mesh as usize].clone();
-    let centre =
-        wall_mesh.positions.iter().copied().sum::<glam::Vec3>() / wall_mesh.positions.len() as f32;
+    let mesh = cornell.meshes[wall.mesh as usize].clone();
+    let centre = mesh.positions.iter().copied().sum::<glam::Vec3>() / mesh.positions.len() as f32;
+    (mesh, centre)
+}
+
+/// The bright block of [`bright_block`] before a dark far wall (black, emitting 0.02): the
+/// box's back wall three times as wide and high about its centre, behind every silhouette.
+fn block_before_far_wall() -> Scene {
+    let mut scene = bright_block();
+    let cornell = solari_scene::default_scene::cornell_box();
+    let (wall_mesh, centre) = back_wall(&cornell);
     scene.meshes.push(wall_mesh);
     let mut dark = cornell.materials[0].clone();
     dark.base_color = glam::Vec4::new(0.0, 0.0, 0.0, 1.0);
@@ -669,13 +675,7 @@ fn the_guide_places_a_moving_silhouette_at_half_scale() {
 fn panel_on_dark_wall() -> Scene {
     let mut scene = block_before_far_wall();
     let cornell = solari_scene::default_scene::cornell_box();
-    let wall = cornell
-        .instances
-        .iter()
-        .find(|i| i.name == "back_wall")
-        .expect("the box has a back wall");
-    let mesh = cornell.meshes[wall.mesh as usize].clone();
-    let centre = mesh.positions.iter().copied().sum::<glam::Vec3>() / mesh.positions.len() as f32;
+    let (mesh, centre) = back_wall(&cornell);
     let eye = cornell.cameras[0]
         .transform
         .transform_point3(glam::Vec3::ZERO);
