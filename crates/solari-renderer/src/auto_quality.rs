@@ -18,8 +18,8 @@
 //!   camera still and, where measured, moving (the orbit camera): a point counts by the worse
 //!   of its two errors, each as a multiple of the scene's best, since a user's camera both
 //!   moves and stands still (the upscaled points are 1.1–3.8× the best point moving, and
-//!   1.3–6.7× still: [`crate::quality`]). A scene the table holds uses its own rows; any other scene
-//!   uses, for each point, its worst error over the table's scenes (the choice that was never
+//!   1.3–6.7× still: [`crate::quality`]). A scene the table holds uses its own rows; any
+//!   other scene uses, for each point, its worst error over the table's scenes (the choice that was never
 //!   far off). [`ErrorTable::builtin`] holds the four bundled scenes measured on an H100.
 
 use crate::quality::{QualitySetting, Resolution};
@@ -193,8 +193,8 @@ impl ErrorTable {
     /// camera still and, where the table has it, moving (each against the best of its own
     /// kind), the larger of the two. A user's camera moves and stops, and a point is only as
     /// good as its worse case: the upscaled points are 1.1 to 3.8 times the best along the
-    /// orbit (module docs; 1.7 to 14 times before the upscaler's guide told emitters apart). A point without a moving
-    /// figure counts by its still one alone (`parse_csv` warns where a scene is only partly
+    /// orbit (module docs; 1.7 to 14 times before the upscaler had its guide). A point
+    /// without a moving figure counts by its still one alone (`parse_csv` warns where a scene is only partly
     /// measured).
     pub fn relative_error(&self, scene: &str, setting: &QualitySetting) -> Option<f64> {
         let rows = || self.rows.iter().filter(|r| r.scene == scene);

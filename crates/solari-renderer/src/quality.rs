@@ -41,7 +41,8 @@
 //! "An output-resolution depth as the upscaler's guide" and "An emitter is a surface of its
 //! own"): `50-path-nodi`, the low tier until the thirty-third session, is 1.35 / 1.30 / 1.29
 //! / 3.05× the best moving point (Cornell box / interior / many_lights / sun_boxes; 9.9 / 2.3
-//! / 14 / 3.6× before the guide told emitters apart, 9.9 / 13.6 / 179 / 3.5× before the
+//! / 14 / 3.6× before the upscaler's guide (0a537ed, emitters told apart in a21e69c; the
+//! table held no row of the depth-only guide), 9.9 / 13.6 / 179 / 3.5× before the
 //! occluder fix in 07ce27b, 87 / 47 / 839 / 6.8× before the motion fix in cd79385; 2.1 / 1.6
 //! / 2.1 / 3.5× still). Under motion a frame's own samples cover a quarter of the pixels at
 //! half scale, so edges come out up to a render pixel off where the guide cannot place them.
@@ -305,7 +306,7 @@ mod tests {
     }
 
     /// Along the orbit camera (the table's moving column) no tier is far from the best: the
-    /// upscaled points, 1.1-3.8× worse there (1.7-14× before the guide told emitters apart,
+    /// upscaled points, 1.1-3.8× worse there (1.7-14× before the upscaler's guide,
     /// 2.3-179× before the occluder fix in 07ce27b, 2.9-386× before the silhouette fix in
     /// 92c69a1, 4.8-840× before the motion fix in cd79385), are in none of them. The
     /// half-scale check is a tripwire: an upscaler that follows motion better has to bring a

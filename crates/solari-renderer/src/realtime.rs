@@ -422,10 +422,12 @@ pub struct RealtimeSettings {
     /// moved and let it tell the upscaler which of a pixel's nearest samples lie on its own
     /// surface (default on; [`solari_scene::primary_depth::PrimaryDepth`], which traces only
     /// where those samples straddle a silhouette or an emitter's edge; an emitter and what
-    /// lies around it are two surfaces). Along the orbit on an H200 at 960×540 (mean of
-    /// frames 32 and 96, path GI, 0.67 / 0.5), against no guide: many_lights 0.241 / 0.299
-    /// → 0.024 / 0.027, the Cornell box 0.0031 / 0.0073 → 0.00087 / 0.0010, interior 0.0101
-    /// / 0.0133 → 0.0067 / 0.0077; sun_boxes (no emitter in view) 7–15% lower. Cost at
+    /// lies around it are two surfaces). Along the orbit at 960×540 (mean of frames 32 and
+    /// 96, path GI, 0.67 / 0.5; without the guide on an H100 at 07ce27b, with it on an H200:
+    /// the native points read within 1–4% on the two, `benches/results/h200_2026-11-28b`,
+    /// `native_check`): many_lights 0.241 / 0.299 → 0.024 / 0.027, the Cornell box 0.0031 /
+    /// 0.0073 → 0.00087 / 0.0010, interior 0.0101 / 0.0133 → 0.0067 / 0.0077; sun_boxes (no
+    /// emitter in view) 7–15% lower. Cost at
     /// 1080p: 0.035–0.12 ms for the guide and 0.07 ms in the upscaler, only on frames whose
     /// camera moved, and 8 MiB (`benches/RESULTS.md`, "An output-resolution depth as the
     /// upscaler's guide" and "An emitter is a surface of its own").
