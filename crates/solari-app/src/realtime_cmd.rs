@@ -224,6 +224,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         v["cache_light_change_frames"] = applied.cache.light_change_frames.into();
         v["cache_warm_up"] = applied.cache.warm_up_exponent.into();
         v["di_reuse_skipped"] = renderer.di_reuse_skipped().into();
+        v["gpu_span_ms"] = summary.span_ms().into();
         println!("{v}");
     } else {
         println!(
@@ -244,7 +245,13 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             );
         }
         if let Some(wall) = wall_ms {
-            let gpu = gpu_frame_ms.map_or("untimed".to_string(), |g| format!("{g:.3} ms"));
+            let gpu = match (gpu_frame_ms, summary.span_ms()) {
+                (Some(g), Some(span)) => {
+                    format!("{g:.3} ms in passes, {span:.3} ms first pass to last")
+                }
+                (Some(g), None) => format!("{g:.3} ms"),
+                _ => "untimed".to_string(),
+            };
             println!(
                 "frame time: wall {wall:.3} ms ({:.0} fps), GPU {gpu}; {} frame(s) in flight, \
                  G-buffer {}",
@@ -282,7 +289,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     Ok(())
 }
 
-/// One JSON line per frame: every pass, whether it ran and its GPU milliseconds.
+/// One JSON line per frame: every pass, whether it ran and its GPU milliseconds, and the
+/// frame's GPU span (null where the frame was not timed).
 pub fn report_line(r: &FrameReport) -> String {
     let passes: Vec<serde_json::Value> = r
         .passes
@@ -294,7 +302,8 @@ pub fn report_line(r: &FrameReport) -> String {
         .iter()
         .map(|c| serde_json::json!({"pass": c.name, "non_finite": c.non_finite, "negative": c.negative}))
         .collect();
-    serde_json::json!({"frame": r.frame, "passes": passes, "finite": finite}).to_string()
+    serde_json::json!({"frame": r.frame, "passes": passes, "gpu_span_ms": r.gpu_span_ms, "finite": finite})
+        .to_string()
 }
 
 /// Per pass over a run.
@@ -315,6 +324,9 @@ pub struct Summary {
     timed: [u64; PASS_NAMES.len()],
     ms: [f64; PASS_NAMES.len()],
     frames: u64,
+    // Timed frames after the first and the sum of their GPU spans.
+    spans: u64,
+    span_ms: f64,
 }
 
 impl Summary {
@@ -331,7 +343,19 @@ impl Summary {
                 self.ms[i] += ms;
             }
         }
+        if self.frames > 0
+            && let Some(ms) = r.gpu_span_ms
+        {
+            self.spans += 1;
+            self.span_ms += ms;
+        }
         self.frames += 1;
+    }
+
+    /// Mean GPU span of a frame (first pass's start to last pass's end, see
+    /// [`FrameReport::gpu_span_ms`]), the first frame left out.
+    pub fn span_ms(&self) -> Option<f64> {
+        (self.spans > 0).then(|| self.span_ms / self.spans as f64)
     }
 
     /// The summaries in pass order.

@@ -389,7 +389,16 @@ impl Viewer {
         {
             Ok(Some(report)) => {
                 self.figures.non_finite += report.finite.iter().map(|f| f.non_finite).sum::<u64>();
-                self.figures.report = Some(report);
+                // One frame in `--time-every` carries times: the overlay keeps showing the
+                // last timed report until the next (any report where none are timed).
+                let shown_timed = self
+                    .figures
+                    .report
+                    .as_ref()
+                    .is_some_and(|r| r.gpu_span_ms.is_some());
+                if report.gpu_span_ms.is_some() || !shown_timed {
+                    self.figures.report = Some(report);
+                }
             }
             Ok(None) => {}
             Err(e) => return Err(format!("frame {}: {e}", self.figures.frames)),

@@ -324,6 +324,10 @@ fn bad_arguments_are_refused_before_any_work() {
             ],
             "does not exist",
         ),
+        (
+            &["render", "--mode", "realtime", "--time-every", "0"],
+            "0 is not in 1..",
+        ),
         (&["render", "--generated", "0x100"], "rocks must be 1 to"),
         (&["render", "--generated", "4x8"], "triangles per rock"),
         (&["render", "--generated", "4"], "ROCKSxTRIANGLES"),

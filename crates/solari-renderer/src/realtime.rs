@@ -145,6 +145,8 @@ struct Marks([bool; PASS_NAMES.len()]);
 // A frame submitted and not yet reported.
 struct InFlight {
     frame: u32,
+    // Whether the profiler timed this frame (it then holds a frame of results for it).
+    timed: bool,
     ran: Marks,
     submission: wgpu::SubmissionIndex,
     // The detector's read-back buffer for this frame.
@@ -391,6 +393,13 @@ pub struct RealtimeSettings {
     /// without them times are `None`). Times come with each frame's report (late with
     /// [`RealtimeRenderer::submit`]).
     pub timestamps: bool,
+    /// With `timestamps`, time every `timestamp_interval`th frame (frames 0, N, 2N, ...) and
+    /// leave the others untimed (their reports' times are `None`). 1, the default, times
+    /// every frame. Timing is not free: on an H200 at 1080p a timed frame's wall time was
+    /// 0.065-0.08 ms longer than an untimed one's (the queries' resolve and read-back after
+    /// the last pass; the passes themselves ran as fast: benches/RESULTS.md), 10% of a 0.7 ms
+    /// frame, so a frame loop that reports its wall time times a sample of its frames.
+    pub timestamp_interval: u32,
     /// The denoiser: `None` picks the best available (DLSS-RR where it can run, else the
     /// fallback); the default is `Some(DenoiserKind::None)`, the raw image, so that library
     /// users measuring the lighting itself get it unfiltered.
@@ -519,6 +528,9 @@ impl RealtimeSettings {
                     .into(),
             );
         }
+        if self.timestamp_interval == 0 {
+            return Err("the timestamp interval must be at least 1 (every frame)".into());
+        }
         if !(1..=3).contains(&self.frames_in_flight) {
             return Err(format!(
                 "frames in flight must be 1 to 3, not {}",
@@ -562,6 +574,7 @@ impl Default for RealtimeSettings {
             psr: true,
             view: FrameView::Lit,
             timestamps: false,
+            timestamp_interval: 1,
             denoiser: Some(DenoiserKind::None),
             denoise: FallbackSettings::default(),
             finite_check: FiniteCheck::Off,
@@ -597,6 +610,10 @@ pub struct FrameReport {
     pub finite: Vec<FiniteCount>,
     /// The world cache's counters after this frame (`None` without the cache).
     pub cache: Option<CacheStats>,
+    /// Milliseconds from the first timed pass's start to the last one's end on the GPU: the
+    /// passes' times plus the gaps between them (barriers, idle between dispatches), which
+    /// the passes' sum leaves out. `None` when untimed.
+    pub gpu_span_ms: Option<f64>,
 }
 
 impl FrameReport {
@@ -1432,6 +1449,9 @@ impl RealtimeRenderer {
         }
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
+        // Untimed frames open no profiler scope and leave the profiler's frames alone.
+        let timed =
+            self.profiler.is_some() && frame.is_multiple_of(self.settings.timestamp_interval);
         let light_count = self.lights.light_count;
         let (w, h) = self.di.size();
         let view = GpuView::new(camera, w, h);
@@ -1456,7 +1476,7 @@ impl RealtimeRenderer {
             self.bind_specular(gpu)?;
         }
         let mut context = FrameContext::new(frame, self.di.size(), camera, None)
-            .with_profiler(self.profiler.as_ref());
+            .with_profiler(self.profiler.as_ref().filter(|_| timed));
         if let Some(previous) = self.last_view.replace(context.view) {
             context.previous_view = GpuView { frame, ..previous };
         }
@@ -1623,7 +1643,7 @@ impl RealtimeRenderer {
                 {
                     g.prepare(gpu, camera);
                     let at_output = FrameContext::new(frame, g.size(), camera, None)
-                        .with_profiler(self.profiler.as_ref());
+                        .with_profiler(self.profiler.as_ref().filter(|_| timed));
                     ran.add(&g.encode(&mut encoder, &at_output, gpu_scene, &self.gbuffer)?);
                     Some(g.depth())
                 }
@@ -1639,7 +1659,7 @@ impl RealtimeRenderer {
                 upscaler_reset,
             )?);
         }
-        if let Some(p) = &mut self.profiler {
+        if let Some(p) = self.profiler.as_mut().filter(|_| timed) {
             p.resolve_queries(&mut encoder);
         }
         // The denoiser's output is checked after the command buffers it returned (DLSS-RR
@@ -1679,7 +1699,7 @@ impl RealtimeRenderer {
         });
         // The profiler's frame ends whatever happened, so the next frame's queries stay its
         // own (reports pair with profiler frames in order).
-        if let Some(p) = &mut self.profiler {
+        if let Some(p) = self.profiler.as_mut().filter(|_| timed) {
             p.end_frame()
                 .map_err(|e| GpuError::Validation(format!("GPU profiler: {e}")))?;
         }
@@ -1687,6 +1707,7 @@ impl RealtimeRenderer {
         gpu.check_errors()?;
         Ok(InFlight {
             frame,
+            timed,
             ran,
             submission,
             readback,
@@ -1698,7 +1719,8 @@ impl RealtimeRenderer {
     fn complete(&mut self, gpu: &Gpu, f: InFlight) -> Result<FrameReport, GpuError> {
         gpu.wait_for(f.submission.clone())?;
         let mut times = [None; PASS_NAMES.len()];
-        if let Some(p) = &mut self.profiler {
+        let mut span: Option<(f64, f64)> = None;
+        if let Some(p) = self.profiler.as_mut().filter(|_| f.timed) {
             // Frames reach the profiler in order, so its oldest pending frame is this one.
             let results = p.process_finished_frame(gpu.queue.get_timestamp_period());
             if results.is_none() {
@@ -1711,6 +1733,11 @@ impl RealtimeRenderer {
             }
             if let Some(results) = results {
                 for r in results {
+                    if let Some(t) = &r.time {
+                        span = Some(
+                            span.map_or((t.start, t.end), |(a, b)| (a.min(t.start), b.max(t.end))),
+                        );
+                    }
                     let ms = r.time.map(|t| (t.end - t.start) * 1e3);
                     if let Some(i) = PASS_NAMES.iter().position(|n| *n == r.label) {
                         times[i] = ms;
@@ -1742,6 +1769,7 @@ impl RealtimeRenderer {
             frame: f.frame,
             finite,
             cache,
+            gpu_span_ms: span.map(|(a, b)| (b - a) * 1e3),
             passes: PASS_NAMES
                 .iter()
                 .zip(f.ran.0)

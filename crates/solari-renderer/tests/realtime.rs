@@ -223,6 +223,57 @@ fn auto_gbuffer_keeps_the_faster_measured_producer() {
     );
 }
 
+/// With a timestamp interval of 3, frames 0, 3, 6, ... carry pass times and a span and the
+/// others none, whether frames are rendered one at a time or two in flight (the profiler's
+/// frames must stay paired with the timed frames' reports); every frame still reports which
+/// passes ran. An interval of 0 is refused.
+#[test]
+fn a_timestamp_interval_times_every_nth_frame() {
+    let Some(c) = Cornell::new() else { return };
+    let (gpu, scene, gpu_scene) = (&c.gpu, &c.scene, &c.gpu_scene);
+    let s = RealtimeSettings {
+        timestamps: true,
+        timestamp_interval: 3,
+        ..settings()
+    };
+    for in_flight in [1, 2] {
+        let mut r = c.renderer(RealtimeSettings {
+            frames_in_flight: in_flight,
+            ..s
+        });
+        let mut reports = Vec::new();
+        for frame in 0..8 {
+            let cam = CameraPath::Orbit.camera(&c.camera, scene, frame);
+            if in_flight == 1 {
+                reports.push(r.render(gpu, scene, gpu_scene, &cam).expect("frame"));
+            } else {
+                reports.extend(r.submit(gpu, scene, gpu_scene, &cam).expect("frame"));
+            }
+        }
+        reports.extend(r.finish(gpu).expect("finish"));
+        assert_eq!(reports.len(), 8);
+        for (i, report) in reports.iter().enumerate() {
+            assert_eq!(report.frame, i as u32);
+            assert!(report.ran("gbuffer") && report.ran("di_spatial_shade"));
+            let timed = i % 3 == 0;
+            assert_eq!(
+                report.gpu_ms("gbuffer").is_some(),
+                timed,
+                "{in_flight} in flight, frame {i}"
+            );
+            assert_eq!(report.gpu_span_ms.is_some(), timed, "frame {i}");
+            if !timed {
+                assert!(report.passes.iter().all(|p| p.gpu_ms.is_none()));
+            }
+        }
+    }
+    let zero = RealtimeSettings {
+        timestamp_interval: 0,
+        ..s
+    };
+    assert!(zero.validate().unwrap_err().contains("timestamp interval"));
+}
+
 /// Frames in flight change when reports arrive, not what they say: `submit` with two frames
 /// in flight reports every frame once, in order, a frame late, with the same passes and
 /// detector counts as `render`, timed, with the cache's counters; the last image is the same
@@ -272,6 +323,19 @@ fn submitted_frames_report_late_and_match_rendered_ones() {
                 g.gpu_ms(pass).is_some(),
                 "frame {}: {pass} untimed",
                 g.frame
+            );
+        }
+        // The span runs from the first pass's start to the last one's end, so it holds every
+        // pass: at least the longest. (Not necessarily their sum: a GPU may overlap passes
+        // that share no resource.)
+        for r in [g, e] {
+            let span = r.gpu_span_ms.expect("a timed frame has a span");
+            let times: Vec<f64> = r.passes.iter().filter_map(|p| p.gpu_ms).collect();
+            let longest = times.iter().cloned().fold(0.0, f64::max);
+            assert!(
+                span.is_finite() && span >= longest && longest > 0.0,
+                "frame {}: span {span} ms, passes {times:?}",
+                r.frame
             );
         }
         let (gc, ec) = (
