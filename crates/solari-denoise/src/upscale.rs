@@ -135,6 +135,53 @@ pub fn output_to_render(p: [f32; 2], render: (u32, u32), output: (u32, u32)) -> 
     [(ndc_x / k + 1.0) * 0.5 * rw, p[1] / oh * rh]
 }
 
+/// G-buffer depths within this factor of each other count as one surface in the upscaler's
+/// moving clamp and its guide (WGSL: `gbuffer_read.wesl`'s `SAME_SURFACE_DEPTH_RATIO`).
+pub const SAME_SURFACE_DEPTH_RATIO: f32 = 1.1;
+
+/// Whether two samples are of one surface: G-buffer depths within
+/// [`SAME_SURFACE_DEPTH_RATIO`] of each other (or both background, 0), and both emitting or
+/// neither. WGSL twin: `gbuffer_read.wesl`'s `same_surface`.
+pub fn same_surface(depth_a: f32, emits_a: bool, depth_b: f32, emits_b: bool) -> bool {
+    let r = SAME_SURFACE_DEPTH_RATIO;
+    depth_a <= depth_b * r
+        && depth_a * r >= depth_b
+        && (depth_a > 0.0) == (depth_b > 0.0)
+        && emits_a == emits_b
+}
+
+/// Which of a moving pixel's nearest samples (at most four; G-buffer depths `depth`, whether
+/// each `emits`) clamp its history when the output-resolution guide gives the pixel's own
+/// surface (`own_depth`, `own_emits`): bit k for sample k. Those on the pixel's surface
+/// ([`same_surface`]); where none is, those on the surface of the sample nearest it in depth
+/// (smallest |ln(depth / own_depth)|, a sample that emits otherwise than the pixel counting
+/// 1000 further): a surface the render missed between its samples. WGSL twin: `own_surface`
+/// in `temporal_upscale.wesl` (`tests/upscale_surface.rs`).
+pub fn own_surface(depth: &[f32], emits: &[bool], own_depth: f32, own_emits: bool) -> u32 {
+    let n = depth.len().min(emits.len()).min(4);
+    let mut any_match = false;
+    let (mut nearest, mut nearest_score) = (0, 3.0e38f32);
+    for k in 0..n {
+        any_match |= same_surface(depth[k], emits[k], own_depth, own_emits);
+        let penalty = if emits[k] == own_emits { 0.0 } else { 1e3 };
+        let score = (depth[k].max(1e-6) / own_depth.max(1e-6)).ln().abs() + penalty;
+        if score < nearest_score {
+            (nearest, nearest_score) = (k, score);
+        }
+    }
+    if n == 0 {
+        return 0;
+    }
+    let (match_depth, match_emits) = if any_match {
+        (own_depth, own_emits)
+    } else {
+        (depth[nearest], emits[nearest])
+    };
+    (0..n)
+        .filter(|&k| same_surface(depth[k], emits[k], match_depth, match_emits))
+        .fold(0, |mask, k| mask | 1 << k)
+}
+
 /// The temporal upscaler and its accumulation buffers (see the module docs).
 pub struct TemporalUpscaler {
     settings: UpscaleSettings,
