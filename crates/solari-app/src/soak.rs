@@ -2,7 +2,9 @@
 //! on every pass of every frame, optionally switching lights on and off, ending with a JSON
 //! summary: non-finite, negative and over-bound counts per pass (with the first frame of
 //! each), world-cache overflows, GPU and process memory at the start and the end, and
-//! wall and GPU frame-time percentiles. Exits with status 1 when anything was found.
+//! wall frame-time percentiles over every frame and GPU ones over the frames `--time-every`
+//! times (one in 8 by default; the summary's `gpu_frame_ms.frames` says how many). Exits with
+//! status 1 when anything was found.
 
 use solari_app::cli::{Prepared, SoakArgs};
 use solari_app::output::write_atomic;
