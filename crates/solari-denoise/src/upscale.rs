@@ -135,20 +135,7 @@ pub fn output_to_render(p: [f32; 2], render: (u32, u32), output: (u32, u32)) -> 
     [(ndc_x / k + 1.0) * 0.5 * rw, p[1] / oh * rh]
 }
 
-/// G-buffer depths within this factor of each other count as one surface in the upscaler's
-/// moving clamp and its guide (WGSL: `gbuffer_read.wesl`'s `SAME_SURFACE_DEPTH_RATIO`).
-pub const SAME_SURFACE_DEPTH_RATIO: f32 = 1.1;
-
-/// Whether two samples are of one surface: G-buffer depths within
-/// [`SAME_SURFACE_DEPTH_RATIO`] of each other (or both background, 0), and both emitting or
-/// neither. WGSL twin: `gbuffer_read.wesl`'s `same_surface`.
-pub fn same_surface(depth_a: f32, emits_a: bool, depth_b: f32, emits_b: bool) -> bool {
-    let r = SAME_SURFACE_DEPTH_RATIO;
-    depth_a <= depth_b * r
-        && depth_a * r >= depth_b
-        && (depth_a > 0.0) == (depth_b > 0.0)
-        && emits_a == emits_b
-}
+pub use solari_scene::primary_depth::{SAME_SURFACE_DEPTH_RATIO, same_surface};
 
 /// Which of a moving pixel's nearest samples (at most four; G-buffer depths `depth`, whether
 /// each `emits`) clamp its history when the output-resolution guide gives the pixel's own

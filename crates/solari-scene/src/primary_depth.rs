@@ -40,6 +40,22 @@ use crate::model::Camera;
 use crate::pass::{FrameContext, Ran};
 use crate::shaders::{Backend, compose};
 
+/// G-buffer depths within this factor of each other count as one surface, in the guide and in
+/// the upscaler's moving clamp (WGSL: `gbuffer_read.wesl`'s `SAME_SURFACE_DEPTH_RATIO`).
+pub const SAME_SURFACE_DEPTH_RATIO: f32 = 1.1;
+
+/// Whether two samples are of one surface: G-buffer depths within
+/// [`SAME_SURFACE_DEPTH_RATIO`] of each other (or both background, 0), and both emitting or
+/// neither. WGSL twin: `gbuffer_read.wesl`'s `same_surface` (held to it by
+/// `solari-denoise`'s `tests/upscale_surface.rs`).
+pub fn same_surface(depth_a: f32, emits_a: bool, depth_b: f32, emits_b: bool) -> bool {
+    let r = SAME_SURFACE_DEPTH_RATIO;
+    depth_a <= depth_b * r
+        && depth_a * r >= depth_b
+        && (depth_a > 0.0) == (depth_b > 0.0)
+        && emits_a == emits_b
+}
+
 /// The pass's profiler scope and report name.
 pub const PASS_LABELS: [&str; 1] = ["upscale_guide"];
 

@@ -38,11 +38,10 @@ fn render(gpu: &Gpu, gb: &mut GBuffer, gs: &GpuScene, scene: &Scene, camera: &Ca
         .collect()
 }
 
-/// The shader's test, in f32 as there: two guide values of one surface (one depth surface,
-/// both emitting or neither).
+/// The shader's test on two guide values (depth, negated where the surface emits): one depth
+/// surface, both emitting or neither.
 fn same_surface(a: f32, b: f32) -> bool {
-    let (da, db) = (a.abs(), b.abs());
-    da <= db * 1.1 && da * 1.1 >= db && (da > 0.0) == (db > 0.0) && (a < 0.0) == (b < 0.0)
+    solari_scene::primary_depth::same_surface(a.abs(), a < 0.0, b.abs(), b < 0.0)
 }
 
 /// The depths alone of one surface, as before emission counted: a pixel traced only because
