@@ -352,3 +352,36 @@ fn antialias_reaches_the_settings() {
         "auto stands aside for DLSS-RR"
     );
 }
+
+/// `--gi-half-rate-spatial` reaches ReSTIR GI's settings: on by default (as in the library),
+/// `off` turns it off, and it acts only with `--gi-half-rate`.
+#[test]
+fn gi_half_rate_spatial_reaches_the_settings() {
+    use solari_restir::RestirGiSettings;
+    let get = |args: &[&str]| {
+        let s = settings(args).restir_gi;
+        (s.half_rate, s.half_rate_spatial)
+    };
+    assert_eq!(get(&[]), (false, true));
+    assert!(RestirGiSettings::default().half_rate_spatial);
+    assert_eq!(get(&["--gi", "restir", "--gi-half-rate"]), (true, true));
+    assert_eq!(
+        get(&[
+            "--gi",
+            "restir",
+            "--gi-half-rate",
+            "--gi-half-rate-spatial",
+            "off"
+        ]),
+        (true, false)
+    );
+    assert_eq!(
+        get(&["--gi-half-rate-spatial"]),
+        (false, true),
+        "the bare flag means on"
+    );
+    assert!(
+        Cli::try_parse_from(["solari", "render", "--gi-half-rate-spatial", "maybe"]).is_err(),
+        "not a yes or no"
+    );
+}

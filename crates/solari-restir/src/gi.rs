@@ -42,14 +42,19 @@
 //! [`RestirGiSettings::half_rate`], with reuse or without, each frame only half the pixels (a
 //! checkerboard that flips every frame) trace, at twice the weight; the others draw an empty
 //! sample of confidence 1, which reuse merges like any other: 32–41% off the first pass on
-//! `interior` for a noisier young history.
+//! `interior` for a noisier young history. With reuse, spatial reuse then runs at the other
+//! half ([`RestirGiSettings::half_rate_spatial`], on by default): the pixels that did not
+//! trace reuse from neighbours that did not either, so each pixel gets one new sample or one
+//! neighbour's reservoir a frame, for a third off the spatial pass on `interior`.
 //!
 //! Both passes are specialised by pipeline constants for what the settings run, since code
 //! that never runs still costs a kernel its registers: the initial pass is built without its
 //! resampling loop for one candidate (the default; 9.5–14% off the pass on an H100), and the
 //! spatial pass for [`SpatialVisibility::Chosen`] (the default) settles both possible results
-//! of the merge before its one ray, without the general code of the other two (2.2–3.7%).
-//! [`RestirGi::prepare`] builds a pass again after a settings change crosses either line.
+//! of the merge before its one ray, without the general code of the other two (2.2–3.7%),
+//! and is built for spatial reuse at half rate only where it runs (read at run time, the
+//! choice cost the full-rate pass 1.9–3.2% on an H200). [`RestirGi::prepare`] builds a pass
+//! again after a settings change crosses any of these lines.
 //! For the same reason, with reuse the initial pass is two dispatches: one traces the new
 //! samples and stores them, the next merges them with the history (no traversal). In one
 //! kernel the traversal ran with the registers of the merge: the split takes 25–26% off the
@@ -118,6 +123,20 @@ const SECOND_DISPATCH: (&str, f64) = ("7123", 1.0);
 /// second ([`RestirGiSettings::shade_apart`]; `@id(7124) override GI_SHADE_APART`).
 const SHADE_APART: (&str, f64) = ("7124", 1.0);
 
+/// The pipeline constant that builds the spatial pass for spatial reuse at half rate
+/// ([`RestirGiSettings::half_rate_spatial`] with [`RestirGiSettings::half_rate`];
+/// `@id(7125) override GI_HALF_SPATIAL`).
+const HALF_SPATIAL: (&str, f64) = ("7125", 1.0);
+
+/// What the spatial pass's pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct SpatialForm {
+    /// [`SpatialVisibility::Chosen`] (CHOSEN_ONLY).
+    chosen: bool,
+    /// Spatial reuse at half rate (HALF_SPATIAL).
+    half_rate: bool,
+}
+
 /// Labels of the two passes (profiler scopes; the first holds two dispatches with reuse, the
 /// one that traces and the temporal merge); plain path GI runs the first alone, one dispatch.
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
@@ -142,9 +161,9 @@ pub struct RestirGi {
     initial_multi: bool,
     // None when built without reuse (`in_place`): plain path GI shades in its initial pass.
     spatial: Option<wgpu::ComputePipeline>,
-    // Whether `spatial` was specialised for `SpatialVisibility::Chosen` (CHOSEN_ONLY); a
-    // settings change across that line has `prepare` build it again.
-    spatial_chosen: bool,
+    // What `spatial` was specialised for; a settings change across either line has
+    // `prepare` build it again.
+    spatial_form: SpatialForm,
     layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
@@ -202,26 +221,35 @@ fn second_pipeline(
     gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", extra)
 }
 
-// The spatial pass's pipeline, specialised for `SpatialVisibility::Chosen` where `chosen`
-// (reuse on: a `RestirGi` built without reuse has no spatial pass).
+// The spatial pass's pipeline, specialised for `form` (reuse on: a `RestirGi` built without
+// reuse has no spatial pass).
 fn spatial_pipeline(
     gpu: &Gpu,
     backend: Backend,
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
-    chosen: bool,
+    form: SpatialForm,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
-    let extra: &[(&str, f64)] = if chosen { &[CHOSEN_ONLY] } else { &[] };
-    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_spatial", extra)
+    let mut extra = Vec::new();
+    if form.chosen {
+        extra.push(CHOSEN_ONLY);
+    }
+    if form.half_rate {
+        extra.push(HALF_SPATIAL);
+    }
+    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_spatial", &extra)
 }
 
 // The pass specialisations `s` wants: (the initial pass's resampling of several candidates,
-// the spatial pass for `SpatialVisibility::Chosen`, plain path GI's shading apart where the
-// instance is built without reuse, `in_place`).
-fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, bool, bool) {
+// the spatial pass's form, plain path GI's shading apart where the instance is built without
+// reuse, `in_place`).
+fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, SpatialForm, bool) {
     (
         s.initial_samples > 1,
-        s.spatial_visibility == SpatialVisibility::Chosen,
+        SpatialForm {
+            chosen: s.spatial_visibility == SpatialVisibility::Chosen,
+            half_rate: s.half_rate && s.half_rate_spatial,
+        },
         in_place && s.shade_apart,
     )
 }
@@ -261,7 +289,7 @@ impl RestirGi {
         let layout = layout_with_cache(gpu, &GI_BINDINGS, "solari_restir/gi");
         let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
         let reuse = settings.reuse();
-        let (multi, chosen, apart) = wanted_pipelines(&settings, !reuse);
+        let (multi, form, apart) = wanted_pipelines(&settings, !reuse);
         let layouts = (&layout, &target_layout);
         let initial = initial_pipeline(gpu, backend, variant, layouts, reuse, multi, apart)?;
         let second = if reuse || apart {
@@ -275,7 +303,7 @@ impl RestirGi {
                 backend,
                 variant,
                 (&layout, &target_layout),
-                chosen,
+                form,
             )?)
         } else {
             None
@@ -291,7 +319,7 @@ impl RestirGi {
             shade_apart: apart,
             initial_multi: multi,
             spatial,
-            spatial_chosen: chosen,
+            spatial_form: form,
             layout,
             target_layout,
             params,
@@ -471,7 +499,7 @@ impl RestirGi {
         gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
         let s = self.settings;
-        let (multi, chosen, apart) = wanted_pipelines(&self.settings, self.in_place());
+        let (multi, form, apart) = wanted_pipelines(&self.settings, self.in_place());
         if multi != self.initial_multi || apart != self.shade_apart {
             let layouts = (&self.layout, &self.target_layout);
             let reuse = self.built_for_reuse();
@@ -505,20 +533,21 @@ impl RestirGi {
             self.initial_multi = multi;
             self.shade_apart = apart;
         }
-        if self.spatial.is_some() && chosen != self.spatial_chosen {
+        if self.spatial.is_some() && form != self.spatial_form {
             let pipeline = spatial_pipeline(
                 gpu,
                 self.backend,
                 self.variant,
                 (&self.layout, &self.target_layout),
-                chosen,
+                form,
             )?;
             log::debug!(
-                "ReSTIR GI: spatial pass built again for {:?}",
-                s.spatial_visibility
+                "ReSTIR GI: spatial pass built again for {:?}{}",
+                s.spatial_visibility,
+                if form.half_rate { " at half rate" } else { "" }
             );
             self.spatial = Some(pipeline);
-            self.spatial_chosen = chosen;
+            self.spatial_form = form;
         }
         self.frame = frame.index;
         let history = self.history && gbuffer.history_valid();
@@ -585,8 +614,8 @@ impl RestirGi {
         check_encode("ReSTIR GI", self.variant, self.size, scene, gbuffer, frame)?;
         // The pipelines are specialised for the settings (`prepare` rebuilds them): run
         // against other settings they would shade another estimator without a word.
-        let (multi, chosen, apart) = wanted_pipelines(&self.settings, self.in_place());
-        if (self.spatial.is_some() && chosen != self.spatial_chosen)
+        let (multi, form, apart) = wanted_pipelines(&self.settings, self.in_place());
+        if (self.spatial.is_some() && form != self.spatial_form)
             || multi != self.initial_multi
             || apart != self.shade_apart
         {
@@ -647,7 +676,15 @@ impl RestirGi {
     /// [`RestirGi::set_settings`] moved the visibility across that line, the next
     /// [`RestirGi::prepare`] builds the other.
     pub fn spatial_chosen_only(&self) -> bool {
-        self.spatial.is_some() && self.spatial_chosen
+        self.spatial.is_some() && self.spatial_form.chosen
+    }
+
+    /// Whether the spatial pass's pipeline is the one built for spatial reuse at half rate
+    /// ([`RestirGiSettings::half_rate_spatial`] with [`RestirGiSettings::half_rate`]; false
+    /// when built without reuse). After [`RestirGi::set_settings`] moved either across that
+    /// line, the next [`RestirGi::prepare`] builds the other.
+    pub fn spatial_half_rate(&self) -> bool {
+        self.spatial.is_some() && self.spatial_form.half_rate
     }
 
     // Built without reuse: one reservoir buffer (`buffers.0` a placeholder), one pass.

@@ -63,6 +63,29 @@ pub struct RestirGiSettings {
     ///   full rate's on frame 136 and on a 16-frame mean, 2–5% above it on frame 8
     ///   (`benches/RESULTS.md`, "ReSTIR GI from half the pixels").
     pub half_rate: bool,
+    /// With [`RestirGiSettings::half_rate`] and reuse, spatial reuse too at half the pixels
+    /// (default on; nothing without half rate): those that did not trace this frame, packed
+    /// into whole warps, so each pixel gets one new sample or one neighbour's reservoir a
+    /// frame and the spatial pass traces half its visibility rays. The pixels that traced
+    /// shade the reservoir temporal reuse left them, as a pixel that finds no neighbour does.
+    ///
+    /// The neighbours are taken from the pixels that did not trace either. A pixel's
+    /// reservoir is at the low point of the checkerboard's cycle on the frames it does not
+    /// trace (an empty sample merged in) and at the high point on the others (a sample at
+    /// twice the weight); reusing only on the low frames, from neighbours of both kinds,
+    /// pulled every pixel up: the mean of frames 121–136 read 1.030 of the reference's
+    /// brightness on the Cornell box and 1.068 on `interior` (1.003 and 1.010 with spatial
+    /// reuse at every pixel; H200, 960×540).
+    ///
+    /// On an H200 at 1920×1080 (`--gi restir --gi-half-rate`, fallback denoiser, medians of
+    /// two reps): the spatial pass 18–34% faster (`interior` 0.913 → 0.607 ms, ReSTIR GI's
+    /// two passes 1.59 → 1.28 ms; many_lights 0.459 → 0.329). relMSE against a 1024-spp
+    /// full-bounce reference at 960×540: after 136 frames equal or lower (`interior` one
+    /// frame 0.00755 → 0.00688, a 16-frame mean 0.00731 → 0.00687; the three small scenes
+    /// −2.4% to +1.1%), frame 32 2–10% lower, frame 8 (young histories) up to 22% higher
+    /// (`interior`; −0.5% to +12% elsewhere) (`benches/RESULTS.md`, "Spatial reuse at half
+    /// rate"). A change builds the spatial pass again at the next frame.
+    pub half_rate_spatial: bool,
     /// A GI ray whose hit lies in a world-cache cell that holds no samples yet (a cell made
     /// this frame or not yet updated) draws no sample, with confidence 0, instead of a
     /// sample of no light with confidence 1 (default on; it changes nothing without reuse,
@@ -178,6 +201,7 @@ impl Default for RestirGiSettings {
             spatial_visibility: SpatialVisibility::Chosen,
             initial_samples: 1,
             half_rate: false,
+            half_rate_spatial: true,
             ignore_cold_cells: true,
             adaptive_cap: true,
             shade_apart: false,

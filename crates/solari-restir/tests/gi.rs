@@ -221,10 +221,21 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             }),
         ),
         (
-            "restir, half rate",
+            "restir, half rate, spatial at every pixel",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 half_rate: true,
+                half_rate_spatial: false,
+                adaptive_cap: false,
+                ..Default::default()
+            }),
+        ),
+        (
+            "restir, half rate, spatial at half rate",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                half_rate: true,
+                half_rate_spatial: true,
                 adaptive_cap: false,
                 ..Default::default()
             }),
@@ -265,6 +276,10 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // ReSTIR GI at half rate, two runs (2026-11-27): total light -0.10% and -0.06%, one-frame
     // RMSE 0.0249 and 0.0246, 256-frame mean 0.0057 and 0.0056 (every pixel: -0.26%/-0.20%,
     // 0.0230/0.0240, 0.0054/0.0056): reuse carries each traced sample into the other frame.
+    // Spatial reuse at half rate as well (2026-11-28, one run): total light +0.05%, one-frame
+    // RMSE 0.0232, 256-frame mean 0.0058 (spatial reuse at every pixel, the same run: -0.01%,
+    // 0.0218, 0.0058). Reusing from neighbours of both checkerboard phases read +2.78%: the
+    // total-light check fails it.
     // The modes above test the estimator, so their caps are fixed: the adaptive cap (on by
     // default) makes a history's weight depend on the sample it holds, which is not
     // unbiased. With it (2026-11-27, one run): total light +0.16% with the chosen sample's
@@ -278,9 +293,16 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // the one-ray default 0.0051-0.0056 (up to 1.19 against CI's). Each bound leaves CI's
     // spread room: plain 1.25, both ReSTIR variants 1.35 (the biased spatial mode reads
     // 0.0052-0.0059 here too; bias is the total-light check's to catch, not this one's).
-    let (cache, plain, restir, plain4, chosen, half, restir_half, adaptive) = (
-        results[0], results[1], results[2], results[5], results[6], results[7], results[8],
+    let (cache, plain, restir, plain4, chosen, half, restir_half, half_spatial, adaptive) = (
+        results[0],
+        results[1],
+        results[2],
+        results[5],
+        results[6],
+        results[7],
+        results[8],
         results[9],
+        results[10],
     );
     assert!(
         adaptive.3.abs() < 0.01,
@@ -295,6 +317,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         (chosen, 1.35),
         (half, 1.5),
         (restir_half, 1.5),
+        (half_spatial, 1.5),
     ] {
         // All estimate the cache-terminated bounce without bias.
         assert!(
@@ -315,7 +338,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     }
     // Reuse is what ReSTIR is for: a single frame is less noisy than plain sampling, with
     // either unbiased choice of spatial rays.
-    for gi in [restir, chosen, restir_half, adaptive] {
+    for gi in [restir, chosen, restir_half, half_spatial, adaptive] {
         assert!(
             gi.1 < 0.7 * plain.1,
             "one frame: {} {} vs plain {}",
@@ -345,7 +368,9 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
 /// rate: sphere −0.76% to −0.84%, walls −0.47% to −0.48% (every pixel, the same runs: sphere
 /// −0.39% to −0.44%, walls −0.50% to −0.52%; the sphere's 0.4% is not explained). With the
 /// adaptive cap (`RestirGiSettings::adaptive_cap`, on in these modes), one run: the chosen
-/// sample's ray sphere −0.41%, walls −0.26%; half rate −0.58%, −0.27%. Before
+/// sample's ray sphere −0.41%, walls −0.26%; half rate −0.58%, −0.27%. 2026-11-28, half
+/// rate with spatial reuse at half rate (now the default with half rate): sphere −0.52%, walls
+/// −0.43%; with neighbours of both checkerboard phases the sphere read +8.3%. Before
 /// emissive hits' reflected light counted, the sphere read 0.80 (−49%).
 #[test]
 fn gi_converges_to_the_sphere_furnace_closed_form() {
@@ -387,7 +412,7 @@ fn gi_converges_to_the_sphere_furnace_closed_form() {
             }),
         ),
         (
-            "restir, half rate",
+            "restir, half rate (spatial reuse at half rate, the default with it)",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
                 half_rate: true,
@@ -462,14 +487,17 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
     }
     RestirGiSettings::default().validate().unwrap();
     RestirGiSettings::plain().validate().unwrap();
-    // Half rate, with reuse or without.
+    // Half rate, with reuse or without, and with spatial reuse at half rate.
     for s in [RestirGiSettings::plain(), RestirGiSettings::default()] {
-        RestirGiSettings {
-            half_rate: true,
-            ..s
+        for half_rate_spatial in [false, true] {
+            RestirGiSettings {
+                half_rate: true,
+                half_rate_spatial,
+                ..s
+            }
+            .validate()
+            .unwrap();
         }
-        .validate()
-        .unwrap();
     }
 }
 
@@ -535,9 +563,32 @@ fn the_passes_are_built_for_their_settings() {
     plain.mode = Mode::Gi(four);
     plain.frame(&gpu, &scene);
     assert!(plain.gi.initial_multi_candidate());
-    let default = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::default()));
+    let mut default = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::default()));
     assert!(default.gi.spatial_chosen_only());
     assert!(!default.gi.initial_multi_candidate());
+    // Spatial reuse at half rate: on by default, built only with half rate.
+    assert!(!default.gi.spatial_half_rate());
+    default.frame(&gpu, &scene);
+    for (half_rate, half_rate_spatial) in [(true, true), (true, false), (false, true), (true, true)]
+    {
+        let before = default.gi.spatial_half_rate();
+        let settings = RestirGiSettings {
+            half_rate,
+            half_rate_spatial,
+            ..Default::default()
+        };
+        default.gi.set_settings(settings).expect("valid settings");
+        default.mode = Mode::Gi(settings);
+        if before != (half_rate && half_rate_spatial) {
+            assert_stale_pipelines_refused(&gpu, &mut default);
+        }
+        default.frame(&gpu, &scene);
+        assert_eq!(
+            default.gi.spatial_half_rate(),
+            half_rate && half_rate_spatial,
+            "half rate {half_rate}, spatial at half rate {half_rate_spatial}"
+        );
+    }
 }
 
 /// Encoding after a settings change that needs other pipelines, before `prepare` has built
@@ -822,6 +873,74 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
     assert!(e.contains("holds 64 bytes") && e.contains("20480"), "{e}");
     // A failed copy into the scratch would leave it clean and the test toothless.
     gpu.check_errors().expect("no wgpu error");
+}
+
+/// Spatial reuse at half rate (`RestirGiSettings::half_rate_spatial`) runs at the pixels
+/// that did not trace this frame, the initial pass's checkerboard (x + y + frame odd), and
+/// nowhere else: a pixel that traced ends the frame with the reservoir the temporal merge
+/// left it, bit for bit, while most of the others take a neighbour's. With the setting off,
+/// the traced pixels reuse too. (A spatial pass on the wrong checkerboard, or on both, fails
+/// one of the two.) The initial reservoirs are read from a scratch buffer GI keeps them in.
+#[test]
+fn half_rate_spatial_reuse_runs_where_the_pixel_did_not_trace() {
+    use solari_restir::gi_reservoir::GpuGiReservoir;
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let size = 32;
+    for half_rate_spatial in [false, true] {
+        let settings = RestirGiSettings {
+            spatial_radius: 3.0,
+            half_rate: true,
+            half_rate_spatial,
+            ..Default::default()
+        };
+        let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
+        let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
+        s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
+        for _ in 0..5 {
+            s.frame(&gpu, &scene);
+        }
+        let frame = s.direct.context().index;
+        let record = size_of::<GpuGiReservoir>();
+        let bytes = s.gi.scratch_bytes();
+        let initial = gpu.read_buffer(&scratch, bytes).unwrap();
+        let history = gpu.read_buffer(s.gi.reservoirs(), bytes).unwrap();
+        // Pixels whose final reservoir is not the temporal merge's, by whether they traced.
+        let mut changed = [0u32; 2];
+        let mut pixels = [0u32; 2];
+        for (i, (a, b)) in initial
+            .chunks_exact(record)
+            .zip(history.chunks_exact(record))
+            .enumerate()
+        {
+            let (x, y) = (i as u32 % size, i as u32 / size);
+            let traced = ((x + y + frame) & 1) == 0;
+            pixels[traced as usize] += 1;
+            changed[traced as usize] += u32::from(a != b);
+        }
+        let share = |k: usize| changed[k] as f64 / pixels[k] as f64;
+        eprintln!(
+            "half_rate_spatial {half_rate_spatial}: reservoirs changed by spatial reuse at {:.1}% \
+             of the untraced pixels, {:.1}% of the traced",
+            100.0 * share(0),
+            100.0 * share(1)
+        );
+        assert!(
+            share(0) > 0.5,
+            "untraced pixels hardly reuse: {changed:?} of {pixels:?}"
+        );
+        if half_rate_spatial {
+            assert_eq!(
+                changed[1], 0,
+                "a traced pixel reused: {changed:?} of {pixels:?}"
+            );
+        } else {
+            assert!(
+                share(1) > 0.5,
+                "traced pixels hardly reuse: {changed:?} of {pixels:?}"
+            );
+        }
+    }
 }
 
 /// On a device whose storage bindings stop at 64 KiB: ReSTIR DI at 60×60 fits its image
