@@ -400,6 +400,11 @@ pub fn probe(
     };
     let timed = |setting: QualitySetting| RealtimeSettings {
         timestamps: true,
+        // Every frame: the user's interval (the CLI's `--time-every`, 8 by default) left the
+        // probe's five timed frames a phase with one timed frame or none, at random by the
+        // warm-up's frame count; with none the probe reported an adapter that cannot time
+        // passes, and a later phase without times predicted its passes at zero.
+        timestamp_interval: 1,
         finite_check: crate::realtime::FiniteCheck::Off,
         ..setting.apply(base)
     };

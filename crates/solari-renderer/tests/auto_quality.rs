@@ -20,6 +20,10 @@ fn base() -> RealtimeSettings {
 }
 
 fn probe_box(gpu: &Gpu) -> Option<CostModel> {
+    probe_box_from(gpu, &base())
+}
+
+fn probe_box_from(gpu: &Gpu, base: &RealtimeSettings) -> Option<CostModel> {
     let backend = gpu.backend(Default::default()).expect("backend");
     let scene = default_scene::cornell_box();
     let gpu_scene = upload(gpu, backend, &scene);
@@ -31,9 +35,28 @@ fn probe_box(gpu: &Gpu) -> Option<CostModel> {
         &gpu_scene,
         &camera,
         (SIZE, SIZE),
-        &base(),
+        base,
     )
     .expect("probe")
+}
+
+/// The probe times every frame of its phases whatever timestamp interval the user's settings
+/// carry (the CLI's `--time-every`): with the user's, a phase could time none of its frames
+/// (here, an interval no probe frame reaches), and the probe reported an adapter without
+/// timestamps.
+#[test]
+fn the_probe_times_every_frame_whatever_the_users_interval() {
+    let Some(gpu) = test_gpu() else { return };
+    let sparse = RealtimeSettings {
+        timestamp_interval: 1_000_000,
+        ..base()
+    };
+    let model = probe_box_from(&gpu, &sparse).expect("a cost model");
+    assert!(
+        model.full.get("gbuffer").is_some_and(|ms| *ms > 0.0),
+        "{model:?}"
+    );
+    assert!(model.di_no_reuse > 0.0 && model.gi_path > 0.0, "{model:?}");
 }
 
 #[test]
