@@ -504,9 +504,11 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
 /// Both passes are built specialised for their settings: the initial pass without the
 /// resampling loop unless `initial_samples` is above 1, the spatial pass for the default
 /// `SpatialVisibility::Chosen` (the merge settled before its one ray) or in general form for
-/// the other two. A settings change across either line builds that pass again at the next
-/// frame (encode refuses until `prepare` has), and frames before and after render (finite and non-negative: `Setup::frame` checks
-/// the reservoirs and the image). Each form's results are checked by the convergence tests
+/// the other two, and for spatial reuse at half rate only with half rate and
+/// `half_rate_spatial`. A settings change across any of these lines builds that pass again at
+/// the next frame (encode refuses until `prepare` has), and frames before and after render
+/// (finite and non-negative: `Setup::frame` checks the reservoirs and the image). Each form's
+/// results are checked by the convergence tests
 /// above (4 candidates built from the start: less noise than 1, so the loop is there); on
 /// lavapipe with one thread (`LP_NUM_THREADS=1`, which makes the world cache deterministic)
 /// the specialised passes gave the general ones' images bit for bit (`benches/RESULTS.md`,
