@@ -535,6 +535,15 @@ pub struct RealtimeArgs {
     /// within a few frames (0: a plain running mean; at most 16).
     #[arg(long, value_name = "E", default_value_t = WorldCacheSettings::default().warm_up_exponent)]
     pub cache_warm_up: f32,
+    /// World-cache update rounds per frame in its first frames (`--cache-warm-up-frames`):
+    /// light crosses a bounce between cells per round, so a cold cache fills sooner (1: one
+    /// round, as every later frame; at most 16).
+    #[arg(long, value_name = "N", default_value_t = WorldCacheSettings::default().warm_up_rounds)]
+    pub cache_warm_up_rounds: u32,
+    /// Frames after the world cache is made or emptied that run `--cache-warm-up-rounds`
+    /// (0: none).
+    #[arg(long, value_name = "N", default_value_t = WorldCacheSettings::default().warm_up_frames)]
+    pub cache_warm_up_frames: u32,
     /// Denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr (NVIDIA DLSS
     /// Ray Reconstruction; builds with `--features dlss` only). Default: the best available
     /// (DLSS-RR where it runs, else the fallback).
@@ -653,6 +662,8 @@ impl RealtimeArgs {
                 capacity: self.cache_capacity,
                 light_change_frames: self.cache_light_change_frames,
                 warm_up_exponent: self.cache_warm_up,
+                warm_up_rounds: self.cache_warm_up_rounds,
+                warm_up_frames: self.cache_warm_up_frames,
                 ..Default::default()
             },
             view,

@@ -226,6 +226,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         v["gi_shade_apart"] = renderer.gi_settings().is_some_and(|s| s.shade_apart).into();
         v["cache_light_change_frames"] = applied.cache.light_change_frames.into();
         v["cache_warm_up"] = applied.cache.warm_up_exponent.into();
+        v["cache_warm_up_rounds"] = applied.cache.warm_up_rounds.into();
+        v["cache_warm_up_frames"] = applied.cache.warm_up_frames.into();
         v["di_reuse_skipped"] = renderer.di_reuse_skipped().into();
         v["gpu_span_ms"] = summary.span_ms().into();
         println!("{v}");

@@ -320,6 +320,32 @@ fn the_warm_up_exponent_reaches_the_cache_settings() {
     assert!(err.contains("warm_up_exponent"), "{err}");
 }
 
+#[test]
+fn the_warm_up_rounds_reach_the_cache_settings() {
+    let library = RealtimeSettings::default().cache;
+    assert_eq!((library.warm_up_rounds, library.warm_up_frames), (4, 8));
+    let rounds = |args: &[&str]| {
+        let c = settings(args).cache;
+        (c.warm_up_rounds, c.warm_up_frames)
+    };
+    assert_eq!(rounds(&[]), (4, 8));
+    assert_eq!(rounds(&["--cache-warm-up-rounds", "1"]), (1, 8));
+    assert_eq!(
+        rounds(&[
+            "--cache-warm-up-rounds",
+            "2",
+            "--cache-warm-up-frames",
+            "30"
+        ]),
+        (2, 30)
+    );
+    // Out of range: refused before anything is built, the knob named.
+    for bad in ["0", "17"] {
+        let err = settings_error(&["--cache-warm-up-rounds", bad]);
+        assert!(err.contains("warm_up_rounds"), "{bad}: {err}");
+    }
+}
+
 /// `--antialias` defaults to auto, as the library does; the flag alone means on; a bad value
 /// is refused by clap with the accepted ones named; and on with DLSS-RR is refused by name.
 #[test]

@@ -1739,8 +1739,13 @@ impl RealtimeRenderer {
                         );
                     }
                     let ms = r.time.map(|t| (t.end - t.start) * 1e3);
+                    // A pass recorded more than once in a frame (the world cache's update
+                    // rounds while it is cold) reports the sum of its scopes.
                     if let Some(i) = PASS_NAMES.iter().position(|n| *n == r.label) {
-                        times[i] = ms;
+                        times[i] = match (times[i], ms) {
+                            (Some(a), Some(b)) => Some(a + b),
+                            (a, b) => b.or(a),
+                        };
                     }
                 }
             }

@@ -58,18 +58,23 @@ pub struct CacheStats {
     pub active_cells: u32,
     /// Lookups that found every probed slot taken by other cells and returned nothing.
     pub overflows: u32,
+    /// Update rounds the GPU blended in the frame's upkeep ([`WorldCache::update_rounds`];
+    /// 0 when no cell was alive to update).
+    pub update_rounds: u32,
 }
 
 impl CacheStats {
-    /// Bytes of the counters at the start of the control buffer.
-    pub const BYTES: u64 = 8;
+    /// Bytes of the counters at the start of the control buffer (its whole header, so the
+    /// copy and the mapping stay 8-byte aligned).
+    pub const BYTES: u64 = 16;
 
     /// The counters from the first [`CacheStats::BYTES`] bytes read back.
     pub fn from_bytes(bytes: &[u8]) -> Self {
-        let words: [u32; 2] = bytemuck::pod_read_unaligned(&bytes[..Self::BYTES as usize]);
+        let words: [u32; 4] = bytemuck::pod_read_unaligned(&bytes[..Self::BYTES as usize]);
         Self {
             active_cells: words[0],
             overflows: words[1],
+            update_rounds: words[2],
         }
     }
 }
@@ -101,6 +106,10 @@ pub struct WorldCache {
     // Frames left in which the blend averages at most `light_change_samples`
     // (`follow_light_change`).
     short_history: u32,
+    // Frames left that run `warm_up_rounds` update rounds (from a new or emptied table).
+    warm_up_left: u32,
+    // Update rounds this frame's `encode_update` records (set by `prepare`).
+    rounds: u32,
 }
 
 struct Pipelines {
@@ -301,6 +310,8 @@ impl WorldCache {
             variant,
             size: (0, 0),
             short_history: 0,
+            warm_up_left: settings.warm_up_frames,
+            rounds: 1,
         })
     }
 
@@ -395,6 +406,7 @@ impl WorldCache {
             self.new_samples = t.new_samples;
             self.new_samples_shared = false;
             self.control = t.control;
+            self.warm_up_left = settings.warm_up_frames;
         }
         self.settings = settings;
         Ok(())
@@ -424,8 +436,11 @@ impl WorldCache {
         Ok(())
     }
 
-    /// Empties the table (every cell dies; light starts again from zero).
-    pub fn clear(&self, gpu: &Gpu) {
+    /// Empties the table (every cell dies; light starts again from zero, with
+    /// [`WorldCacheSettings::warm_up_rounds`] for the next
+    /// [`WorldCacheSettings::warm_up_frames`] frames).
+    pub fn clear(&mut self, gpu: &Gpu) {
+        self.warm_up_left = self.settings.warm_up_frames;
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         for b in [&self.checksums, &self.life, &self.cells, &self.control] {
             encoder.clear_buffer(b, 0, None);
@@ -484,6 +499,11 @@ impl WorldCache {
         if s.soft_lod {
             bits |= flags::SOFT_LOD;
         }
+        self.rounds = 1;
+        if self.warm_up_left > 0 {
+            self.warm_up_left -= 1;
+            self.rounds = s.warm_up_rounds;
+        }
         let mut max_temporal_samples = s.max_temporal_samples;
         if self.short_history > 0 {
             self.short_history -= 1;
@@ -518,6 +538,13 @@ impl WorldCache {
         self.size = size;
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
+    }
+
+    /// Update rounds the frame last prepared records: [`WorldCacheSettings::warm_up_rounds`]
+    /// in the [`WorldCacheSettings::warm_up_frames`] frames after the table was made or
+    /// emptied, 1 afterwards.
+    pub fn update_rounds(&self) -> u32 {
+        self.rounds
     }
 
     /// Tells the cache that the lights changed (switched, added, removed, rescaled): for the
@@ -575,8 +602,9 @@ impl WorldCache {
     }
 
     /// Records the update (a new sample per live cell, stochastic past the budget) and the
-    /// blend, both sized on the GPU by the compaction. `lights` is the light tiles' reader
-    /// group ([`LightTiles::reader_group`]) for this frame.
+    /// blend, both sized on the GPU by the compaction, [`WorldCache::update_rounds`] times
+    /// (each round's dispatches in scopes of the same labels). `lights` is the light tiles'
+    /// reader group ([`LightTiles::reader_group`]) for this frame.
     ///
     /// Errors, recording nothing, when the update pipeline was specialised for a scene shape
     /// that `scene` no longer has (for example one instance, and the scene has grown): it
@@ -592,18 +620,22 @@ impl WorldCache {
         let mut ran = Ran::none();
         let p = &self.pipelines;
         let size = Dispatch::Indirect(&self.dispatch);
-        frame.scope(PASS_LABELS[2], encoder, &mut ran, |e| {
-            record(
-                e,
-                PASS_LABELS[2],
-                &p.update,
-                &[(0, scene.bind_group()), (2, &self.group), (3, lights)],
-                size,
-            )
-        });
-        frame.scope(PASS_LABELS[3], encoder, &mut ran, |e| {
-            record(e, PASS_LABELS[3], &p.blend, &[(2, &self.group)], size)
-        });
+        // Each round reads what the last one blended; the blend counts the rounds on the
+        // GPU (`CacheControl::round`), which salts the next round's random numbers.
+        for _ in 0..self.rounds {
+            frame.scope(PASS_LABELS[2], encoder, &mut ran, |e| {
+                record(
+                    e,
+                    PASS_LABELS[2],
+                    &p.update,
+                    &[(0, scene.bind_group()), (2, &self.group), (3, lights)],
+                    size,
+                )
+            });
+            frame.scope(PASS_LABELS[3], encoder, &mut ran, |e| {
+                record(e, PASS_LABELS[3], &p.blend, &[(2, &self.group)], size)
+            });
+        }
         Ok(ran)
     }
 

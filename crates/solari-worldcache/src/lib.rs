@@ -62,6 +62,11 @@
 //!    averages at most [`WorldCacheSettings::light_change_samples`] samples for a few frames:
 //!    the adaptive factor sees a change only once the mean has moved, and a switched-off
 //!    light's bounce light, fed from cell to cell, otherwise faded over dozens of frames.
+//! 5. **Warm-up rounds**: in the first [`WorldCacheSettings::warm_up_frames`] frames after
+//!    the table is made or emptied, update and blend run
+//!    [`WorldCacheSettings::warm_up_rounds`] times, each round with its own random numbers
+//!    and reading what the last one blended, so light crosses several bounces a frame while
+//!    the cache is cold.
 //!
 //! ## Known limits
 //!
@@ -90,7 +95,7 @@ pub use cache::{
 };
 pub use settings::{
     CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, MAX_WARM_UP_EXPONENT,
-    WorldCacheSettings, warm_up_window,
+    MAX_WARM_UP_ROUNDS, WorldCacheSettings, warm_up_window,
 };
 
 /// The crate's importable WGSL modules, by module name: `world_cache` (bindings, lookup,

@@ -14,6 +14,8 @@ pub const MAX_SEARCH_STEPS: u32 = 64;
 pub const MAX_DIRECT_CANDIDATES: u32 = 64;
 /// Largest [`WorldCacheSettings::warm_up_exponent`].
 pub const MAX_WARM_UP_EXPONENT: f32 = 16.0;
+/// Most [`WorldCacheSettings::warm_up_rounds`].
+pub const MAX_WARM_UP_ROUNDS: u32 = 16;
 
 /// The most samples a cell that has blended `samples` of them averages while young
 /// ([`WorldCacheSettings::warm_up_exponent`]): 1 + (most − 1)(samples / most)^exponent,
@@ -91,6 +93,20 @@ pub struct WorldCacheSettings {
     /// chose, reads 1% brighter on interior once converged (relMSE +4.5%). An exponent of 3
     /// was as good for path GI and cost ReSTIR GI +11%.
     pub warm_up_exponent: f32,
+    /// Update rounds per frame (the update and blend passes, each round reading the cells
+    /// the last one left) in the [`WorldCacheSettings::warm_up_frames`] frames after the
+    /// table is made or emptied (default 4; 1 turns them off, at most
+    /// [`MAX_WARM_UP_ROUNDS`]). Light crosses one more bounce between cells per round, so a
+    /// cold cache holds the light of four bounces after its first updated frame instead of
+    /// one, and its cells count four samples a frame (each round draws its own random
+    /// numbers). The cost is the update and blend passes again, only in those frames.
+    /// Measured on an H200 at 960×540 (defaults with the fallback denoiser, against
+    /// 1024-spp references; `benches/RESULTS.md`, "Update rounds for a cold cache"): see the
+    /// figures there; the converged frames are unchanged.
+    pub warm_up_rounds: u32,
+    /// Frames after the table is made or emptied ([`crate::WorldCache::clear`], a new
+    /// capacity) that run [`WorldCacheSettings::warm_up_rounds`] (default 8; 0: none).
+    pub warm_up_frames: u32,
     /// Cells updated per frame before updates become stochastic (default 200,000): above it
     /// each active cell updates with probability budget / active, bounding the cost. At
     /// 40,000 the finer cells of `interior` (90–135k) updated too rarely to converge and its
@@ -134,6 +150,8 @@ impl Default for WorldCacheSettings {
             light_change_samples: 4.0,
             light_change_frames: 8,
             warm_up_exponent: 2.0,
+            warm_up_rounds: 4,
+            warm_up_frames: 8,
             update_budget: 200_000,
             direct_candidates: 8,
             max_ray_distance: 50.0,
@@ -203,6 +221,12 @@ impl WorldCacheSettings {
             return bad(format!(
                 "warm_up_exponent {} must be 0 to {MAX_WARM_UP_EXPONENT}",
                 self.warm_up_exponent
+            ));
+        }
+        if !(1..=MAX_WARM_UP_ROUNDS).contains(&self.warm_up_rounds) {
+            return bad(format!(
+                "warm_up_rounds {} must be 1 to {MAX_WARM_UP_ROUNDS}",
+                self.warm_up_rounds
             ));
         }
         if self.update_budget == 0 {

@@ -341,6 +341,8 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
     let fill = |exponent: f32| {
         let settings = WorldCacheSettings {
             warm_up_exponent: exponent,
+            // One round a frame: this test is about the window.
+            warm_up_rounds: 1,
             ..cache_settings(1 << 14)
         };
         let mut s = setup_with(&gpu, &scene, 32, settings, Gi::WorldCache).expect("cache");
@@ -350,10 +352,7 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
                 mean_indirect(&s, &gpu)
             })
             .collect();
-        // The steady level: the mean of the last 100 frames.
-        let steady = levels[200..].iter().sum::<f64>() / 100.0;
-        let within = levels.iter().position(|&l| l > 0.9 * steady).map(|f| f + 1);
-        (steady, within)
+        fill_frames(&levels)
     };
     let (plain, plain_frames) = fill(0.0);
     let (ramp, ramp_frames) = fill(2.0);
@@ -371,6 +370,84 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
     assert!(
         (ramp / plain - 1.0).abs() < 0.05,
         "steady levels differ: {ramp:.4} with the warm-up, {plain:.4} without"
+    );
+}
+
+/// Frames until `levels` first exceeds 90% of its mean over frames 200..300 (the steady
+/// level), and that level.
+fn fill_frames(levels: &[f64]) -> (f64, Option<usize>) {
+    let steady = levels[200..].iter().sum::<f64>() / 100.0;
+    let within = levels.iter().position(|&l| l > 0.9 * steady).map(|f| f + 1);
+    (steady, within)
+}
+
+/// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light
+/// reaches its steady level in fewer frames with four update rounds a frame than with one,
+/// and settles at the same level; the rounds run in the first `warm_up_frames` frames only
+/// (counted on the CPU and by the GPU's blend), and again after `clear`. 32² Cornell box.
+#[test]
+fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let settings = |rounds: u32| WorldCacheSettings {
+        warm_up_rounds: rounds,
+        warm_up_frames: 8,
+        ..cache_settings(1 << 14)
+    };
+    let fill = |rounds: u32| {
+        let mut s = setup_with(&gpu, &scene, 32, settings(rounds), Gi::WorldCache).expect("cache");
+        let levels: Vec<f64> = (0..300)
+            .map(|_| {
+                run(&gpu, &scene, &mut s, 1);
+                mean_indirect(&s, &gpu)
+            })
+            .collect();
+        fill_frames(&levels)
+    };
+    let (one, one_frames) = fill(1);
+    let (four, four_frames) = fill(4);
+    eprintln!(
+        "cornell 32x32, cold cache: indirect within 10% of steady after {one_frames:?} frames \
+         (one round, steady {one:.4}) and {four_frames:?} (four rounds, steady {four:.4})"
+    );
+    let (Some(a), Some(b)) = (one_frames, four_frames) else {
+        panic!("never filled: {one_frames:?} / {four_frames:?}");
+    };
+    // Measured on lavapipe: 9 frames against 17.
+    assert!(
+        (b as f64) <= 0.65 * a as f64,
+        "four rounds took {b} frames against one round's {a}"
+    );
+    assert!(
+        (four / one - 1.0).abs() < 0.05,
+        "steady levels differ: {four:.4} with four rounds, {one:.4} with one"
+    );
+
+    // Which frames run the rounds, on the CPU and on the GPU.
+    let mut s = setup_with(&gpu, &scene, 32, settings(3), Gi::WorldCache).expect("cache");
+    let mut counted = Vec::new();
+    for _ in 0..10 {
+        run(&gpu, &scene, &mut s, 1);
+        counted.push((s.cache.update_rounds(), s.stats(&gpu).update_rounds));
+    }
+    // Frame 0's upkeep finds no live cell (the GI pass makes the first ones after it).
+    let expected: Vec<(u32, u32)> = (0..10)
+        .map(|f| match f {
+            0 => (3, 0),
+            1..=7 => (3, 3),
+            _ => (1, 1),
+        })
+        .collect();
+    assert_eq!(
+        counted, expected,
+        "(rounds recorded, rounds blended) per frame"
+    );
+    s.cache.clear(&gpu);
+    run(&gpu, &scene, &mut s, 2);
+    assert_eq!(
+        (s.cache.update_rounds(), s.stats(&gpu).update_rounds),
+        (3, 3),
+        "rounds after clear"
     );
 }
 
@@ -520,6 +597,14 @@ fn bad_cache_settings_are_refused_with_a_message() {
         },
         WorldCacheSettings {
             warm_up_exponent: f32::NAN,
+            ..Default::default()
+        },
+        WorldCacheSettings {
+            warm_up_rounds: 0,
+            ..Default::default()
+        },
+        WorldCacheSettings {
+            warm_up_rounds: 17,
             ..Default::default()
         },
         WorldCacheSettings {
