@@ -6,7 +6,9 @@
 //!   DI reuse off through `set_di_settings` (no rebuild), then plain path GI in a renderer of
 //!   its own (path GI is built without reuse and runs one pass), each pass timed with
 //!   timestamp queries, each renderer after [`WARM_UP_SECONDS`] of untimed frames (an idle
-//!   GPU clocks down, and a first run's shader compile leaves it idle for seconds).
+//!   GPU clocks down, and a first run's shader compile leaves it idle for seconds), and at
+//!   least the world cache's warm-up frames (its extra update rounds are not a frame's
+//!   steady cost).
 //!   [`CostModel`] adds up the passes a grid point runs; passes that work per pixel scale
 //!   with the point's pixel count as `f + 0.1 (1 - f)` of native (fitted to the sweep's
 //!   per-pass times at 0.5 and 0.67, where about 9% of a pass did not shrink with its
@@ -367,8 +369,9 @@ fn warm_up(
 ) -> Result<u32, GpuError> {
     let start = Instant::now();
     let mut frames = 0;
-    // bound: WARM_UP_SECONDS of frames.
-    while start.elapsed().as_secs_f64() < WARM_UP_SECONDS {
+    // bound: WARM_UP_SECONDS of frames, and the world cache's warm-up frames (8 by default),
+    // whose extra update rounds would count in the phase's times on a slow adapter.
+    while start.elapsed().as_secs_f64() < WARM_UP_SECONDS || renderer.cache_warming_up() {
         renderer.submit(gpu, scene, gpu_scene, camera)?;
         frames += 1;
     }

@@ -1314,6 +1314,13 @@ impl RealtimeRenderer {
         self.di.reuse_skipped()
     }
 
+    /// Whether the world cache still has frames of extra update rounds ahead
+    /// ([`solari_worldcache::WorldCacheSettings::warm_up_rounds`]): those frames cost more
+    /// than the ones after them. False without a cache.
+    pub fn cache_warming_up(&self) -> bool {
+        self.cache.as_ref().is_some_and(|(c, _)| c.warming_up())
+    }
+
     /// The settings the renderer runs with (after the `set_*_settings` calls).
     pub fn settings(&self) -> &RealtimeSettings {
         &self.settings

@@ -113,3 +113,41 @@ fn every_gi_mode_adds_light_on_a_scene_with_many_lights() {
         );
     }
 }
+
+/// The cache's warm-up rounds inside the renderer: the frame reports' cache counters show
+/// the rounds the GPU blended, three a frame until `warm_up_frames` have run (frame 0's
+/// upkeep has no cell yet), then one; `cache_warming_up` (which the quality probe waits on)
+/// turns false exactly then.
+#[test]
+fn the_caches_warm_up_rounds_run_in_its_first_frames_only() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let mut settings = settings(1 << 14);
+    settings.cache.warm_up_rounds = 3;
+    settings.cache.warm_up_frames = 4;
+    let (_, mut s) = setup(&gpu, &scene, 16, settings);
+    let camera = scene.camera(None).unwrap();
+    let mut seen = Vec::new();
+    for _ in 0..6 {
+        let warming = s.renderer.cache_warming_up();
+        let report = s
+            .renderer
+            .render(&gpu, &scene, &s.gpu_scene, &camera)
+            .expect("frame");
+        let rounds = report.cache.expect("cache counters").update_rounds;
+        seen.push((warming, rounds));
+    }
+    assert_eq!(
+        seen,
+        [
+            (true, 0),
+            (true, 3),
+            (true, 3),
+            (true, 3),
+            (false, 1),
+            (false, 1)
+        ],
+        "(warming up before the frame, rounds blended) per frame"
+    );
+    assert!(!s.renderer.cache_warming_up());
+}

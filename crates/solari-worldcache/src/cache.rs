@@ -547,6 +547,12 @@ impl WorldCache {
         self.rounds
     }
 
+    /// Whether frames of [`WorldCacheSettings::warm_up_rounds`] are still ahead (the next
+    /// [`WorldCache::prepare`] starts one).
+    pub fn warming_up(&self) -> bool {
+        self.warm_up_left > 0
+    }
+
     /// Tells the cache that the lights changed (switched, added, removed, rescaled): for the
     /// next [`WorldCacheSettings::light_change_frames`] frames (from the next
     /// [`WorldCache::prepare`]) each cell averages at most
