@@ -330,6 +330,22 @@ fn mean_indirect(s: &Setup, gpu: &Gpu) -> f64 {
     cells.iter().map(|c| c.indirect[1] as f64).sum::<f64>() / cells.len().max(1) as f64
 }
 
+/// 300 frames of the 32² scene from a cold cache: the steady level of the live cells' mean
+/// indirect irradiance (its mean over frames 200..300) and the first frame that comes within
+/// 10% of it.
+fn fill_from_cold(gpu: &Gpu, scene: &Scene, settings: WorldCacheSettings) -> (f64, Option<usize>) {
+    let mut s = setup_with(gpu, scene, 32, settings, Gi::WorldCache).expect("cache");
+    let levels: Vec<f64> = (0..300)
+        .map(|_| {
+            run(gpu, scene, &mut s, 1);
+            mean_indirect(&s, gpu)
+        })
+        .collect();
+    let steady = levels[200..].iter().sum::<f64>() / 100.0;
+    let within = levels.iter().position(|&l| l > 0.9 * steady).map(|f| f + 1);
+    (steady, within)
+}
+
 /// A cold cache's indirect light reaches its steady level sooner with the young-cell
 /// window (`WorldCacheSettings::warm_up_exponent`) than with a plain running mean, and
 /// settles at the same level: frames until the mean indirect irradiance of the live cells is
@@ -345,14 +361,7 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
             warm_up_rounds: 1,
             ..cache_settings(1 << 14)
         };
-        let mut s = setup_with(&gpu, &scene, 32, settings, Gi::WorldCache).expect("cache");
-        let levels: Vec<f64> = (0..300)
-            .map(|_| {
-                run(&gpu, &scene, &mut s, 1);
-                mean_indirect(&s, &gpu)
-            })
-            .collect();
-        fill_frames(&levels)
+        fill_from_cold(&gpu, &scene, settings)
     };
     let (plain, plain_frames) = fill(0.0);
     let (ramp, ramp_frames) = fill(2.0);
@@ -373,14 +382,6 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
     );
 }
 
-/// Frames until `levels` first exceeds 90% of its mean over frames 200..300 (the steady
-/// level), and that level.
-fn fill_frames(levels: &[f64]) -> (f64, Option<usize>) {
-    let steady = levels[200..].iter().sum::<f64>() / 100.0;
-    let within = levels.iter().position(|&l| l > 0.9 * steady).map(|f| f + 1);
-    (steady, within)
-}
-
 /// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light
 /// reaches its steady level in fewer frames with four update rounds a frame than with one,
 /// and settles at the same level; the rounds run in the first `warm_up_frames` frames only
@@ -394,16 +395,7 @@ fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
         warm_up_frames: 8,
         ..cache_settings(1 << 14)
     };
-    let fill = |rounds: u32| {
-        let mut s = setup_with(&gpu, &scene, 32, settings(rounds), Gi::WorldCache).expect("cache");
-        let levels: Vec<f64> = (0..300)
-            .map(|_| {
-                run(&gpu, &scene, &mut s, 1);
-                mean_indirect(&s, &gpu)
-            })
-            .collect();
-        fill_frames(&levels)
-    };
+    let fill = |rounds: u32| fill_from_cold(&gpu, &scene, settings(rounds));
     let (one, one_frames) = fill(1);
     let (four, four_frames) = fill(4);
     eprintln!(
