@@ -526,8 +526,9 @@ pub struct RealtimeArgs {
     #[arg(long, default_value_t = WorldCacheSettings::default().capacity)]
     pub cache_capacity: u32,
     /// Frames after a light change (more than a tenth of the lights' power switched, added,
-    /// removed or rescaled) in which the world cache averages at most 4 samples and ReSTIR
-    /// GI counts a history as one sample, so indirect light follows the switch (0: never).
+    /// removed or rescaled) in which the world cache averages at most 4 samples and runs
+    /// `--cache-warm-up-rounds` update rounds a frame, and ReSTIR GI counts a history as one
+    /// sample, so indirect light follows the switch (0: never).
     #[arg(long, default_value_t = WorldCacheSettings::default().light_change_frames)]
     pub cache_light_change_frames: u32,
     /// How fast a young world-cache cell's averaging lengthens: a cell of n samples averages

@@ -557,11 +557,17 @@ impl WorldCache {
     /// next [`WorldCacheSettings::light_change_frames`] frames (from the next
     /// [`WorldCache::prepare`]) each cell averages at most
     /// [`WorldCacheSettings::light_change_samples`] samples, so the cached light follows
-    /// within a few frames instead of fading over dozens; the counts then grow back by one
-    /// a frame. Costs nothing; the cells are noisier for those frames. `RealtimeRenderer`
-    /// calls it from `set_lights` when enough of the lights' power changed.
+    /// within a few frames instead of fading over dozens; the counts then grow back. For the
+    /// same frames the upkeep runs [`WorldCacheSettings::warm_up_rounds`] update rounds, so
+    /// the change crosses several bounces between cells a frame (a bulb switched off on
+    /// lavapipe's Cornell box: the image's mean RMSE over the 16 frames after the switch
+    /// 1.01-1.25 with one round, 0.24-0.37 with four; `benches/RESULTS.md`, "Update rounds
+    /// for a cold cache"). The cells are noisier for those frames, and the rounds cost the
+    /// update and blend passes again. `RealtimeRenderer` calls it from `set_lights` when
+    /// enough of the lights' power changed.
     pub fn follow_light_change(&mut self) {
         self.short_history = self.settings.light_change_frames;
+        self.warm_up_left = self.warm_up_left.max(self.settings.light_change_frames);
     }
 
     /// Records decay and compaction: cells lose a frame of life (dead ones free their

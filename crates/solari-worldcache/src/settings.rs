@@ -113,7 +113,9 @@ pub struct WorldCacheSettings {
     /// with the same random numbers each round) and cost converged `interior` +2.7%.
     pub warm_up_rounds: u32,
     /// Frames after the table is made or emptied ([`crate::WorldCache::clear`], a new
-    /// capacity) that run [`WorldCacheSettings::warm_up_rounds`] (default 8; 0: none).
+    /// capacity) that run [`WorldCacheSettings::warm_up_rounds`] (default 8; 0: none). After
+    /// [`crate::WorldCache::follow_light_change`] the rounds run for
+    /// [`WorldCacheSettings::light_change_frames`] frames instead.
     pub warm_up_frames: u32,
     /// Cells updated per frame before updates become stochastic (default 200,000): above it
     /// each active cell updates with probability budget / active, bounding the cost. At

@@ -385,7 +385,8 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
 /// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light
 /// reaches its steady level in fewer frames with four update rounds a frame than with one,
 /// and settles at the same level; the rounds run in the first `warm_up_frames` frames only
-/// (counted on the CPU and by the GPU's blend), and again after `clear`. 32² Cornell box.
+/// (counted on the CPU and by the GPU's blend), again after `clear`, and in the frames after a
+/// light change. 32² Cornell box.
 #[test]
 fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
     let Some(gpu) = test_gpu() else { return };
@@ -440,6 +441,21 @@ fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
         (s.cache.update_rounds(), s.stats(&gpu).update_rounds),
         (3, 3),
         "rounds after clear"
+    );
+    // A light change runs the rounds for `light_change_frames` frames (8 by default).
+    run(&gpu, &scene, &mut s, 10);
+    assert_eq!(s.cache.update_rounds(), 1);
+    s.cache.follow_light_change();
+    let rounds: Vec<u32> = (0..10)
+        .map(|_| {
+            run(&gpu, &scene, &mut s, 1);
+            s.cache.update_rounds()
+        })
+        .collect();
+    assert_eq!(
+        rounds,
+        [3, 3, 3, 3, 3, 3, 3, 3, 1, 1],
+        "rounds after a light change"
     );
 }
 
