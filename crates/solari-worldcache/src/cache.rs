@@ -106,7 +106,8 @@ pub struct WorldCache {
     // Frames left in which the blend averages at most `light_change_samples`
     // (`follow_light_change`).
     short_history: u32,
-    // Frames left that run `warm_up_rounds` update rounds (from a new or emptied table).
+    // Frames left that run `warm_up_rounds` update rounds (from a new or emptied table, or a
+    // light change).
     warm_up_left: u32,
     // Update rounds this frame's `encode_update` records (set by `prepare`).
     rounds: u32,
@@ -542,7 +543,8 @@ impl WorldCache {
 
     /// Update rounds the frame last prepared records: [`WorldCacheSettings::warm_up_rounds`]
     /// in the [`WorldCacheSettings::warm_up_frames`] frames after the table was made or
-    /// emptied, 1 afterwards.
+    /// emptied and in the [`WorldCacheSettings::light_change_frames`] frames after
+    /// [`WorldCache::follow_light_change`], 1 otherwise.
     pub fn update_rounds(&self) -> u32 {
         self.rounds
     }

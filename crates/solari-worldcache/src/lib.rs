@@ -63,11 +63,10 @@
 //!    the adaptive factor sees a change only once the mean has moved, and a switched-off
 //!    light's bounce light, fed from cell to cell, otherwise faded over dozens of frames.
 //! 5. **Warm-up rounds**: in the first [`WorldCacheSettings::warm_up_frames`] frames after
-//!    the table is made or emptied (and the frames after [`WorldCache::follow_light_change`]),
-//!    update and blend run
-//!    [`WorldCacheSettings::warm_up_rounds`] times, each round with its own random numbers
-//!    and reading what the last one blended, so light crosses several bounces a frame while
-//!    the cache is cold.
+//!    the table is made or emptied, and the frames after [`WorldCache::follow_light_change`],
+//!    update and blend run [`WorldCacheSettings::warm_up_rounds`] times, each round with its
+//!    own random numbers and reading what the last one blended, so light crosses several
+//!    bounces a frame while the cache is cold or the lights have just changed.
 //!
 //! ## Known limits
 //!
