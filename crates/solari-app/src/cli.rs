@@ -542,7 +542,7 @@ pub struct RealtimeArgs {
     #[arg(long, value_name = "N", default_value_t = WorldCacheSettings::default().warm_up_rounds)]
     pub cache_warm_up_rounds: u32,
     /// Frames after the world cache is made or emptied that run `--cache-warm-up-rounds`
-    /// (0: none).
+    /// (0: none; at most 100000).
     #[arg(long, value_name = "N", default_value_t = WorldCacheSettings::default().warm_up_frames)]
     pub cache_warm_up_frames: u32,
     /// Denoiser, none, fallback (portable SVGF-style, every GPU) or dlss-rr (NVIDIA DLSS

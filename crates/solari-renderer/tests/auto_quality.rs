@@ -59,6 +59,22 @@ fn the_probe_times_every_frame_whatever_the_users_interval() {
     assert!(model.di_no_reuse > 0.0 && model.gi_path > 0.0, "{model:?}");
 }
 
+/// A world cache warm-up longer than the probe waits for (`MAX_CACHE_WARM_UP_WAIT` frames
+/// past `WARM_UP_SECONDS`) does not hold the probe: with 100,000 warm-up frames it still
+/// returns a cost model (it would render every one of them before its first phase).
+#[test]
+fn the_probe_does_not_wait_out_a_long_cache_warm_up() {
+    let Some(gpu) = test_gpu() else { return };
+    let mut long = base();
+    long.cache.warm_up_frames = 100_000;
+    long.cache.warm_up_rounds = 2;
+    let model = probe_box_from(&gpu, &long).expect("a cost model");
+    assert!(
+        model.full.get("gbuffer").is_some_and(|ms| *ms > 0.0),
+        "{model:?}"
+    );
+}
+
 #[test]
 fn the_probe_times_what_the_cost_model_reads() {
     let Some(gpu) = test_gpu() else { return };

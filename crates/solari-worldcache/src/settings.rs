@@ -95,7 +95,7 @@ pub struct WorldCacheSettings {
     pub warm_up_exponent: f32,
     /// Update rounds per frame (the update and blend passes, each round reading the cells
     /// the last one left) in the [`WorldCacheSettings::warm_up_frames`] frames after the
-    /// table is made or emptied (default 4; 1 turns them off, at most
+    /// table is made or emptied, and after a light change (default 4; 1 turns them off, at most
     /// [`MAX_WARM_UP_ROUNDS`]). Light crosses one more bounce between cells per round, so a
     /// cold cache holds the light of four bounces after its first updated frame instead of
     /// one, and its cells count four samples a frame (each round draws its own random
@@ -113,7 +113,8 @@ pub struct WorldCacheSettings {
     /// with the same random numbers each round) and cost converged `interior` +2.7%.
     pub warm_up_rounds: u32,
     /// Frames after the table is made or emptied ([`crate::WorldCache::clear`], a new
-    /// capacity) that run [`WorldCacheSettings::warm_up_rounds`] (default 8; 0: none). After
+    /// capacity) that run [`WorldCacheSettings::warm_up_rounds`] (default 8; 0: none; at most
+    /// 100,000). After
     /// [`crate::WorldCache::follow_light_change`] the rounds run for
     /// [`WorldCacheSettings::light_change_frames`] frames instead.
     pub warm_up_frames: u32,
@@ -231,6 +232,12 @@ impl WorldCacheSettings {
             return bad(format!(
                 "warm_up_exponent {} must be 0 to {MAX_WARM_UP_EXPONENT}",
                 self.warm_up_exponent
+            ));
+        }
+        if self.warm_up_frames > 100_000 {
+            return bad(format!(
+                "warm_up_frames {} must be at most 100000",
+                self.warm_up_frames
             ));
         }
         if !(1..=MAX_WARM_UP_ROUNDS).contains(&self.warm_up_rounds) {

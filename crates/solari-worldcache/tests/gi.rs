@@ -616,6 +616,10 @@ fn bad_cache_settings_are_refused_with_a_message() {
             ..Default::default()
         },
         WorldCacheSettings {
+            warm_up_frames: 100_001,
+            ..Default::default()
+        },
+        WorldCacheSettings {
             update_budget: 0,
             ..Default::default()
         },
