@@ -218,9 +218,10 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
         v["antialias_setting"] = applied.antialias.name().into();
         v["gi_half_rate"] = applied.restir_gi.half_rate.into();
-        // In effect: it needs half rate (and acts only with reuse, `gi`).
+        v["gi_quarter_rate"] = applied.restir_gi.quarter_rate.into();
+        // In effect: it needs a reduced rate (and acts only with reuse, `gi`).
         v["gi_half_rate_spatial"] =
-            (applied.restir_gi.half_rate && applied.restir_gi.half_rate_spatial).into();
+            (applied.restir_gi.rate_shift() > 0 && applied.restir_gi.half_rate_spatial).into();
         v["gi_ignore_cold_cells"] = applied.restir_gi.ignore_cold_cells.into();
         v["gi_adaptive_cap"] = applied.restir_gi.adaptive_cap.into();
         v["gi_shade_apart"] = renderer.gi_settings().is_some_and(|s| s.shade_apart).into();

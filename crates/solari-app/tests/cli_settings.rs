@@ -411,3 +411,26 @@ fn gi_half_rate_spatial_reaches_the_settings() {
         "not a yes or no"
     );
 }
+
+/// `--gi-quarter-rate` reaches ReSTIR GI's settings (a pixel traces one frame in four) and
+/// refuses `--gi-half-rate` beside it, naming both, rather than picking one.
+#[test]
+fn gi_quarter_rate_reaches_the_settings() {
+    let s = settings(&["--gi", "restir", "--gi-quarter-rate"]).restir_gi;
+    assert!(s.quarter_rate && !s.half_rate);
+    assert_eq!(s.rate_shift(), 2);
+    assert_eq!(
+        settings(&["--gi", "restir", "--gi-half-rate"])
+            .restir_gi
+            .rate_shift(),
+        1
+    );
+    assert_eq!(settings(&[]).restir_gi.rate_shift(), 0);
+    let e = Cli::try_parse_from(["solari", "render", "--gi-quarter-rate", "--gi-half-rate"])
+        .expect_err("refused")
+        .to_string();
+    assert!(
+        e.contains("--gi-quarter-rate") && e.contains("--gi-half-rate"),
+        "{e}"
+    );
+}

@@ -86,6 +86,27 @@ pub struct RestirGiSettings {
     /// (`interior`; −0.5% to +12% elsewhere) (`benches/RESULTS.md`, "Spatial reuse at half
     /// rate"). A change builds the spatial pass again at the next frame.
     pub half_rate_spatial: bool,
+    /// GI traced from a quarter of the pixels each frame instead of half (default off): each
+    /// pixel traces one frame in four, at four times the weight, where (x + 2y + frame) mod 4
+    /// is 0 (a pixel's phase: the frames since it traced), and the tracing pixels are packed
+    /// into whole warps as at half rate. With [`RestirGiSettings::half_rate_spatial`] and
+    /// reuse, spatial reuse runs at the pixels of phase 1 (the frame after they traced), from
+    /// neighbours of that phase. Unbiased over the cycle as half rate is; it implies a reduced
+    /// rate whatever [`RestirGiSettings::half_rate`] says.
+    ///
+    /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
+    /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
+    /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms), on
+    /// many_lights 0.603 against 0.703 and sun_boxes 0.557 against 0.606; on the Cornell box,
+    /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
+    /// four pixels each in turn). relMSE against a 1024-spp full-bounce reference at 960×540:
+    /// after 136 frames within −4% to +9% of half rate's (`interior`'s 16-frame mean 0.00679
+    /// against 0.00682; the Cornell box's 0.000255 against 0.000233), frame 32 at most 1%
+    /// higher (`interior` 0.00739 against 0.00859), frame 8 from 35% lower (the Cornell box)
+    /// to 15% higher (sun_boxes; `interior` +5%). With plain
+    /// path GI a quarter costs more than it saves: `interior`'s 16-frame mean 0.00712 against
+    /// 0.00654 at full rate, frame 8 0.0385 against 0.0212.
+    pub quarter_rate: bool,
     /// A GI ray whose hit lies in a world-cache cell that holds no samples yet (a cell made
     /// this frame or not yet updated) draws no sample, with confidence 0, instead of a
     /// sample of no light with confidence 1 (default on; it changes nothing without reuse,
@@ -202,6 +223,7 @@ impl Default for RestirGiSettings {
             initial_samples: 1,
             half_rate: false,
             half_rate_spatial: true,
+            quarter_rate: false,
             ignore_cold_cells: true,
             adaptive_cap: true,
             shade_apart: false,
@@ -210,6 +232,16 @@ impl Default for RestirGiSettings {
 }
 
 impl RestirGiSettings {
+    /// log2 of the frames between a pixel's traced frames: 0 at full rate, 1 at
+    /// [`RestirGiSettings::half_rate`], 2 at [`RestirGiSettings::quarter_rate`].
+    pub fn rate_shift(&self) -> u32 {
+        if self.quarter_rate {
+            2
+        } else {
+            u32::from(self.half_rate)
+        }
+    }
+
     /// Plain path GI: the same initial sample with no reuse.
     pub fn plain() -> Self {
         Self {
@@ -298,8 +330,8 @@ pub struct GpuGiParams {
     /// [`RestirGiSettings::confidence_cap`], or 1 for a few frames after
     /// `RestirGi::follow_light_change` (samples keep carrying caps from `confidence_cap`).
     pub history_cap: f32,
-    /// Padding.
-    pub _pad: u32,
+    /// [`RestirGiSettings::rate_shift`].
+    pub rate_shift: u32,
 }
 
 const _: () = assert!(size_of::<GpuGiParams>() == 48);
