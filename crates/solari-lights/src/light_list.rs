@@ -248,18 +248,41 @@ pub struct LightListReport {
     pub zero_area: Vec<u32>,
     /// Emissive triangles of zero or non-finite area skipped inside kept lights.
     pub skipped_triangles: usize,
-    /// Directional lights that were black or not finite (left out).
+    /// Directional lights left out as broken: irradiance not finite or with no channel above
+    /// zero (but not exactly zero: that is [`LightListReport::off_directional`]), or no
+    /// direction. (`Scene::validate` refuses most of these at load.)
     pub dark_directional: Vec<u32>,
-    /// Point and spot lights that were black, not finite, or whose cone lights nothing
-    /// (left out).
+    /// Point and spot lights left out as broken: intensity not finite or with no channel
+    /// above zero (but not exactly zero: [`LightListReport::off_punctual`]), a position or
+    /// axis not finite, or a cone that lights nothing.
     pub dark_punctual: Vec<u32>,
+    /// Directional lights switched off: irradiance exactly zero, the rest well formed. Left
+    /// out, and not a problem: [`LightListReport::lines`] does not list them (a scene that
+    /// switches its lights would otherwise warn at every switch).
+    pub off_directional: Vec<u32>,
+    /// Point and spot lights switched off: intensity exactly zero, the rest well formed (left
+    /// out, not listed by [`LightListReport::lines`]).
+    pub off_punctual: Vec<u32>,
     /// Point and spot lights whose radius was negative, not finite, or so small that the
     /// sphere's radiance would not be finite: rendered as delta lights.
     pub radius_to_delta: Vec<u32>,
 }
 
 impl LightListReport {
-    /// One human-readable line per kind of problem; empty when every light was kept as given.
+    /// One line naming the lights switched off (left out as they should be), or `None`.
+    /// Worth a debug log, not a warning.
+    pub fn off_line(&self) -> Option<String> {
+        let n = self.off_directional.len() + self.off_punctual.len();
+        (n > 0).then(|| {
+            format!(
+                "{n} light(s) switched off (zero power) left out: directional {:?}, point/spot {:?}",
+                self.off_directional, self.off_punctual
+            )
+        })
+    }
+
+    /// One human-readable line per kind of problem; empty when every light was kept as given
+    /// or switched off ([`LightListReport::off_line`]).
     pub fn lines(&self) -> Vec<String> {
         let mut out = Vec::new();
         let mut push = |v: &[u32], what: &str| {
@@ -416,7 +439,11 @@ impl LightList {
                 && light.irradiance.max_element() > 0.0
                 && dir != Vec3::ZERO;
             if !lit {
-                list.report.dark_directional.push(index as u32);
+                if light.irradiance == Vec3::ZERO && dir.is_finite() && dir != Vec3::ZERO {
+                    list.report.off_directional.push(index as u32);
+                } else {
+                    list.report.dark_directional.push(index as u32);
+                }
                 continue;
             }
             let radius_angle =
@@ -468,7 +495,14 @@ impl LightList {
                 && cone.axis.is_finite()
                 && cone.lit_solid_angle() > 0.0;
             if !lit {
-                list.report.dark_punctual.push(index);
+                let well_formed = light.position.is_finite()
+                    && cone.axis.is_finite()
+                    && cone.lit_solid_angle() > 0.0;
+                if light.intensity == Vec3::ZERO && well_formed {
+                    list.report.off_punctual.push(index);
+                } else {
+                    list.report.dark_punctual.push(index);
+                }
                 continue;
             }
             let mut radius = light.radius;

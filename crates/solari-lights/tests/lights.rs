@@ -110,11 +110,33 @@ fn lights_that_cannot_contribute_are_left_out_and_reported() {
         irradiance: Vec3::ZERO,
         angular_diameter: 0.01,
     });
+    scene.directional_lights.push(DirectionalLight {
+        name: "not finite".into(),
+        direction: -Vec3::Y,
+        irradiance: Vec3::new(1.0, f32::NAN, 1.0),
+        angular_diameter: 0.01,
+    });
+    scene.directional_lights.push(DirectionalLight {
+        name: "black, no direction".into(),
+        direction: Vec3::NAN,
+        irradiance: Vec3::ZERO,
+        angular_diameter: 0.01,
+    });
     let list = LightList::build(&scene);
     assert_eq!(list.len(), 1);
     assert_eq!(list.report.zero_area, vec![2]);
     assert_eq!(list.report.non_finite_emission, vec![3]);
-    assert_eq!(list.report.dark_directional, vec![0]);
+    // A black light is switched off: left out, and not reported as a problem. One not
+    // finite, or a black one without a direction, is broken.
+    assert_eq!(list.report.off_directional, vec![0]);
+    assert_eq!(list.report.dark_directional, vec![1, 2]);
+    let lines = list.report.lines().join("\n");
+    assert!(lines.contains("2 black or broken directional"), "{lines}");
+    let off = list.report.off_line().expect("one light off");
+    assert!(
+        off.contains("1 light(s) switched off") && off.contains("[0]"),
+        "{off}"
+    );
     // A scene with nothing bright has an empty list, and sampling it gives nothing.
     let dark = LightList::build(&scene_of(&[(Mat4::IDENTITY, Vec3::ZERO)]));
     assert!(dark.is_empty());

@@ -219,8 +219,15 @@ fn bad_point_lights_are_reported_not_rendered_as_garbage() {
     huge.intensity = Vec3::splat(3e38);
     lights.push(huge);
     let list = list_of(lights);
-    // Index 5's outer angle clamps to 0: a cone that lights nothing.
-    assert_eq!(list.report.dark_punctual, vec![0, 4, 5]);
+    // Index 0 is black: switched off, not a problem. Index 5's outer angle clamps to 0: a
+    // cone that lights nothing.
+    assert_eq!(list.report.off_punctual, vec![0]);
+    assert_eq!(list.report.dark_punctual, vec![4, 5]);
+    assert!(
+        !list.report.lines().join(" ").contains("[0"),
+        "{:?}",
+        list.report.lines()
+    );
     assert_eq!(list.report.radius_to_delta, vec![1, 2, 3]);
     assert_eq!(list.len(), 6);
     assert!(

@@ -834,6 +834,9 @@ impl RealtimeRenderer {
         for line in list.report.lines() {
             log::warn!("lights: {line}");
         }
+        if let Some(line) = list.report.off_line() {
+            log::debug!("lights: {line}");
+        }
         let tiles_built = LightTileSettings {
             point_lights: settings.tiles.point_lights && list.has_point_lights(),
             emissive_textures: settings.tiles.emissive_textures && list.has_emissive_textures(),
@@ -1241,6 +1244,9 @@ impl RealtimeRenderer {
         let list = LightList::build(scene);
         for line in list.report.lines() {
             log::warn!("lights: {line}");
+        }
+        if let Some(line) = list.report.off_line() {
+            log::debug!("lights: {line}");
         }
         let translation = list.translation_from(&self.list);
         let wanted = self.settings.tiles;
