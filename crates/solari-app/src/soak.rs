@@ -3,14 +3,47 @@
 //! summary: non-finite, negative and over-bound counts per pass (with the first frame of
 //! each), world-cache overflows, GPU and process memory at the start and the end, and
 //! wall frame-time percentiles over every frame and GPU ones over the frames `--time-every`
-//! times (one in 8 by default; the summary's `gpu_frame_ms.frames` says how many). Exits with
-//! status 1 when anything was found.
+//! times (one in 8 by default; the summary's `gpu_frame_ms.frames` says how many), and the
+//! eight slowest frames by wall time with their index and the frames since the last light
+//! toggle. Exits with status 1 when anything was found.
 
 use solari_app::cli::{Prepared, SoakArgs};
 use solari_app::output::write_atomic;
 use solari_renderer::{FINITE_SLOTS, FrameReport, RealtimeRenderer};
 use solari_scene::{Material, Scene};
 use std::time::Instant;
+
+/// The slowest frames of a run by wall time, with where they fell: a hitch's frame index and
+/// its distance from the last light toggle say more than a percentile does.
+struct Slowest {
+    /// (wall ms, frame, frames since the last toggle), slowest first.
+    frames: Vec<(f64, u64, Option<u64>)>,
+}
+
+/// How many of the slowest frames the summary lists.
+const SLOWEST_FRAMES: usize = 8;
+
+impl Slowest {
+    fn add(&mut self, ms: f64, frame: u64, since_toggle: Option<u64>) {
+        if !ms.is_finite()
+            || (self.frames.len() == SLOWEST_FRAMES && ms <= self.frames[SLOWEST_FRAMES - 1].0)
+        {
+            return;
+        }
+        let at = self.frames.partition_point(|f| f.0 >= ms);
+        self.frames.insert(at, (ms, frame, since_toggle));
+        self.frames.truncate(SLOWEST_FRAMES);
+    }
+
+    fn json(&self) -> serde_json::Value {
+        self.frames
+            .iter()
+            .map(|&(ms, frame, since)| {
+                serde_json::json!({"frame": frame, "wall_ms": ms, "frames_since_toggle": since})
+            })
+            .collect()
+    }
+}
 
 /// Per pass over the run.
 #[derive(Clone, Default, serde::Serialize)]
@@ -252,7 +285,9 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
     let (mut memory_max, mut rss_max) = (0u64, 0u64);
     let mut tally = Tally::new();
     let mut wall = Times::new();
+    let mut slowest = Slowest { frames: Vec::new() };
     let mut toggles = 0u64;
+    let mut last_toggle = None;
     let (mut last_progress, mut last_frames) = (Instant::now(), 0u64);
     let progress = |tally: &Tally, done: u64, since: Instant, since_frames: u64| {
         let bad: u64 = tally
@@ -283,6 +318,7 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
                 .set_lights(&gpu, &scene)
                 .map_err(|e| e.to_string())?;
             toggles += 1;
+            last_toggle = Some(frame);
         }
         let cam = rig.at(frame as u32);
         // Frames go to the GPU without waiting for it (`submit`); each report (GPU times,
@@ -293,7 +329,9 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
         let report = renderer
             .submit(&gpu, &scene, &gpu_scene, &cam)
             .map_err(|e| format!("frame {frame}: {e}"))?;
-        wall.add(t0.elapsed().as_secs_f64() * 1e3);
+        let ms = t0.elapsed().as_secs_f64() * 1e3;
+        wall.add(ms);
+        slowest.add(ms, frame, last_toggle.map(|t| frame - t));
         if let Some(r) = report {
             tally.add(&r);
         }
@@ -348,7 +386,7 @@ pub fn run(args: &SoakArgs) -> Result<(), String> {
             "warmup_frames": warm_frame},
         "process_rss_bytes": {"start": rss_start, "after_warmup": rss_warm, "end": process_rss(),
             "max_after_warmup": rss_max},
-        "wall_frame_ms": wall.json(), "loop_ms_per_frame": loop_ms, "gpu_frame_ms": gpu_ms.json(),
+        "wall_frame_ms": wall.json(), "slowest_wall_frames": slowest.json(), "loop_ms_per_frame": loop_ms, "gpu_frame_ms": gpu_ms.json(),
         "seconds": start.elapsed().as_secs_f64(),
     });
     let text = serde_json::to_string_pretty(&summary).map_err(|e| e.to_string())?;
@@ -377,6 +415,27 @@ mod tests {
         assert!((p50 - 5.0).abs() / 5.0 < 0.01, "{p50}");
         assert_eq!(t.quantile(1.0), Some(10.0));
         assert_eq!(Times::new().quantile(0.5), None);
+    }
+
+    #[test]
+    fn the_slowest_frames_are_kept_slowest_first() {
+        let mut s = Slowest { frames: Vec::new() };
+        for frame in 0..100u64 {
+            // Frame 37 the slowest, then every tenth; a NaN never enters.
+            let ms = if frame == 37 {
+                500.0
+            } else if frame % 10 == 0 {
+                10.0 + frame as f64
+            } else {
+                4.0
+            };
+            s.add(ms, frame, Some(frame % 7));
+        }
+        s.add(f64::NAN, 100, None);
+        let frames: Vec<u64> = s.frames.iter().map(|f| f.1).collect();
+        assert_eq!(frames, [37, 90, 80, 70, 60, 50, 40, 30]);
+        assert_eq!(s.frames[0].2, Some(2));
+        assert!(s.frames.windows(2).all(|w| w[0].0 >= w[1].0));
     }
 
     #[test]
