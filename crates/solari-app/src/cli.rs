@@ -453,9 +453,9 @@ pub struct RealtimeArgs {
     pub gi_half_rate: bool,
     /// GI traced from a quarter of the pixels each frame (each pixel one frame in four, at
     /// four times the weight) instead of half: with `--gi restir`, its two passes on
-    /// `interior` 0.96 ms instead of 1.27 at half rate (H200, 1080p) for the same converged
-    /// error; with `--gi path` it costs more error than it saves. See
-    /// `RestirGiSettings::quarter_rate`.
+    /// `interior` 0.96 ms instead of 1.27 at half rate (H200, 1080p) for the same error with
+    /// a still camera, 18% more with a moving one; with `--gi path` it costs more error than
+    /// it saves. See `RestirGiSettings::quarter_rate`.
     #[arg(long, conflicts_with = "gi_half_rate")]
     pub gi_quarter_rate: bool,
     /// With `--gi-half-rate` and `--gi restir`: spatial reuse too only at half the pixels
