@@ -686,8 +686,9 @@ impl RestirGi {
 
     /// Whether the spatial pass's pipeline is the one built for spatial reuse at a reduced
     /// rate ([`RestirGiSettings::half_rate_spatial`] with [`RestirGiSettings::half_rate`] or
-    /// [`RestirGiSettings::quarter_rate`]; false when built without reuse). After [`RestirGi::set_settings`] moved either across that
-    /// line, the next [`RestirGi::prepare`] builds the other.
+    /// [`RestirGiSettings::quarter_rate`]; false when built without reuse). After
+    /// [`RestirGi::set_settings`] moved either across that line, the next
+    /// [`RestirGi::prepare`] builds the other.
     pub fn spatial_half_rate(&self) -> bool {
         self.spatial.is_some() && self.spatial_form.half_rate
     }

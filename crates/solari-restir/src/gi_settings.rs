@@ -64,10 +64,12 @@ pub struct RestirGiSettings {
     ///   (`benches/RESULTS.md`, "ReSTIR GI from half the pixels").
     pub half_rate: bool,
     /// With [`RestirGiSettings::half_rate`] and reuse, spatial reuse too at half the pixels
-    /// (default on; nothing without half rate): those that did not trace this frame, packed
-    /// into whole warps, so each pixel gets one new sample or one neighbour's reservoir a
-    /// frame and the spatial pass traces half its visibility rays. The pixels that traced
-    /// shade the reservoir temporal reuse left them, as a pixel that finds no neighbour does.
+    /// (default on; nothing without a reduced rate): those that did not trace this frame,
+    /// packed into whole warps, so each pixel gets one new sample or one neighbour's reservoir
+    /// a frame and the spatial pass traces half its visibility rays (at
+    /// [`RestirGiSettings::quarter_rate`], a quarter of the pixels, those one frame past their
+    /// traced frame). The other pixels shade the reservoir temporal reuse left them, as a
+    /// pixel that finds no neighbour does.
     ///
     /// The neighbours are taken from the pixels that did not trace either. A pixel's
     /// reservoir is at the low point of the checkerboard's cycle on the frames it does not
@@ -105,9 +107,9 @@ pub struct RestirGiSettings {
     /// higher (`interior` 0.00739 against 0.00859), frame 8 from 35% lower (the Cornell box)
     /// to 15% higher (sun_boxes; `interior` +5%). Under a moving camera (the orbit path, a
     /// reference per frame) a quarter costs more: `interior` after 96 frames 0.01005 against
-    /// 0.00855 at half rate and 0.00755 at every pixel. With plain
-    /// path GI a quarter costs more than it saves: `interior`'s 16-frame mean 0.00712 against
-    /// 0.00654 at full rate, frame 8 0.0385 against 0.0212.
+    /// 0.00855 at half rate and 0.00755 at every pixel. With plain path GI a quarter costs
+    /// more than it saves: `interior`'s 16-frame mean 0.00712 against 0.00654 at full rate,
+    /// frame 8 0.0385 against 0.0212.
     pub quarter_rate: bool,
     /// A GI ray whose hit lies in a world-cache cell that holds no samples yet (a cell made
     /// this frame or not yet updated) draws no sample, with confidence 0, instead of a
