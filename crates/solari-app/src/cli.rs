@@ -453,9 +453,10 @@ pub struct RealtimeArgs {
     pub gi_half_rate: bool,
     /// GI traced from a quarter of the pixels each frame (each pixel one frame in four, at
     /// four times the weight) instead of half: with `--gi restir`, its two passes on
-    /// `interior` 0.96 ms instead of 1.27 at half rate (H200, 1080p) for the same error with
-    /// a still camera, 18% more with a moving one; with `--gi path` it costs more error than
-    /// it saves. See `RestirGiSettings::quarter_rate`.
+    /// `interior` 1.07 ms instead of 1.33 at half rate (H200, 1080p; 0.96 and 1.27 with
+    /// `--gi-trace-fresh off`, whose moving camera's error is 21% higher at a quarter), the
+    /// still camera's error the same; with `--gi path` it costs more error than it saves.
+    /// See `RestirGiSettings::quarter_rate`.
     #[arg(long, conflicts_with = "gi_half_rate")]
     pub gi_quarter_rate: bool,
     /// With `--gi-half-rate` and `--gi restir`: spatial reuse too only at half the pixels
@@ -480,6 +481,14 @@ pub struct RealtimeArgs {
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub gi_adaptive_cap: bool,
+    /// At `--gi-half-rate` or `--gi-quarter-rate` with ReSTIR GI: a pixel with no history (a
+    /// first frame, surface the view uncovered) traces this frame whatever its phase (on by
+    /// default: along a moving camera interior's error 21% lower at a quarter, for 0.06-0.12
+    /// ms a frame on the H200 at 1080p; `off` makes it wait for its phase). See
+    /// `RestirGiSettings::trace_fresh_pixels`.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub gi_trace_fresh: bool,
     /// Plain path GI (`--gi path`) shades in a second dispatch after the one that traces:
     /// auto (in scenes of at least 65,536 triangles, where it measured faster: interior's GI
     /// pass −7.9% on an H100), on or off. See `RestirGiSettings::shade_apart`.
@@ -653,6 +662,7 @@ impl RealtimeArgs {
                 quarter_rate: self.gi_quarter_rate,
                 ignore_cold_cells: self.gi_ignore_cold_cells,
                 adaptive_cap: self.gi_adaptive_cap,
+                trace_fresh_pixels: self.gi_trace_fresh,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

@@ -413,7 +413,8 @@ fn gi_half_rate_spatial_reaches_the_settings() {
 }
 
 /// `--gi-quarter-rate` reaches ReSTIR GI's settings (a pixel traces one frame in four) and
-/// refuses `--gi-half-rate` beside it, naming both, rather than picking one.
+/// refuses `--gi-half-rate` beside it, naming both, rather than picking one; so does
+/// `--gi-trace-fresh`.
 #[test]
 fn gi_quarter_rate_reaches_the_settings() {
     let s = settings(&["--gi", "restir", "--gi-quarter-rate"]).restir_gi;
@@ -426,6 +427,16 @@ fn gi_quarter_rate_reaches_the_settings() {
         1
     );
     assert_eq!(settings(&[]).restir_gi.rate_shift(), 0);
+    // Pixels without history trace whatever their phase: on by default, `off` turns it off.
+    assert!(settings(&[]).restir_gi.trace_fresh_pixels);
+    let off = settings(&[
+        "--gi",
+        "restir",
+        "--gi-quarter-rate",
+        "--gi-trace-fresh",
+        "off",
+    ]);
+    assert!(!off.restir_gi.trace_fresh_pixels);
     let e = Cli::try_parse_from(["solari", "render", "--gi-quarter-rate", "--gi-half-rate"])
         .expect_err("refused")
         .to_string();

@@ -98,7 +98,8 @@ pub struct RestirGiSettings {
     ///
     /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
     /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
-    /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms), on
+    /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms; both with
+    /// [`RestirGiSettings::trace_fresh_pixels`] off, which adds 0.117 and 0.060 ms), on
     /// many_lights 0.603 against 0.703 and sun_boxes 0.557 against 0.606; on the Cornell box,
     /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
     /// four pixels each in turn). relMSE against a 1024-spp full-bounce reference at 960×540:
@@ -107,10 +108,24 @@ pub struct RestirGiSettings {
     /// higher (`interior` 0.00739 against 0.00859), frame 8 from 35% lower (the Cornell box)
     /// to 15% higher (sun_boxes; `interior` +5%). Under a moving camera (the orbit path, a
     /// reference per frame) a quarter costs more: `interior` after 96 frames 0.01005 against
-    /// 0.00855 at half rate and 0.00755 at every pixel. With plain path GI a quarter costs
+    /// 0.00855 at half rate and 0.00755 at every pixel, without `trace_fresh_pixels`; with
+    /// it (the default) 0.00795 and 0.00781. With plain path GI a quarter costs
     /// more than it saves: `interior`'s 16-frame mean 0.00712 against 0.00654 at full rate,
     /// frame 8 0.0385 against 0.0212.
     pub quarter_rate: bool,
+    /// At half or quarter rate with temporal reuse, a pixel with no history to carry (a first
+    /// frame, a reset, surface the view uncovered) traces this frame at its full-rate weight,
+    /// on its phase or off it (default on). Without it such a pixel waits up to three frames
+    /// for its phase, and one on its phase starts at the rate's scale, n times too bright.
+    ///
+    /// On an H200 (`benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): along the
+    /// orbit camera, `interior`'s relMSE after 96 frames 0.01010 → 0.00795 at a quarter
+    /// (every pixel 0.00755) and 0.00844 → 0.00781 at half rate. It costs every frame, the
+    /// camera still or not, a history lookup per pixel in the tracing dispatch: with
+    /// `--gi restir` on `interior` at 1080p the initial pass +0.117 ms at a quarter (its two
+    /// passes 0.958 → 1.075 ms) and +0.060 ms at half rate; the Cornell box +0.039 / +0.023.
+    /// Nothing changes at full rate or without reuse.
+    pub trace_fresh_pixels: bool,
     /// A GI ray whose hit lies in a world-cache cell that holds no samples yet (a cell made
     /// this frame or not yet updated) draws no sample, with confidence 0, instead of a
     /// sample of no light with confidence 1 (default on; it changes nothing without reuse,
@@ -228,6 +243,7 @@ impl Default for RestirGiSettings {
             half_rate: false,
             half_rate_spatial: true,
             quarter_rate: false,
+            trace_fresh_pixels: true,
             ignore_cold_cells: true,
             adaptive_cap: true,
             shade_apart: false,
@@ -304,6 +320,8 @@ pub(crate) mod flags {
     pub const IGNORE_COLD: u32 = 256;
     /// [`super::RestirGiSettings::adaptive_cap`].
     pub const ADAPTIVE_CAP: u32 = 512;
+    /// [`super::RestirGiSettings::trace_fresh_pixels`].
+    pub const TRACE_FRESH: u32 = 1024;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.

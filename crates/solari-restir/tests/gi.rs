@@ -1004,6 +1004,79 @@ fn reduced_rate_spatial_reuse_runs_at_one_phase_only() {
     }
 }
 
+/// At a reduced rate, a pixel with nothing to carry from last frame traces at its full-rate
+/// weight, off its phase or on it (`traces_without_history` in
+/// `restir_gi_initial.wesl`): on the first frame after `RestirGi::reset` (no history
+/// anywhere) half and quarter rate hold a sample at as many pixels as every-pixel GI does
+/// (with `trace_fresh_pixels` off, a half and a quarter as many), with the same mean weight
+/// (on-phase pixels at the rate's scale read 1.5 times it at half rate). From the second frame on, with a still
+/// camera, every pixel has its history and the rate's phases alone decide (the phase test
+/// above).
+#[test]
+fn pixels_without_history_trace_at_a_reduced_rate() {
+    use solari_restir::gi_reservoir::GpuGiReservoir;
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let size = 32;
+    // (pixels holding a sample, their mean weight) in the first frame after a reset.
+    let first_frame = |half_rate: bool, quarter_rate: bool, trace_fresh_pixels: bool| {
+        let settings = RestirGiSettings {
+            spatial: false,
+            half_rate,
+            quarter_rate,
+            trace_fresh_pixels,
+            ..Default::default()
+        };
+        let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
+        let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
+        s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
+        // The world cache lit first (a cold cell gives no sample), then history dropped.
+        for _ in 0..12 {
+            s.frame(&gpu, &scene);
+        }
+        s.gi.reset();
+        s.frame(&gpu, &scene);
+        let bytes = gpu.read_buffer(&scratch, s.gi.scratch_bytes()).unwrap();
+        let weights: Vec<f32> = bytes
+            .chunks_exact(size_of::<GpuGiReservoir>())
+            .map(|r| bytemuck::pod_read_unaligned::<GpuGiReservoir>(r).weight)
+            .filter(|&w| w > 0.0)
+            .collect();
+        let n = weights.len();
+        (
+            n,
+            weights.iter().map(|&w| w as f64).sum::<f64>() / n.max(1) as f64,
+        )
+    };
+    let (full, full_w) = first_frame(false, false, true);
+    assert!(
+        full > (size * size / 2) as usize,
+        "only {full} samples at every pixel"
+    );
+    for (name, half, quarter, share) in [("half", true, false, 0.5), ("quarter", false, true, 0.25)]
+    {
+        // Off, only the pixels on their phase trace: a half or a quarter of them.
+        let (off, _) = first_frame(half, quarter, false);
+        assert!(
+            (off as f64 / full as f64 - share).abs() < 0.1,
+            "{name} rate without the rule: {off} samples against {full}"
+        );
+        let (n, w) = first_frame(half, quarter, true);
+        eprintln!(
+            "first frame after a reset, {name} rate: {n} pixels with a sample (every pixel: {full}), mean \
+             weight {w:.4} ({full_w:.4})"
+        );
+        assert!(
+            n as f64 > 0.9 * full as f64,
+            "{name} rate: {n} samples against {full}"
+        );
+        assert!(
+            (w / full_w - 1.0).abs() < 0.25,
+            "{name} rate: mean weight {w} against {full_w} (a rate's scale on a sample traced off its phase?)"
+        );
+    }
+}
+
 /// On a device whose storage bindings stop at 64 KiB: ReSTIR DI at 60×60 fits its image
 /// (57,600 bytes) but not its reservoirs (72,000), and says so instead of failing at bind
 /// time; a scratch buffer over the limit is refused too (every pass binds it whole).
