@@ -94,8 +94,8 @@ pub use cache::{
     WorldCache,
 };
 pub use settings::{
-    CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, MAX_WARM_UP_EXPONENT,
-    MAX_WARM_UP_ROUNDS, WorldCacheSettings, warm_up_window,
+    CELL_CHECK, GpuCacheCell, GpuCacheParams, GpuNewSample, MAX_SETTING_FRAMES,
+    MAX_WARM_UP_EXPONENT, MAX_WARM_UP_ROUNDS, WorldCacheSettings, warm_up_window,
 };
 
 /// The crate's importable WGSL modules, by module name: `world_cache` (bindings, lookup,

@@ -17,6 +17,11 @@ pub const MAX_WARM_UP_EXPONENT: f32 = 16.0;
 /// Most [`WorldCacheSettings::warm_up_rounds`].
 pub const MAX_WARM_UP_ROUNDS: u32 = 16;
 
+/// The most frames a frame-count setting may hold ([`WorldCacheSettings::lifetime`],
+/// [`WorldCacheSettings::light_change_frames`], [`WorldCacheSettings::warm_up_frames`]):
+/// about half an hour at 60 frames a second, past which a count is a mistake, not a choice.
+pub const MAX_SETTING_FRAMES: u32 = 100_000;
+
 /// The most samples a cell that has blended `samples` of them averages while young
 /// ([`WorldCacheSettings::warm_up_exponent`]): 1 + (most − 1)(samples / most)^exponent,
 /// `most` from `samples` = `most` on; `most` itself with the exponent 0. Rust twin of WGSL
@@ -95,8 +100,8 @@ pub struct WorldCacheSettings {
     pub warm_up_exponent: f32,
     /// Update rounds per frame (the update and blend passes, each round reading the cells
     /// the last one left) in the [`WorldCacheSettings::warm_up_frames`] frames after the
-    /// table is made or emptied, and after a light change (default 4; 1 turns them off, at most
-    /// [`MAX_WARM_UP_ROUNDS`]). Light crosses one more bounce between cells per round, so a
+    /// table is made or emptied, and after a light change (default 4; 1 turns them off, at
+    /// most [`MAX_WARM_UP_ROUNDS`]). Light crosses one more bounce between cells per round, so a
     /// cold cache holds the light of four bounces after its first updated frame instead of
     /// one, and its cells count four samples a frame (each round draws its own random
     /// numbers). The cost is the update and blend passes again, only in those frames:
@@ -114,9 +119,8 @@ pub struct WorldCacheSettings {
     pub warm_up_rounds: u32,
     /// Frames after the table is made or emptied ([`crate::WorldCache::clear`], a new
     /// capacity) that run [`WorldCacheSettings::warm_up_rounds`] (default 8; 0: none; at most
-    /// 100,000). After
-    /// [`crate::WorldCache::follow_light_change`] the rounds run for
-    /// [`WorldCacheSettings::light_change_frames`] frames instead.
+    /// [`MAX_SETTING_FRAMES`]). After [`crate::WorldCache::follow_light_change`] the rounds
+    /// run for [`WorldCacheSettings::light_change_frames`] frames instead.
     pub warm_up_frames: u32,
     /// Cells updated per frame before updates become stochastic (default 200,000): above it
     /// each active cell updates with probability budget / active, bounding the cost. At
@@ -201,8 +205,11 @@ impl WorldCacheSettings {
                 self.lod_distance
             ));
         }
-        if !(1..=100_000).contains(&self.lifetime) {
-            return bad(format!("lifetime {} must be 1 to 100000", self.lifetime));
+        if !(1..=MAX_SETTING_FRAMES).contains(&self.lifetime) {
+            return bad(format!(
+                "lifetime {} must be 1 to {MAX_SETTING_FRAMES}",
+                self.lifetime
+            ));
         }
         if !(1..=MAX_SEARCH_STEPS).contains(&self.max_search_steps) {
             return bad(format!(
@@ -222,9 +229,9 @@ impl WorldCacheSettings {
                 self.light_change_samples
             ));
         }
-        if self.light_change_frames > 100_000 {
+        if self.light_change_frames > MAX_SETTING_FRAMES {
             return bad(format!(
-                "light_change_frames {} must be at most 100000",
+                "light_change_frames {} must be at most {MAX_SETTING_FRAMES}",
                 self.light_change_frames
             ));
         }
@@ -234,9 +241,9 @@ impl WorldCacheSettings {
                 self.warm_up_exponent
             ));
         }
-        if self.warm_up_frames > 100_000 {
+        if self.warm_up_frames > MAX_SETTING_FRAMES {
             return bad(format!(
-                "warm_up_frames {} must be at most 100000",
+                "warm_up_frames {} must be at most {MAX_SETTING_FRAMES}",
                 self.warm_up_frames
             ));
         }
