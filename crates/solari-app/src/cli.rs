@@ -453,7 +453,7 @@ pub struct RealtimeArgs {
     pub gi_half_rate: bool,
     /// GI traced from a quarter of the pixels each frame (each pixel one frame in four, at
     /// four times the weight) instead of half: with `--gi restir`, its two passes on
-    /// `interior` 1.07 ms instead of 1.33 at half rate (H200, 1080p; 0.96 and 1.27 with
+    /// `interior` 0.99-1.00 ms instead of 1.30 at half rate (H200, 1080p; 0.96 with
     /// `--gi-trace-fresh off`, whose moving camera's error is 21% higher at a quarter), the
     /// still camera's error the same; with `--gi path` it costs more error than it saves.
     /// See `RestirGiSettings::quarter_rate`.
@@ -483,7 +483,7 @@ pub struct RealtimeArgs {
     pub gi_adaptive_cap: bool,
     /// At `--gi-half-rate` or `--gi-quarter-rate` with ReSTIR GI: a pixel with no history (a
     /// first frame, surface the view uncovered) traces this frame whatever its phase (on by
-    /// default: along a moving camera interior's error 21% lower at a quarter, for 0.06-0.12
+    /// default: along a moving camera interior's error 21% lower at a quarter, for 0.02-0.04
     /// ms a frame on the H200 at 1080p; `off` makes it wait for its phase). See
     /// `RestirGiSettings::trace_fresh_pixels`.
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",

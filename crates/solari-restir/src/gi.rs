@@ -52,7 +52,8 @@
 //! H200 instead of 1.27 at half rate, for the same error with a still camera there (18% more
 //! after 96 frames of a moving one). At either rate a pixel with no history traces at once
 //! ([`RestirGiSettings::trace_fresh_pixels`], on by default: the moving camera's error at a
-//! quarter 21% lower, within 5% of every pixel's, for 0.12 ms: 1.07 ms on `interior`).
+//! quarter 21% lower, within 5% of every pixel's; the temporal merge traces it, so the two
+//! passes take 0.99–1.00 ms on `interior`).
 //!
 //! Both passes are specialised by pipeline constants for what the settings run, since code
 //! that never runs still costs a kernel its registers: the initial pass is built without its
@@ -63,7 +64,9 @@
 //! choice cost the full-rate pass 1.9–3.2% on an H200). [`RestirGi::prepare`] builds a pass
 //! again after a settings change crosses any of these lines.
 //! For the same reason, with reuse the initial pass is two dispatches: one traces the new
-//! samples and stores them, the next merges them with the history (no traversal). In one
+//! samples and stores them, the next merges them with the history (traversal only for a
+//! pixel without history at a reduced rate, whose code compiled into the merge measured no
+//! cost there). In one
 //! kernel the traversal ran with the registers of the merge: the split takes 25–26% off the
 //! pass on `interior`, 15–17% on sun_boxes and many_lights, and costs the Cornell box's
 //! trivial traversal 1.4–4.2% for the second dispatch (H100, 1080p, `benches/RESULTS.md`,

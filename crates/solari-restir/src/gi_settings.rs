@@ -99,7 +99,8 @@ pub struct RestirGiSettings {
     /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
     /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
     /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms; both with
-    /// [`RestirGiSettings::trace_fresh_pixels`] off, which adds 0.117 and 0.060 ms), on
+    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.03–0.04 ms at a
+    /// quarter: 0.989–0.999 ms, and half rate's 1.30 ms), on
     /// many_lights 0.603 against 0.703 and sun_boxes 0.557 against 0.606; on the Cornell box,
     /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
     /// four pixels each in turn). relMSE against a 1024-spp full-bounce reference at 960×540:
@@ -120,11 +121,15 @@ pub struct RestirGiSettings {
     ///
     /// On an H200 (`benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): along the
     /// orbit camera, `interior`'s relMSE after 96 frames 0.01010 → 0.00795 at a quarter
-    /// (every pixel 0.00755) and 0.00844 → 0.00781 at half rate. It costs every frame, the
-    /// camera still or not, a history lookup per pixel in the tracing dispatch: with
-    /// `--gi restir` on `interior` at 1080p the initial pass +0.117 ms at a quarter (its two
-    /// passes 0.958 → 1.075 ms) and +0.060 ms at half rate; the Cornell box +0.039 / +0.023.
-    /// Nothing changes at full rate or without reuse.
+    /// (every pixel 0.00755) and 0.00844 → 0.00781 at half rate. The temporal merge decides,
+    /// having looked the history up anyway, and traces such a pixel itself; at reduced rates
+    /// it looks for the history about the reprojected pixel too, so that a pixel at a
+    /// silhouette under the still camera's jitter keeps it instead of tracing every frame.
+    /// With `--gi restir` on `interior` at 1080p (`benches/RESULTS.md`, "Pixels without
+    /// history, traced by the merge") the rule costs the initial pass 0.02–0.04 ms at a
+    /// quarter (the two passes 0.989–0.999 ms, 0.956 without it), against 0.117 when the
+    /// tracing dispatch looked the history up itself; nothing changes at full rate or
+    /// without reuse.
     pub trace_fresh_pixels: bool,
     /// A GI ray whose hit lies in a world-cache cell that holds no samples yet (a cell made
     /// this frame or not yet updated) draws no sample, with confidence 0, instead of a

@@ -179,10 +179,24 @@ impl DirectLight {
 
     /// The CPU side of a frame: the frame context, then the passes' parameters.
     pub fn prepare(&mut self, gpu: &Gpu, scene: &Scene, camera: &Camera) {
+        self.prepare_jittered(gpu, scene, camera, [0.0; 2]);
+    }
+
+    /// As [`DirectLight::prepare`], with the G-buffer's samples `jitter` pixels off the pixel
+    /// centres, as the renderer's temporal upscaler asks.
+    pub fn prepare_jittered(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        camera: &Camera,
+        jitter: [f32; 2],
+    ) {
         let previous = self.last_camera.replace(camera.clone());
         let context = FrameContext::new(self.frame, self.di.size(), camera, previous.as_ref());
         self.frame += 1;
-        self.gbuffer.prepare(gpu, scene, camera).expect("G-buffer");
+        self.gbuffer
+            .prepare_jittered(gpu, scene, camera, jitter)
+            .expect("G-buffer");
         self.tiles.prepare(gpu, &context);
         self.di
             .prepare(gpu, &context, &self.gbuffer, &self.lights)
