@@ -16,7 +16,9 @@ use solari_renderer::{
     Antialias, CameraPath, DI_REUSE_LIGHT_THRESHOLD, FiniteCheck, FrameView, GBufferChoice, GiMode,
     PATH_GI_SHADE_APART_TRIANGLES, RealtimeSettings,
 };
-use solari_restir::{RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings};
+use solari_restir::{
+    GiRate, RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings,
+};
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
@@ -448,7 +450,7 @@ pub struct RealtimeArgs {
     pub gi_permutation: bool,
     /// GI traced from half the pixels each frame (a checkerboard that flips every frame, at
     /// twice the weight): GI's first pass 20-40% faster, noisier while histories are young.
-    /// With `--gi path` or `--gi restir`; see `RestirGiSettings::half_rate`.
+    /// With `--gi path` or `--gi restir`; see `GiRate::Half`.
     #[arg(long)]
     pub gi_half_rate: bool,
     /// GI traced from a quarter of the pixels each frame (each pixel one frame in four, at
@@ -456,7 +458,7 @@ pub struct RealtimeArgs {
     /// `interior` 0.99-1.00 ms instead of 1.30 at half rate (H200, 1080p; 0.96 with
     /// `--gi-trace-fresh off`, whose moving camera's error is 21% higher at a quarter), the
     /// still camera's error the same; with `--gi path` it costs more error than it saves.
-    /// See `RestirGiSettings::quarter_rate`.
+    /// See `GiRate::Quarter`.
     #[arg(long, conflicts_with = "gi_half_rate")]
     pub gi_quarter_rate: bool,
     /// With `--gi-half-rate` and `--gi restir`: spatial reuse too only at half the pixels
@@ -657,9 +659,12 @@ impl RealtimeArgs {
                 permutation_sampling: self.gi_permutation,
                 initial_samples: self.gi_samples,
                 spatial_visibility: self.gi_spatial_visibility,
-                half_rate: self.gi_half_rate,
+                rate: match (self.gi_half_rate, self.gi_quarter_rate) {
+                    (_, true) => GiRate::Quarter,
+                    (true, false) => GiRate::Half,
+                    (false, false) => GiRate::Full,
+                },
                 half_rate_spatial: self.gi_half_rate_spatial,
-                quarter_rate: self.gi_quarter_rate,
                 ignore_cold_cells: self.gi_ignore_cold_cells,
                 adaptive_cap: self.gi_adaptive_cap,
                 trace_fresh_pixels: self.gi_trace_fresh,

@@ -217,8 +217,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         // (Outside the macro, which reaches its recursion limit with one more field.)
         v["denoise_kernel"] = applied.denoise.atrous_kernel.name().into();
         v["antialias_setting"] = applied.antialias.name().into();
-        v["gi_half_rate"] = applied.restir_gi.half_rate.into();
-        v["gi_quarter_rate"] = applied.restir_gi.quarter_rate.into();
+        v["gi_half_rate"] = (applied.restir_gi.rate == solari_restir::GiRate::Half).into();
+        v["gi_quarter_rate"] = (applied.restir_gi.rate == solari_restir::GiRate::Quarter).into();
         // In effect: it needs a reduced rate (and acts only with reuse, `gi`).
         v["gi_half_rate_spatial"] =
             (applied.restir_gi.rate_shift() > 0 && applied.restir_gi.half_rate_spatial).into();

@@ -386,7 +386,7 @@ fn gi_half_rate_spatial_reaches_the_settings() {
     use solari_restir::RestirGiSettings;
     let get = |args: &[&str]| {
         let s = settings(args).restir_gi;
-        (s.half_rate, s.half_rate_spatial)
+        (s.rate == solari_restir::GiRate::Half, s.half_rate_spatial)
     };
     assert_eq!(get(&[]), (false, true));
     assert!(RestirGiSettings::default().half_rate_spatial);
@@ -418,7 +418,7 @@ fn gi_half_rate_spatial_reaches_the_settings() {
 #[test]
 fn gi_quarter_rate_reaches_the_settings() {
     let s = settings(&["--gi", "restir", "--gi-quarter-rate"]).restir_gi;
-    assert!(s.quarter_rate && !s.half_rate);
+    assert_eq!(s.rate, solari_restir::GiRate::Quarter);
     assert_eq!(s.rate_shift(), 2);
     assert_eq!(
         settings(&["--gi", "restir", "--gi-half-rate"])

@@ -39,14 +39,14 @@
 //! With [`RestirGiSettings::plain`] (no reuse) this is plain path GI: the initial sample
 //! shaded as it is, an unbiased one-sample estimate of the cache-terminated bounce, in one
 //! pass (`gi_initial_temporal` shades; `gi_spatial_shade` does not run). With
-//! [`RestirGiSettings::half_rate`], with reuse or without, each frame only half the pixels (a
+//! [`GiRate::Half`](crate::GiRate::Half), with reuse or without, each frame only half the pixels (a
 //! checkerboard that flips every frame) trace, at twice the weight; the others draw an empty
 //! sample of confidence 1, which reuse merges like any other: 32–41% off the first pass on
 //! `interior` for a noisier young history. With reuse, spatial reuse then runs at the other
 //! half ([`RestirGiSettings::half_rate_spatial`], on by default): the pixels that did not
 //! trace reuse from neighbours that did not either, so each pixel gets one new sample or one
 //! neighbour's reservoir a frame, for a third off the spatial pass on `interior`.
-//! [`RestirGiSettings::quarter_rate`] goes further: each pixel traces one frame in four, at
+//! [`GiRate::Quarter`](crate::GiRate::Quarter) goes further: each pixel traces one frame in four, at
 //! four times the weight, and with reuse spatial reuse runs at the pixels one frame past
 //! their traced frame: ReSTIR GI's two passes on `interior` take 0.96 ms at 1080p on an
 //! H200 instead of 1.27 at half rate, for the same error with a still camera there (18% more
@@ -134,8 +134,8 @@ const SECOND_DISPATCH: (&str, f64) = ("7123", 1.0);
 const SHADE_APART: (&str, f64) = ("7124", 1.0);
 
 /// The pipeline constant that builds the spatial pass for spatial reuse at a reduced rate
-/// ([`RestirGiSettings::half_rate_spatial`] with [`RestirGiSettings::half_rate`] or
-/// [`RestirGiSettings::quarter_rate`]; `@id(7125) override GI_HALF_SPATIAL`).
+/// ([`RestirGiSettings::half_rate_spatial`] with [`GiRate::Half`](crate::GiRate::Half) or
+/// [`GiRate::Quarter`](crate::GiRate::Quarter); `@id(7125) override GI_HALF_SPATIAL`).
 const HALF_SPATIAL: (&str, f64) = ("7125", 1.0);
 
 /// What the spatial pass's pipeline is specialised for.
@@ -693,8 +693,8 @@ impl RestirGi {
     }
 
     /// Whether the spatial pass's pipeline is the one built for spatial reuse at a reduced
-    /// rate ([`RestirGiSettings::half_rate_spatial`] with [`RestirGiSettings::half_rate`] or
-    /// [`RestirGiSettings::quarter_rate`]; false when built without reuse). After
+    /// rate ([`RestirGiSettings::half_rate_spatial`] with [`GiRate::Half`](crate::GiRate::Half) or
+    /// [`GiRate::Quarter`](crate::GiRate::Quarter); false when built without reuse). After
     /// [`RestirGi::set_settings`] moved either across that line, the next
     /// [`RestirGi::prepare`] builds the other.
     pub fn spatial_half_rate(&self) -> bool {

@@ -43,31 +43,15 @@ pub struct RestirGiSettings {
     /// resampling loop (9.5–14% faster on an H100 at 1080p); a change to or from 1 builds the
     /// pass again at the next frame.
     pub initial_samples: u32,
-    /// Each frame only half the pixels trace, a checkerboard that flips every frame, at twice
-    /// the weight; the others draw no sample that frame (default off). The tracing pixels
-    /// are packed into whole warps, so the tracing work halves.
-    ///
-    /// - Plain path GI (no reuse): unbiased, and the denoiser's filters fill the gaps. On
-    ///   an H100 at 1080p GI's first pass took 0.60 ms instead of 1.03 on `interior` (the
-    ///   default frame 4.49 ms instead of 4.91) and 0.32 instead of 0.51 on many_lights. The
-    ///   cost is noise, most where histories are young: relMSE against the full-bounce
-    ///   reference (960×540, fallback denoiser) rose 11% on interior's 8th frame, 3.4% on
-    ///   its 136th and 1.9% on a 16-frame mean; 8–20% on the Cornell box and sun_boxes
-    ///   (`benches/RESULTS.md`, "Path GI from half the pixels").
-    /// - With reuse: an untraced pixel's reservoir is empty with confidence 1 (it drew a
-    ///   sample worth nothing) and is merged with its temporal history as usual, so each
-    ///   frame's reservoirs stay unbiased over the checkerboard's two phases (a pixel's
-    ///   expected brightness alternates by about ±1/(2·cap + 1) between them, which the
-    ///   denoiser averages out). ReSTIR GI's two passes on an H100 at 1080p: many_lights
-    ///   0.94 ms instead of 1.14, interior 1.86 instead of 2.29; relMSE −2% to +2.5% of the
-    ///   full rate's on frame 136 and on a 16-frame mean, 2–5% above it on frame 8
-    ///   (`benches/RESULTS.md`, "ReSTIR GI from half the pixels").
-    pub half_rate: bool,
-    /// With [`RestirGiSettings::half_rate`] and reuse, spatial reuse too at half the pixels
+    /// How many of the pixels trace GI rays each frame: all (the default), half or a quarter,
+    /// each pixel at that many times the weight on its frames ([`GiRate`], with the costs and
+    /// errors of each). The CLI's `--gi-half-rate` and `--gi-quarter-rate`.
+    pub rate: GiRate,
+    /// With [`GiRate::Half`] and reuse, spatial reuse too at half the pixels
     /// (default on; nothing without a reduced rate): those that did not trace this frame,
     /// packed into whole warps, so each pixel gets one new sample or one neighbour's reservoir
     /// a frame and the spatial pass traces half its visibility rays (at
-    /// [`RestirGiSettings::quarter_rate`], a quarter of the pixels, those one frame past their
+    /// [`GiRate::Quarter`], a quarter of the pixels, those one frame past their
     /// traced frame). The other pixels shade the reservoir temporal reuse left them, as a
     /// pixel that finds no neighbour does.
     ///
@@ -88,32 +72,6 @@ pub struct RestirGiSettings {
     /// (`interior`; −0.5% to +12% elsewhere) (`benches/RESULTS.md`, "Spatial reuse at half
     /// rate"). A change builds the spatial pass again at the next frame.
     pub half_rate_spatial: bool,
-    /// GI traced from a quarter of the pixels each frame instead of half (default off): each
-    /// pixel traces one frame in four, at four times the weight, where (x + 2y + frame) mod 4
-    /// is 0 (a pixel's phase: the frames since it traced), and the tracing pixels are packed
-    /// into whole warps as at half rate. With [`RestirGiSettings::half_rate_spatial`] and
-    /// reuse, spatial reuse runs at the pixels of phase 1 (the frame after they traced), from
-    /// neighbours of that phase. Unbiased over the cycle as half rate is; it implies a reduced
-    /// rate whatever [`RestirGiSettings::half_rate`] says.
-    ///
-    /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
-    /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
-    /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms; both with
-    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.03–0.04 ms at a
-    /// quarter: 0.989–0.999 ms, and half rate's 1.30 ms), on
-    /// many_lights 0.603 against 0.703 and sun_boxes 0.557 against 0.606; on the Cornell box,
-    /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
-    /// four pixels each in turn). relMSE against a 1024-spp full-bounce reference at 960×540:
-    /// after 136 frames within −4% to +9% of half rate's (`interior`'s 16-frame mean 0.00679
-    /// against 0.00682; the Cornell box's 0.000255 against 0.000233), frame 32 at most 1%
-    /// higher (`interior` 0.00739 against 0.00859), frame 8 from 35% lower (the Cornell box)
-    /// to 15% higher (sun_boxes; `interior` +5%). Under a moving camera (the orbit path, a
-    /// reference per frame) a quarter costs more: `interior` after 96 frames 0.01005 against
-    /// 0.00855 at half rate and 0.00755 at every pixel, without `trace_fresh_pixels`; with
-    /// it (the default) 0.00795 and 0.00781. With plain path GI a quarter costs
-    /// more than it saves: `interior`'s 16-frame mean 0.00712 against 0.00654 at full rate,
-    /// frame 8 0.0385 against 0.0212.
-    pub quarter_rate: bool,
     /// At half or quarter rate with temporal reuse, a pixel with no history to carry (a first
     /// frame, a reset, surface the view uncovered) traces this frame at its full-rate weight,
     /// on its phase or off it (default on). Without it such a pixel waits up to three frames
@@ -176,6 +134,85 @@ pub struct RestirGiSettings {
     /// turns it on by the scene's triangle count (`solari_renderer`'s
     /// `PATH_GI_SHADE_APART_TRIANGLES`). A change builds the pass again at the next frame.
     pub shade_apart: bool,
+}
+
+/// How many of the pixels trace GI rays each frame ([`RestirGiSettings::rate`]). At a reduced
+/// rate each pixel traces one frame in two or four at that many times the weight, so every
+/// frame's estimate stays unbiased over the cycle; with reuse,
+/// [`RestirGiSettings::half_rate_spatial`] runs spatial reuse at the same share of the pixels
+/// and [`RestirGiSettings::trace_fresh_pixels`] lets a pixel without history trace at once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GiRate {
+    /// Every pixel traces every frame (the default).
+    #[default]
+    Full,
+    /// Half the pixels trace each frame, a checkerboard that flips every frame, at twice
+    /// the weight; the others draw no sample that frame. The tracing pixels
+    /// are packed into whole warps, so the tracing work halves.
+    ///
+    /// - Plain path GI (no reuse): unbiased, and the denoiser's filters fill the gaps. On
+    ///   an H100 at 1080p GI's first pass took 0.60 ms instead of 1.03 on `interior` (the
+    ///   default frame 4.49 ms instead of 4.91) and 0.32 instead of 0.51 on many_lights. The
+    ///   cost is noise, most where histories are young: relMSE against the full-bounce
+    ///   reference (960×540, fallback denoiser) rose 11% on interior's 8th frame, 3.4% on
+    ///   its 136th and 1.9% on a 16-frame mean; 8–20% on the Cornell box and sun_boxes
+    ///   (`benches/RESULTS.md`, "Path GI from half the pixels").
+    /// - With reuse: an untraced pixel's reservoir is empty with confidence 1 (it drew a
+    ///   sample worth nothing) and is merged with its temporal history as usual, so each
+    ///   frame's reservoirs stay unbiased over the checkerboard's two phases (a pixel's
+    ///   expected brightness alternates by about ±1/(2·cap + 1) between them, which the
+    ///   denoiser averages out). ReSTIR GI's two passes on an H100 at 1080p: many_lights
+    ///   0.94 ms instead of 1.14, interior 1.86 instead of 2.29; relMSE −2% to +2.5% of the
+    ///   full rate's on frame 136 and on a 16-frame mean, 2–5% above it on frame 8
+    ///   (`benches/RESULTS.md`, "ReSTIR GI from half the pixels").
+    Half,
+    /// A quarter of the pixels trace each frame: each pixel traces one frame in four, at four
+    /// times the weight, where (x + 2y + frame) mod 4 is 0 (a pixel's phase: the frames since
+    /// it traced), and the tracing pixels are packed into whole warps as at half rate. With [`RestirGiSettings::half_rate_spatial`] and
+    /// reuse, spatial reuse runs at the pixels of phase 1 (the frame after they traced), from
+    /// neighbours of that phase. Unbiased over the cycle as half rate is.
+    ///
+    /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
+    /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
+    /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms; both with
+    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.03–0.04 ms at a
+    /// quarter: 0.989–0.999 ms, and half rate's 1.30 ms), on
+    /// many_lights 0.603 against 0.703 and sun_boxes 0.557 against 0.606; on the Cornell box,
+    /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
+    /// four pixels each in turn). relMSE against a 1024-spp full-bounce reference at 960×540:
+    /// after 136 frames within −4% to +9% of half rate's (`interior`'s 16-frame mean 0.00679
+    /// against 0.00682; the Cornell box's 0.000255 against 0.000233), frame 32 at most 1%
+    /// higher (`interior` 0.00739 against 0.00859), frame 8 from 35% lower (the Cornell box)
+    /// to 15% higher (sun_boxes; `interior` +5%). Under a moving camera (the orbit path, a
+    /// reference per frame) a quarter costs more: `interior` after 96 frames 0.01005 against
+    /// 0.00855 at half rate and 0.00755 at every pixel, without `trace_fresh_pixels`; with
+    /// it (the default) 0.00795 and 0.00781, and 0.0080–0.0081 at a quarter with the
+    /// neighbour search that made it cheap. With plain path GI a quarter costs
+    /// more than it saves: `interior`'s 16-frame mean 0.00712 against 0.00654 at full rate,
+    /// frame 8 0.0385 against 0.0212.
+    Quarter,
+}
+
+impl GiRate {
+    /// log2 of the frames between a pixel's traced frames: 0, 1 or 2 (the shader's
+    /// `rate_shift`).
+    pub fn shift(self) -> u32 {
+        match self {
+            Self::Full => 0,
+            Self::Half => 1,
+            Self::Quarter => 2,
+        }
+    }
+
+    /// Frames between a pixel's traced frames: 1, 2 or 4.
+    pub fn interval(self) -> u32 {
+        1 << self.shift()
+    }
+
+    /// Whether fewer than all the pixels trace each frame.
+    pub fn reduced(self) -> bool {
+        self != Self::Full
+    }
 }
 
 /// Which visibility rays ReSTIR GI's spatial reuse traces between the pixel (`c`, its own
@@ -245,9 +282,8 @@ impl Default for RestirGiSettings {
             max_ray_distance: f32::MAX,
             spatial_visibility: SpatialVisibility::Chosen,
             initial_samples: 1,
-            half_rate: false,
+            rate: GiRate::Full,
             half_rate_spatial: true,
-            quarter_rate: false,
             trace_fresh_pixels: true,
             ignore_cold_cells: true,
             adaptive_cap: true,
@@ -257,14 +293,9 @@ impl Default for RestirGiSettings {
 }
 
 impl RestirGiSettings {
-    /// log2 of the frames between a pixel's traced frames: 0 at full rate, 1 at
-    /// [`RestirGiSettings::half_rate`], 2 at [`RestirGiSettings::quarter_rate`].
+    /// log2 of the frames between a pixel's traced frames ([`GiRate::shift`]).
     pub fn rate_shift(&self) -> u32 {
-        if self.quarter_rate {
-            2
-        } else {
-            u32::from(self.half_rate)
-        }
+        self.rate.shift()
     }
 
     /// Plain path GI: the same initial sample with no reuse.
@@ -319,7 +350,7 @@ pub(crate) mod flags {
     pub const UNBIASED_SPATIAL: u32 = 16;
     // (64 was CHOSEN_VISIBILITY: `SpatialVisibility::Chosen` is a spatial pipeline of its
     // own, `gi::CHOSEN_ONLY`.)
-    /// [`super::RestirGiSettings::half_rate`]: half the pixels trace, at twice the weight.
+    /// [`super::GiRate`] below full: a reduced rate (the uniform's `rate_shift` says which).
     pub const HALF_RATE: u32 = 128;
     /// [`super::RestirGiSettings::ignore_cold_cells`].
     pub const IGNORE_COLD: u32 = 256;

@@ -10,7 +10,7 @@ mod common;
 use common::{
     DirectLight, di_settings, frame_mean, reference, rmse, tile_settings, total_light_bias,
 };
-use solari_restir::{RestirGi, RestirGiSettings, SpatialVisibility, gi_reservoir_check};
+use solari_restir::{GiRate, RestirGi, RestirGiSettings, SpatialVisibility, gi_reservoir_check};
 use solari_scene::finite_check::{FiniteChecker, RecordLayout, first_offender};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::TraceVariant;
@@ -221,7 +221,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         (
             "plain, half rate",
             Mode::Gi(RestirGiSettings {
-                half_rate: true,
+                rate: GiRate::Half,
                 ..RestirGiSettings::plain()
             }),
         ),
@@ -229,7 +229,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             "restir, half rate, spatial at every pixel",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
-                half_rate: true,
+                rate: GiRate::Half,
                 half_rate_spatial: false,
                 adaptive_cap: false,
                 ..Default::default()
@@ -239,7 +239,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             "restir, half rate, spatial at half rate",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
-                half_rate: true,
+                rate: GiRate::Half,
                 half_rate_spatial: true,
                 adaptive_cap: false,
                 ..Default::default()
@@ -248,7 +248,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         (
             "plain, quarter rate",
             Mode::Gi(RestirGiSettings {
-                quarter_rate: true,
+                rate: GiRate::Quarter,
                 ..RestirGiSettings::plain()
             }),
         ),
@@ -256,7 +256,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
             "restir, quarter rate, spatial at a quarter",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
-                quarter_rate: true,
+                rate: GiRate::Quarter,
                 adaptive_cap: false,
                 ..Default::default()
             }),
@@ -427,7 +427,7 @@ fn gi_converges_to_the_sphere_furnace_closed_form() {
         (
             "plain, half rate",
             Mode::Gi(RestirGiSettings {
-                half_rate: true,
+                rate: GiRate::Half,
                 ..RestirGiSettings::plain()
             }),
         ),
@@ -451,7 +451,7 @@ fn gi_converges_to_the_sphere_furnace_closed_form() {
             "restir, half rate (spatial reuse at half rate, the default with it)",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
-                half_rate: true,
+                rate: GiRate::Half,
                 ..Default::default()
             }),
         ),
@@ -459,7 +459,7 @@ fn gi_converges_to_the_sphere_furnace_closed_form() {
             "restir, quarter rate",
             Mode::Gi(RestirGiSettings {
                 spatial_radius: 3.0,
-                quarter_rate: true,
+                rate: GiRate::Quarter,
                 ..Default::default()
             }),
         ),
@@ -534,11 +534,10 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
     // Half or quarter rate, with reuse or without, and with spatial reuse at that rate.
     for s in [RestirGiSettings::plain(), RestirGiSettings::default()] {
         for half_rate_spatial in [false, true] {
-            for quarter_rate in [false, true] {
+            for rate in [GiRate::Half, GiRate::Quarter] {
                 RestirGiSettings {
-                    half_rate: true,
+                    rate,
                     half_rate_spatial,
-                    quarter_rate,
                     ..s
                 }
                 .validate()
@@ -618,22 +617,21 @@ fn the_passes_are_built_for_their_settings() {
     // Spatial reuse at a reduced rate: on by default, built only with half or quarter rate.
     assert!(!default.gi.spatial_half_rate());
     default.frame(&gpu, &scene);
-    for (half_rate, quarter_rate, half_rate_spatial) in [
-        (true, false, true),
-        (true, false, false),
-        (false, false, true),
-        (false, true, true),
-        (true, false, true),
-        (false, true, false),
+    for (rate, half_rate_spatial) in [
+        (GiRate::Half, true),
+        (GiRate::Half, false),
+        (GiRate::Full, true),
+        (GiRate::Quarter, true),
+        (GiRate::Half, true),
+        (GiRate::Quarter, false),
     ] {
         let before = default.gi.spatial_half_rate();
         let settings = RestirGiSettings {
-            half_rate,
-            quarter_rate,
+            rate,
             half_rate_spatial,
             ..Default::default()
         };
-        let wanted = (half_rate || quarter_rate) && half_rate_spatial;
+        let wanted = rate.reduced() && half_rate_spatial;
         default.gi.set_settings(settings).expect("valid settings");
         default.mode = Mode::Gi(settings);
         if before != wanted {
@@ -643,8 +641,7 @@ fn the_passes_are_built_for_their_settings() {
         assert_eq!(
             default.gi.spatial_half_rate(),
             wanted,
-            "half rate {half_rate}, quarter rate {quarter_rate}, reduced-rate spatial \
-             {half_rate_spatial}"
+            "rate {rate:?}, reduced-rate spatial {half_rate_spatial}"
         );
     }
 }
@@ -878,7 +875,7 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
         ..plain
     };
     let half = |s: RestirGiSettings| RestirGiSettings {
-        half_rate: true,
+        rate: GiRate::Half,
         ..s
     };
     // The second dispatches read what the first wrote: at half rate, with reuse, only the
@@ -892,7 +889,7 @@ fn a_shared_scratch_full_of_garbage_changes_nothing() {
         (
             "reuse, quarter rate",
             RestirGiSettings {
-                quarter_rate: true,
+                rate: GiRate::Quarter,
                 ..RestirGiSettings::default()
             },
         ),
@@ -954,15 +951,18 @@ fn reduced_rate_spatial_reuse_runs_at_one_phase_only() {
     let Some(gpu) = test_gpu() else { return };
     let scene = default_scene::cornell_box();
     let size = 32;
-    for (quarter_rate, half_rate_spatial) in [(false, false), (false, true), (true, true)] {
+    for (rate, half_rate_spatial) in [
+        (GiRate::Half, false),
+        (GiRate::Half, true),
+        (GiRate::Quarter, true),
+    ] {
         let settings = RestirGiSettings {
             spatial_radius: 3.0,
-            half_rate: true,
+            rate,
             half_rate_spatial,
-            quarter_rate,
             ..Default::default()
         };
-        let n: u32 = if quarter_rate { 4 } else { 2 };
+        let n = rate.interval();
         let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
         let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
         s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
@@ -1024,11 +1024,10 @@ fn pixels_without_history_trace_at_a_reduced_rate() {
     let scene = default_scene::cornell_box();
     let size = 32;
     // (pixels holding a sample, their mean weight) in the first frame after a reset.
-    let first_frame = |half_rate: bool, quarter_rate: bool, trace_fresh_pixels: bool| {
+    let first_frame = |rate: GiRate, trace_fresh_pixels: bool| {
         let settings = RestirGiSettings {
             spatial: false,
-            half_rate,
-            quarter_rate,
+            rate,
             trace_fresh_pixels,
             ..Default::default()
         };
@@ -1053,20 +1052,22 @@ fn pixels_without_history_trace_at_a_reduced_rate() {
             weights.iter().map(|&w| w as f64).sum::<f64>() / n.max(1) as f64,
         )
     };
-    let (full, full_w) = first_frame(false, false, true);
+    let (full, full_w) = first_frame(GiRate::Full, true);
     assert!(
         full > (size * size / 2) as usize,
         "only {full} samples at every pixel"
     );
-    for (name, half, quarter, share) in [("half", true, false, 0.5), ("quarter", false, true, 0.25)]
-    {
+    for (name, rate, share) in [
+        ("half", GiRate::Half, 0.5),
+        ("quarter", GiRate::Quarter, 0.25),
+    ] {
         // Off, only the pixels on their phase trace: a half or a quarter of them.
-        let (off, _) = first_frame(half, quarter, false);
+        let (off, _) = first_frame(rate, false);
         assert!(
             (off as f64 / full as f64 - share).abs() < 0.1,
             "{name} rate without the rule: {off} samples against {full}"
         );
-        let (n, w) = first_frame(half, quarter, true);
+        let (n, w) = first_frame(rate, true);
         eprintln!(
             "first frame after a reset, {name} rate: {n} pixels with a sample (every pixel: {full}), mean \
              weight {w:.4} ({full_w:.4})"
@@ -1097,7 +1098,7 @@ fn a_jittered_still_camera_keeps_history_at_silhouettes() {
     let size = 48;
     let settings = RestirGiSettings {
         spatial: false,
-        quarter_rate: true,
+        rate: GiRate::Quarter,
         ..Default::default()
     };
     let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
