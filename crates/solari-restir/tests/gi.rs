@@ -1104,19 +1104,10 @@ fn a_jittered_still_camera_keeps_history_at_silhouettes() {
     let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
     let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
     s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
-    // Halton (2, 3) offsets in (-0.5, 0.5), as the renderer's jitter.
-    let halton = |mut i: u32, base: u32| {
-        let (mut f, mut r) = (1.0f32, 0.0f32);
-        while i > 0 {
-            f /= base as f32;
-            r += f * (i % base) as f32;
-            i /= base;
-        }
-        r
-    };
     let mut shares = Vec::new();
     for frame in 0..24u32 {
-        let jitter = [halton(frame + 1, 2) - 0.5, halton(frame + 1, 3) - 0.5];
+        // The renderer's jitter.
+        let jitter = solari_scene::gpu_types::halton_jitter(frame);
         s.frame_jittered(&gpu, &scene, jitter);
         if frame < 12 {
             continue;
