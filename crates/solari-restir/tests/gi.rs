@@ -1010,21 +1010,23 @@ fn reduced_rate_spatial_reuse_runs_at_one_phase_only() {
 }
 
 /// At a reduced rate, a pixel with nothing to carry from last frame traces at its full-rate
-/// weight, off its phase or on it (`traces_without_history` in
-/// `restir_gi_initial.wesl`): on the first frame after `RestirGi::reset` (no history
-/// anywhere) half and quarter rate hold a sample at as many pixels as every-pixel GI does
-/// (with `trace_fresh_pixels` off, a half and a quarter as many), with the same mean weight
-/// (on-phase pixels at the rate's scale read 1.5 times it at half rate). From the second frame on, with a still
-/// camera, every pixel has its history and the rate's phases alone decide (the phase test
-/// above).
+/// weight, off its phase or on it (`traces_without_history` in `restir_gi_initial.wesl`: the
+/// merge traces the one off its phase with the tracing dispatch's seed, and divides the one
+/// on it back by the interval). On the first frame after `RestirGi::reset` (no history
+/// anywhere) half and quarter rate therefore hold, pixel for pixel, the very sample that
+/// every-pixel GI draws: the same sample point and weight (the weight of one candidate is
+/// π / cos θ, whatever the cache says there). With `trace_fresh_pixels` off only a half or a
+/// quarter of the pixels hold one, at the rate's multiple of that weight. From the second
+/// frame on, with a still camera, every pixel has its history and the rate's phases alone
+/// decide (the phase test above).
 #[test]
 fn pixels_without_history_trace_at_a_reduced_rate() {
     use solari_restir::gi_reservoir::GpuGiReservoir;
     let Some(gpu) = test_gpu() else { return };
     let scene = default_scene::cornell_box();
     let size = 32;
-    // (pixels holding a sample, their mean weight) in the first frame after a reset.
-    let first_frame = |rate: GiRate, trace_fresh_pixels: bool| {
+    // The merged reservoirs of the first frame after a reset.
+    let first_frame = |rate: GiRate, trace_fresh_pixels: bool| -> Vec<GpuGiReservoir> {
         let settings = RestirGiSettings {
             spatial: false,
             rate,
@@ -1041,45 +1043,61 @@ fn pixels_without_history_trace_at_a_reduced_rate() {
         s.gi.reset();
         s.frame(&gpu, &scene);
         let bytes = gpu.read_buffer(&scratch, s.gi.scratch_bytes()).unwrap();
-        let weights: Vec<f32> = bytes
+        bytes
             .chunks_exact(size_of::<GpuGiReservoir>())
-            .map(|r| bytemuck::pod_read_unaligned::<GpuGiReservoir>(r).weight)
-            .filter(|&w| w > 0.0)
-            .collect();
-        let n = weights.len();
-        (
-            n,
-            weights.iter().map(|&w| w as f64).sum::<f64>() / n.max(1) as f64,
-        )
+            .map(bytemuck::pod_read_unaligned::<GpuGiReservoir>)
+            .collect()
     };
-    let (full, full_w) = first_frame(GiRate::Full, true);
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0);
+    let full = first_frame(GiRate::Full, true);
+    let sampled = full.iter().filter(|r| r.weight > 0.0).count();
     assert!(
-        full > (size * size / 2) as usize,
-        "only {full} samples at every pixel"
+        sampled > (size * size / 2) as usize,
+        "only {sampled} samples at every pixel"
     );
-    for (name, rate, share) in [
-        ("half", GiRate::Half, 0.5),
-        ("quarter", GiRate::Quarter, 0.25),
-    ] {
-        // Off, only the pixels on their phase trace: a half or a quarter of them.
-        let (off, _) = first_frame(rate, false);
-        assert!(
-            (off as f64 / full as f64 - share).abs() < 0.1,
-            "{name} rate without the rule: {off} samples against {full}"
-        );
-        let (n, w) = first_frame(rate, true);
-        eprintln!(
-            "first frame after a reset, {name} rate: {n} pixels with a sample (every pixel: {full}), mean \
-             weight {w:.4} ({full_w:.4})"
-        );
-        assert!(
-            n as f64 > 0.9 * full as f64,
-            "{name} rate: {n} samples against {full}"
-        );
-        assert!(
-            (w / full_w - 1.0).abs() < 0.25,
-            "{name} rate: mean weight {w} against {full_w} (a rate's scale on a sample traced off its phase?)"
-        );
+    for (name, rate) in [("half", GiRate::Half), ("quarter", GiRate::Quarter)] {
+        let scale = rate.interval() as f32;
+        for trace_fresh_pixels in [true, false] {
+            let reduced = first_frame(rate, trace_fresh_pixels);
+            // Pixels where both hold a sample (a cell that is cold in one run and not in the
+            // other gives one of them none), and how many of those match.
+            let (mut both, mut same, mut scaled) = (0, 0, 0);
+            for (f, r) in full.iter().zip(&reduced) {
+                if !(f.weight > 0.0 && r.weight > 0.0) {
+                    continue;
+                }
+                both += 1;
+                let at = (0..3).all(|k| close(f.position[k], r.position[k]));
+                same += usize::from(at && close(f.weight, r.weight));
+                scaled += usize::from(at && close(f.weight * scale, r.weight));
+            }
+            eprintln!(
+                "first frame after a reset, {name} rate, fresh pixels {trace_fresh_pixels}: \
+                 {both} pixels with a sample in both (every pixel: {sampled}), {same} the same \
+                 sample, {scaled} at {scale}x its weight"
+            );
+            if trace_fresh_pixels {
+                assert!(
+                    both as f64 > 0.9 * sampled as f64,
+                    "{name} rate: {both} samples against {sampled}"
+                );
+                assert_eq!(
+                    same, both,
+                    "{name} rate: another sample or weight somewhere"
+                );
+            } else {
+                // Only the pixels on their phase trace, at the rate's scale.
+                let share = both as f64 / sampled as f64;
+                assert!(
+                    (share - 1.0 / scale as f64).abs() < 0.1,
+                    "{name} rate without the rule: {both} samples against {sampled}"
+                );
+                assert_eq!(
+                    scaled, both,
+                    "{name} rate without the rule: a weight off the scale"
+                );
+            }
+        }
     }
 }
 
