@@ -36,19 +36,19 @@
 //!    times W is added to the target image. Diffuse lobe only; smooth metals (metallic
 //!    > 0.9999, roughness ≤ 0.4) skip the passes.
 //!
-//! With [`RestirGiSettings::plain`] (no reuse) this is plain path GI: the initial sample
-//! shaded as it is, an unbiased one-sample estimate of the cache-terminated bounce, in one
-//! pass (`gi_initial_temporal` shades; `gi_spatial_shade` does not run). With
-//! [`GiRate::Half`](crate::GiRate::Half), with reuse or without, each frame only half the pixels (a
-//! checkerboard that flips every frame) trace, at twice the weight; the others draw an empty
-//! sample of confidence 1, which reuse merges like any other: 32–41% off the first pass on
-//! `interior` for a noisier young history. With reuse, spatial reuse then runs at the other
-//! half ([`RestirGiSettings::half_rate_spatial`], on by default): the pixels that did not
+//! With [`RestirGiSettings::plain`] (no reuse) this is plain path GI: the initial sample shaded
+//! as it is, an unbiased one-sample estimate of the cache-terminated bounce, in one pass
+//! (`gi_initial_temporal` shades; `gi_spatial_shade` does not run). At
+//! [`GiRate::Half`](crate::GiRate::Half), with reuse or without, each frame only half the
+//! pixels (a checkerboard that flips every frame) trace, at twice the weight; the others draw
+//! an empty sample of confidence 1, which reuse merges like any other: 32–41% off the first
+//! pass on `interior` for a noisier young history. With reuse, spatial reuse then runs at the
+//! other half ([`RestirGiSettings::half_rate_spatial`], on by default): the pixels that did not
 //! trace reuse from neighbours that did not either, so each pixel gets one new sample or one
 //! neighbour's reservoir a frame, for a third off the spatial pass on `interior`.
-//! [`GiRate::Quarter`](crate::GiRate::Quarter) goes further: each pixel traces one frame in four, at
-//! four times the weight, and with reuse spatial reuse runs at the pixels one frame past
-//! their traced frame: ReSTIR GI's two passes on `interior` take 0.96 ms at 1080p on an
+//! [`GiRate::Quarter`](crate::GiRate::Quarter) goes further: each pixel traces one frame in
+//! four, at four times the weight, and with reuse spatial reuse runs at the pixels one frame
+//! past their traced frame: ReSTIR GI's two passes on `interior` take 0.96 ms at 1080p on an
 //! H200 instead of 1.27 at half rate, for the same error with a still camera there (18% more
 //! after 96 frames of a moving one). At either rate a pixel with no history traces at once
 //! ([`RestirGiSettings::trace_fresh_pixels`], on by default: the moving camera's error at a
@@ -64,9 +64,9 @@
 //! choice cost the full-rate pass 1.9–3.2% on an H200). [`RestirGi::prepare`] builds a pass
 //! again after a settings change crosses any of these lines.
 //! For the same reason, with reuse the initial pass is two dispatches: one traces the new
-//! samples and stores them, the next merges them with the history (traversal only for a
-//! pixel without history at a reduced rate, whose code compiled into the merge measured no
-//! cost there). In one
+//! samples and stores them, the next merges them with the history (it traces only for a
+//! pixel without history at a reduced rate, a branch that measured no cost where not
+//! taken). In one
 //! kernel the traversal ran with the registers of the merge: the split takes 25–26% off the
 //! pass on `interior`, 15–17% on sun_boxes and many_lights, and costs the Cornell box's
 //! trivial traversal 1.4–4.2% for the second dispatch (H100, 1080p, `benches/RESULTS.md`,
@@ -693,8 +693,9 @@ impl RestirGi {
     }
 
     /// Whether the spatial pass's pipeline is the one built for spatial reuse at a reduced
-    /// rate ([`RestirGiSettings::half_rate_spatial`] with [`GiRate::Half`](crate::GiRate::Half) or
-    /// [`GiRate::Quarter`](crate::GiRate::Quarter); false when built without reuse). After
+    /// rate ([`RestirGiSettings::half_rate_spatial`] at
+    /// [`GiRate::Half`](crate::GiRate::Half) or [`GiRate::Quarter`](crate::GiRate::Quarter);
+    /// false when built without reuse). After
     /// [`RestirGi::set_settings`] moved either across that line, the next
     /// [`RestirGi::prepare`] builds the other.
     pub fn spatial_half_rate(&self) -> bool {

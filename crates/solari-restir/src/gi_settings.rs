@@ -47,12 +47,12 @@ pub struct RestirGiSettings {
     /// each pixel at that many times the weight on its frames ([`GiRate`], with the costs and
     /// errors of each). The CLI's `--gi-half-rate` and `--gi-quarter-rate`.
     pub rate: GiRate,
-    /// With [`GiRate::Half`] and reuse, spatial reuse too at half the pixels
-    /// (default on; nothing without a reduced rate): those that did not trace this frame,
+    /// With [`GiRate::Half`] and reuse, spatial reuse too at half the pixels (default on;
+    /// nothing without a reduced rate): those that did not trace this frame,
     /// packed into whole warps, so each pixel gets one new sample or one neighbour's reservoir
     /// a frame and the spatial pass traces half its visibility rays (at
-    /// [`GiRate::Quarter`], a quarter of the pixels, those one frame past their
-    /// traced frame). The other pixels shade the reservoir temporal reuse left them, as a
+    /// [`GiRate::Quarter`], a quarter of the pixels, those one frame past their traced
+    /// frame). The other pixels shade the reservoir temporal reuse left them, as a
     /// pixel that finds no neighbour does.
     ///
     /// The neighbours are taken from the pixels that did not trace either. A pixel's
@@ -146,9 +146,9 @@ pub enum GiRate {
     /// Every pixel traces every frame (the default).
     #[default]
     Full,
-    /// Half the pixels trace each frame, a checkerboard that flips every frame, at twice
-    /// the weight; the others draw no sample that frame. The tracing pixels
-    /// are packed into whole warps, so the tracing work halves.
+    /// Half the pixels trace each frame, a checkerboard that flips every frame, at twice the
+    /// weight; the others draw no sample that frame. The tracing pixels are packed into whole
+    /// warps, so the tracing work halves.
     ///
     /// - Plain path GI (no reuse): unbiased, and the denoiser's filters fill the gaps. On
     ///   an H100 at 1080p GI's first pass took 0.60 ms instead of 1.03 on `interior` (the
@@ -168,16 +168,17 @@ pub enum GiRate {
     Half,
     /// A quarter of the pixels trace each frame: each pixel traces one frame in four, at four
     /// times the weight, where (x + 2y + frame) mod 4 is 0 (a pixel's phase: the frames since
-    /// it traced), and the tracing pixels are packed into whole warps as at half rate. With [`RestirGiSettings::half_rate_spatial`] and
-    /// reuse, spatial reuse runs at the pixels of phase 1 (the frame after they traced), from
-    /// neighbours of that phase. Unbiased over the cycle as half rate is.
+    /// it traced), and the tracing pixels are packed into whole warps as at half rate. With
+    /// [`RestirGiSettings::half_rate_spatial`] and reuse, spatial reuse runs at the pixels of
+    /// phase 1 (the frame after they traced), from neighbours of that phase. Unbiased over the
+    /// cycle as half rate is.
     ///
     /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
     /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
     /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms; both with
-    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.03–0.04 ms at a
-    /// quarter: 0.989–0.999 ms, and half rate's 1.30 ms), on
-    /// many_lights 0.603 against 0.703 and sun_boxes 0.557 against 0.606; on the Cornell box,
+    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.03–0.04 ms at a quarter:
+    /// 0.989–0.999 ms, and half rate's 1.30 ms), on many_lights 0.603 against 0.703 and
+    /// sun_boxes 0.557 against 0.606; on the Cornell box,
     /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
     /// four pixels each in turn). relMSE against a 1024-spp full-bounce reference at 960×540:
     /// after 136 frames within −4% to +9% of half rate's (`interior`'s 16-frame mean 0.00679
