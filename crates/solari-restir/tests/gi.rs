@@ -68,6 +68,34 @@ fn setup_with_capacity(gpu: &Gpu, scene: &Scene, size: u32, mode: Mode, capacity
     }
 }
 
+/// As [`setup`] with `settings`, the initial pass's reservoirs in a scratch buffer of their
+/// own, returned: after a frame it holds the temporal merge's output, before spatial reuse
+/// ([`initial_reservoirs`]).
+fn setup_reading_initial(
+    gpu: &Gpu,
+    scene: &Scene,
+    size: u32,
+    settings: RestirGiSettings,
+) -> (Setup, wgpu::Buffer) {
+    let mut s = setup(gpu, scene, size, Mode::Gi(settings));
+    let scratch = solari_scene::scratch::allocate(gpu, s.gi.scratch_bytes()).unwrap();
+    s.gi.use_scratch(gpu, &scratch, &s.cache).expect("scratch");
+    (s, scratch)
+}
+
+/// The reservoirs in a [`setup_reading_initial`] scratch buffer, one per pixel.
+fn initial_reservoirs(
+    gpu: &Gpu,
+    s: &Setup,
+    scratch: &wgpu::Buffer,
+) -> Vec<solari_restir::GpuGiReservoir> {
+    gpu.read_buffer(scratch, s.gi.scratch_bytes())
+        .unwrap()
+        .chunks_exact(size_of::<solari_restir::GpuGiReservoir>())
+        .map(bytemuck::pod_read_unaligned)
+        .collect()
+}
+
 impl Setup {
     /// One frame of the scene's camera; panics if the GI reservoirs or the image hold a NaN,
     /// an infinity, a negative value or an over-confident reservoir.
@@ -963,9 +991,7 @@ fn reduced_rate_spatial_reuse_runs_at_one_phase_only() {
             ..Default::default()
         };
         let n = rate.interval();
-        let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
-        let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
-        s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
+        let (mut s, scratch) = setup_reading_initial(&gpu, &scene, size, settings);
         for _ in 0..6 {
             s.frame(&gpu, &scene);
         }
@@ -1033,20 +1059,14 @@ fn pixels_without_history_trace_at_a_reduced_rate() {
             trace_fresh_pixels,
             ..Default::default()
         };
-        let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
-        let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
-        s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
+        let (mut s, scratch) = setup_reading_initial(&gpu, &scene, size, settings);
         // The world cache lit first (a cold cell gives no sample), then history dropped.
         for _ in 0..12 {
             s.frame(&gpu, &scene);
         }
         s.gi.reset();
         s.frame(&gpu, &scene);
-        let bytes = gpu.read_buffer(&scratch, s.gi.scratch_bytes()).unwrap();
-        bytes
-            .chunks_exact(size_of::<GpuGiReservoir>())
-            .map(bytemuck::pod_read_unaligned::<GpuGiReservoir>)
-            .collect()
+        initial_reservoirs(&gpu, &s, &scratch)
     };
     let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0);
     let full = first_frame(GiRate::Full, true);
@@ -1110,7 +1130,6 @@ fn pixels_without_history_trace_at_a_reduced_rate() {
 /// (`trace_fresh_pixels`); with it 1.4–2.1%; unjittered, none.
 #[test]
 fn a_jittered_still_camera_keeps_history_at_silhouettes() {
-    use solari_restir::gi_reservoir::GpuGiReservoir;
     let Some(gpu) = test_gpu() else { return };
     let scene = default_scene::cornell_box();
     let size = 48;
@@ -1119,9 +1138,7 @@ fn a_jittered_still_camera_keeps_history_at_silhouettes() {
         rate: GiRate::Quarter,
         ..Default::default()
     };
-    let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
-    let scratch = solari_scene::scratch::allocate(&gpu, s.gi.scratch_bytes()).unwrap();
-    s.gi.use_scratch(&gpu, &scratch, &s.cache).expect("scratch");
+    let (mut s, scratch) = setup_reading_initial(&gpu, &scene, size, settings);
     let mut shares = Vec::new();
     for frame in 0..24u32 {
         // The renderer's jitter.
@@ -1130,10 +1147,9 @@ fn a_jittered_still_camera_keeps_history_at_silhouettes() {
         if frame < 12 {
             continue;
         }
-        let bytes = gpu.read_buffer(&scratch, s.gi.scratch_bytes()).unwrap();
-        let confidences: Vec<f32> = bytes
-            .chunks_exact(size_of::<GpuGiReservoir>())
-            .map(|r| bytemuck::pod_read_unaligned::<GpuGiReservoir>(r).confidence)
+        let confidences: Vec<f32> = initial_reservoirs(&gpu, &s, &scratch)
+            .iter()
+            .map(|r| r.confidence)
             .filter(|&c| c > 0.0)
             .collect();
         let alone = confidences.iter().filter(|&&c| c <= 1.0).count();
