@@ -455,7 +455,7 @@ pub struct RealtimeArgs {
     pub gi_half_rate: bool,
     /// GI traced from a quarter of the pixels each frame (each pixel one frame in four, at
     /// four times the weight) instead of half: with `--gi restir`, its two passes on
-    /// `interior` 0.99-1.00 ms instead of 1.30 at half rate (H200, 1080p; 0.96 with
+    /// `interior` 0.99-1.00 ms instead of 1.30 at half rate (H200, 1080p; 0.97 with
     /// `--gi-trace-fresh off`, whose moving camera's error is 21% higher at a quarter), the
     /// still camera's error the same; with `--gi path` it costs more error than it saves.
     /// See `GiRate::Quarter`.

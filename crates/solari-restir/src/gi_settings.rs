@@ -85,7 +85,7 @@ pub struct RestirGiSettings {
     /// silhouette under the still camera's jitter keeps it instead of tracing every frame.
     /// With `--gi restir` on `interior` at 1080p (`benches/RESULTS.md`, "Pixels without
     /// history, traced by the merge") the rule costs the initial pass 0.02–0.04 ms at a
-    /// quarter (the two passes 0.989–0.999 ms, 0.956 without it), against 0.117 when the
+    /// quarter (the two passes 0.989–0.999 ms, 0.969 with it off), against 0.117 when the
     /// tracing dispatch looked the history up itself; nothing changes at full rate or
     /// without reuse.
     pub trace_fresh_pixels: bool,
@@ -176,7 +176,7 @@ pub enum GiRate {
     /// On an H200 at 1920×1080 (`--gi restir --gi-quarter-rate`, fallback denoiser, medians
     /// of two reps; `benches/RESULTS.md`, "ReSTIR GI from a quarter of the pixels"): its two
     /// passes on `interior` 0.964 ms against 1.274 at half rate (0.521 + 0.443 ms; both with
-    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.03–0.04 ms at a quarter:
+    /// [`RestirGiSettings::trace_fresh_pixels`] off, which now adds 0.02–0.03 ms at a quarter:
     /// 0.989–0.999 ms, and half rate's 1.30 ms), on many_lights 0.603 against 0.703 and
     /// sun_boxes 0.557 against 0.606; on the Cornell box,
     /// whose traversal costs little, 0.493 against 0.465 (the spatial pass's threads serve
