@@ -221,7 +221,7 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         v["gi_quarter_rate"] = (applied.restir_gi.rate == solari_restir::GiRate::Quarter).into();
         // In effect: it needs a reduced rate (and acts only with reuse, `gi`).
         v["gi_half_rate_spatial"] =
-            (applied.restir_gi.rate_shift() > 0 && applied.restir_gi.half_rate_spatial).into();
+            (applied.restir_gi.rate.reduced() && applied.restir_gi.half_rate_spatial).into();
         v["gi_ignore_cold_cells"] = applied.restir_gi.ignore_cold_cells.into();
         v["gi_adaptive_cap"] = applied.restir_gi.adaptive_cap.into();
         v["gi_trace_fresh"] = applied.restir_gi.trace_fresh_pixels.into();

@@ -258,7 +258,7 @@ fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, SpatialForm,
         s.initial_samples > 1,
         SpatialForm {
             chosen: s.spatial_visibility == SpatialVisibility::Chosen,
-            half_rate: s.rate_shift() > 0 && s.half_rate_spatial,
+            half_rate: s.rate.reduced() && s.half_rate_spatial,
         },
         in_place && s.shade_apart,
     )
