@@ -729,7 +729,7 @@ impl RealtimeArgs {
             // Parsed now too, so a bad table stops the command before any work.
             crate::quality_choice::error_table(self)?;
         }
-        if settings.restir_gi.rate_shift() > 0
+        if settings.restir_gi.rate.reduced()
             && matches!(settings.gi, GiMode::Off | GiMode::WorldCache)
         {
             // These modes trace no GI ray (ReSTIR GI refuses it in `validate`, below). Said

@@ -566,7 +566,7 @@ impl RestirGi {
         if s.spatial_visibility == SpatialVisibility::Both {
             bits |= flags::UNBIASED_SPATIAL;
         }
-        if s.rate_shift() > 0 {
+        if s.rate.reduced() {
             bits |= flags::HALF_RATE;
         }
         if s.ignore_cold_cells {
