@@ -855,6 +855,11 @@ pub struct RenderArgs {
     /// with renders that point-sample a G-buffer.
     #[arg(long)]
     pub pixel_centre: bool,
+    /// Reference mode: also write each pixel's variance (the noise of its mean: the samples'
+    /// variance over their count) to this EXR, for `solari compare --reference-variance`,
+    /// which takes that noise out of the errors measured against the reference.
+    #[arg(long)]
+    pub variance_out: Option<PathBuf>,
     /// Exposure in stops applied before the PNG's tone curve (ACES fit, sRGB); ±64.
     #[arg(long, default_value_t = 0.0, value_parser = values::exposure, allow_hyphen_values = true)]
     pub exposure: f32,
@@ -902,6 +907,15 @@ impl RenderArgs {
             && crate::output::ImageFormat::for_path(e)? != crate::output::ImageFormat::Exr
         {
             return Err(format!("--exr {}: must end in .exr", e.display()));
+        }
+        if let Some(v) = &self.variance_out {
+            if self.mode != Mode::Reference {
+                return Err("--variance-out: only reference mode knows its noise".into());
+            }
+            if crate::output::ImageFormat::for_path(v)? != crate::output::ImageFormat::Exr {
+                return Err(format!("--variance-out {}: must end in .exr", v.display()));
+            }
+            check_writable(v, "--variance-out")?;
         }
         let outputs = ImageOutputs::check(&paths)?;
         let mut debug_view = solari_scene::view_pass::DebugView::Albedo;
@@ -1063,6 +1077,13 @@ pub struct CompareArgs {
     /// Camera of the --mask-emitters scene, by name or index.
     #[arg(long)]
     pub camera: Option<String>,
+    /// The reference's per-pixel variance (`render --mode reference --variance-out`): also
+    /// report how much of RMSE and relMSE the reference's own noise accounts for, and the
+    /// errors without it (`rmse_excess`, `rel_mse_excess`). Against a 1024-path reference of
+    /// a mostly indirectly lit scene that noise can be as large as a converged real-time
+    /// frame's own error.
+    #[arg(long)]
+    pub reference_variance: Option<PathBuf>,
     /// JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -1073,6 +1094,9 @@ impl CompareArgs {
     pub fn check(&self) -> Result<(), String> {
         check_input(&self.test, "TEST")?;
         check_input(&self.reference, "REFERENCE")?;
+        if let Some(v) = &self.reference_variance {
+            check_input(v, "--reference-variance")?;
+        }
         if let Some(h) = &self.heatmap {
             if crate::output::ImageFormat::for_path(h)? != crate::output::ImageFormat::Png {
                 return Err(format!("--heatmap {}: must end in .png", h.display()));

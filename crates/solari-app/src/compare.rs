@@ -4,7 +4,7 @@ use solari_app::cli::{CompareArgs, Prepared, SceneArgs};
 use solari_app::output::write_atomic;
 use solari_lights::{LightList, Selection};
 use solari_reference::image_io::read_linear;
-use solari_reference::metrics::{Metrics, compare, heatmap};
+use solari_reference::metrics::{Metrics, ReferenceNoise, compare, heatmap, reference_noise};
 use solari_reference::path_tracer::{ReferenceRenderer, ReferenceSettings};
 use solari_scene::gpu_scene::TraceVariant;
 
@@ -85,6 +85,13 @@ fn print(label: &str, m: &Metrics) {
     );
 }
 
+fn print_noise(n: &ReferenceNoise) {
+    println!(
+        "  the reference's noise: RMSE² {:.3e}, relMSE {:.5}; without it RMSE {:.5}, relMSE {:.5}",
+        n.mse, n.rel_mse, n.rmse_excess, n.rel_mse_excess
+    );
+}
+
 /// Refuses an image with non-finite pixels: every metric over it would be NaN.
 fn finite(path: &std::path::Path, pixels: &[[f32; 3]]) -> Result<(), String> {
     let bad = pixels
@@ -123,14 +130,43 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         let png = solari_reference::image_io::encode_png_rgb8(w, h, &heatmap(&map, w, h))?;
         write_atomic(path, &png)?;
     }
+    let noise = match &args.reference_variance {
+        Some(path) => {
+            let (vw, vh, variance) = read_linear(path)?;
+            if (vw, vh) != (w, h) {
+                return Err(format!(
+                    "{} is {vw}x{vh} but the images are {w}x{h}",
+                    path.display()
+                ));
+            }
+            let of = |m: &Metrics, mask: Option<&[bool]>| {
+                reference_noise(m, &reference, &variance, mask)
+                    .map_err(|e| format!("{}: {e}", path.display()))
+            };
+            let masked_noise = match (&masked, &mask) {
+                (Some(m), Some(mask)) => Some(of(m, Some(mask))?),
+                _ => None,
+            };
+            Some((of(&all, None)?, masked_noise))
+        }
+        None => None,
+    };
     if args.json {
         let v = serde_json::json!({"test": args.test, "reference": args.reference,
-            "width": w, "height": h, "all": all, "without_emitters": masked});
+            "width": w, "height": h, "all": all, "without_emitters": masked,
+            "reference_noise": noise.map(|(a, m)| serde_json::json!({
+                "variance": args.reference_variance, "all": a, "without_emitters": m}))});
         println!("{v}");
     } else {
         print("all pixels", &all);
+        if let Some((n, _)) = &noise {
+            print_noise(n);
+        }
         if let Some(m) = &masked {
             print("without emitters", m);
+            if let Some((_, Some(n))) = &noise {
+                print_noise(n);
+            }
         }
     }
     Ok(())

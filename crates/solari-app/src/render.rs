@@ -139,6 +139,9 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     bar.finish_and_clear();
     plan.outputs
         .write(w, h, &image.pixels, Some(args.exposure))?;
+    if let Some(path) = &args.variance_out {
+        write_atomic(path, &image_io::encode_exr(w, h, &image.variance)?)?;
+    }
     if image.capped_paths > 0 {
         log::warn!(
             "{} paths reached the safety cap of {SAFETY_CAP} bounces",
@@ -162,12 +165,17 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             "camera_frame": args.frames - 1,
             "tracer": backend.name(), "adapter": gpu.info.name,
             "render_seconds": image.seconds, "seconds": elapsed,
-            "capped_paths": image.capped_paths, "rejected_samples": image.rejected_samples});
+            "capped_paths": image.capped_paths, "rejected_samples": image.rejected_samples,
+            "variance_file": args.variance_out});
         println!("{v}");
     } else {
         println!(
-            "wrote {} ({w}x{h}, {} spp, {} tracer on {}): rendered in {:.2} s, {elapsed:.2} s in all",
+            "wrote {}{} ({w}x{h}, {} spp, {} tracer on {}): rendered in {:.2} s, {elapsed:.2} s in all",
             plan.outputs.describe(),
+            args.variance_out
+                .as_ref()
+                .map(|v| format!(" and its variance {}", v.display()))
+                .unwrap_or_default(),
             args.spp,
             backend.name(),
             gpu.info.name,

@@ -133,6 +133,82 @@ pub fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
     (sum / (image.len() * 3) as f64).sqrt()
 }
 
+/// The share of [`compare`]'s errors that the reference's own noise accounts for, from the
+/// reference's per-pixel variance ([`crate::path_tracer::ReferenceImage::variance`]).
+///
+/// A finite-sample reference `r` is the truth plus noise, so for a test image `x` whose
+/// errors do not depend on that noise, E[(x − r)²] = (x − truth)² + Var(r) per pixel:
+/// every error measured against it carries Var(r) on top of the test image's own. On a
+/// scene lit mostly indirectly this is no small term: `interior`'s 1024-spp reference at
+/// 960×540 puts about as much into relMSE as a converged real-time frame's own error
+/// (`benches/RESULTS.md`, "The reference's own noise"). Subtracting the reference's
+/// variance estimate gives an unbiased estimate of the test image's MSE. relMSE divides by
+/// the noisy reference, whose noise then correlates with the error, so its excess is right
+/// only to the order of the reference's relative variance times the test image's relative
+/// error: 5% high in `tests/metrics.rs`'s case, where the uncorrected figure is 43% high.
+/// An excess can be slightly negative for a test image closer to the truth than the
+/// reference's noise lets one tell.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct ReferenceNoise {
+    /// The mean of the reference's variance over pixels and channels: what its noise adds to
+    /// the MSE (RMSE²).
+    pub mse: f64,
+    /// The mean of variance / (reference² + 0.01): what its noise adds to relMSE.
+    pub rel_mse: f64,
+    /// RMSE with the reference's noise taken out: √max(0, RMSE² − `mse`).
+    pub rmse_excess: f64,
+    /// relMSE less `rel_mse`: the test image's own relMSE against the truth, estimated.
+    pub rel_mse_excess: f64,
+}
+
+/// [`ReferenceNoise`] of `metrics` (from [`compare`] with the same `reference` and `mask`),
+/// given the reference's per-pixel `variance`. Errors if the sizes differ or a variance is
+/// negative or not finite.
+pub fn reference_noise(
+    metrics: &Metrics,
+    reference: &[[f32; 3]],
+    variance: &[[f32; 3]],
+    mask: Option<&[bool]>,
+) -> Result<ReferenceNoise, String> {
+    if variance.len() != reference.len() {
+        return Err(format!(
+            "the variance image has {} pixels, the reference {}",
+            variance.len(),
+            reference.len()
+        ));
+    }
+    if mask.is_some_and(|m| m.len() != reference.len()) {
+        return Err("mask size differs from the images".into());
+    }
+    if let Some(i) = variance
+        .iter()
+        .position(|v| v.iter().any(|c| !(c.is_finite() && *c >= 0.0)))
+    {
+        return Err(format!(
+            "variance pixel {i} is {:?}: a variance is finite and not negative",
+            variance[i]
+        ));
+    }
+    let (mut sum, mut rel, mut count) = (0.0f64, 0.0f64, 0usize);
+    for i in (0..reference.len()).filter(|&i| mask.is_none_or(|m| m[i])) {
+        count += 1;
+        for c in 0..3 {
+            let v = variance[i][c] as f64;
+            let b = reference[i][c] as f64;
+            sum += v;
+            rel += v / (b * b + 0.01);
+        }
+    }
+    let n = 3.0 * count.max(1) as f64;
+    let (mse, rel_mse) = (sum / n, rel / n);
+    Ok(ReferenceNoise {
+        mse,
+        rel_mse,
+        rmse_excess: (metrics.rmse * metrics.rmse - mse).max(0.0).sqrt(),
+        rel_mse_excess: metrics.rel_mse - rel_mse,
+    })
+}
+
 /// A FLIP error map as a colour heat map (magma), 8-bit RGB.
 pub fn heatmap(map: &[f32], w: u32, h: u32) -> Vec<u8> {
     let img = nv_flip::FlipImageFloat::with_data(w, h, map);

@@ -1,6 +1,9 @@
 //! The reference path tracer: progressive f32 accumulation of one path per pixel per
 //! dispatch (`shaders/reference.wesl`), with next-event estimation and BRDF sampling combined
-//! by MIS and Russian roulette.
+//! by MIS and Russian roulette. Beside the sums it keeps each pixel's spread of samples
+//! (Welford's running second moment), so a finished image carries the variance of its own
+//! mean: the noise it adds to any error measured against it
+//! ([`crate::metrics::reference_noise`]).
 
 use bytemuck::{Pod, Zeroable};
 use solari_lights::{GpuLights, LightList, Selection};
@@ -53,6 +56,11 @@ pub struct ReferenceImage {
     pub height: u32,
     /// Mean radiance per pixel.
     pub pixels: Vec<[f32; 3]>,
+    /// Per pixel and channel, the variance of [`Self::pixels`]' value as an estimate of the
+    /// true radiance: the samples' variance over their count (0 below two samples). The
+    /// expected squared error of the pixel, which an error metric against this image counts
+    /// as if it were the test image's.
+    pub variance: Vec<[f32; 3]>,
     /// Paths per pixel.
     pub spp: u32,
     /// Paths that hit [`SAFETY_CAP`] (reported; should be 0).
@@ -82,8 +90,8 @@ const _: () = assert!(size_of::<ReferenceParams>() == 16);
 /// The app's own WESL modules.
 pub const MODULES: &[(&str, &str)] = &[("reference", include_str!("../shaders/reference.wesl"))];
 
-/// Group 2 of `reference.wesl`, by WGSL name: the running sums, the path counters and the
-/// parameters (group 1 is the camera, [`VIEW_BINDINGS`]).
+/// Group 2 of `reference.wesl`, by WGSL name: the running sums, the path counters, the
+/// parameters and the running second moments (group 1 is the camera, [`VIEW_BINDINGS`]).
 pub const REFERENCE_BINDINGS: BufferGroup = BufferGroup::new(
     2,
     0,
@@ -91,6 +99,7 @@ pub const REFERENCE_BINDINGS: BufferGroup = BufferGroup::new(
         ("accumulation", Buf::ReadWrite),
         ("counters", Buf::ReadWrite),
         ("params", Buf::Uniform),
+        ("second_moment", Buf::ReadWrite),
     ],
 );
 
@@ -164,6 +173,11 @@ impl ReferenceRenderer {
             accum_bytes.max(16),
             storage,
         );
+        let second_moment = buffer(
+            "solari_reference/second_moment",
+            accum_bytes.max(16),
+            storage,
+        );
         let counters = buffer("solari_reference/reference_counters", 8, storage);
         let view = GpuView::new(camera, width, height);
         let view_buf = gpu.uniform_buffer("solari_reference/reference_view", &view);
@@ -185,6 +199,7 @@ impl ReferenceRenderer {
                 ("accumulation", &accumulation),
                 ("counters", &counters),
                 ("params", &params),
+                ("second_moment", &second_moment),
             ],
         );
         Ok(ReferenceAccumulation {
@@ -195,6 +210,7 @@ impl ReferenceRenderer {
             scene_generation: None,
             samples: 0,
             accumulation,
+            second_moment,
             counters,
             view_buf,
             params,
@@ -263,6 +279,8 @@ impl ReferenceRenderer {
         let bytes = acc.width as u64 * acc.height as u64 * 16;
         let sums = gpu.read_buffer(&acc.accumulation, bytes)?;
         let sums: &[[f32; 4]] = bytemuck::cast_slice(&sums);
+        let moments = gpu.read_buffer(&acc.second_moment, bytes)?;
+        let moments: &[[f32; 4]] = bytemuck::cast_slice(&moments);
         let count = gpu.read_buffer(&acc.counters, 8)?;
         let count: &[u32] = bytemuck::cast_slice(&count);
         let pixels = sums
@@ -272,10 +290,25 @@ impl ReferenceRenderer {
                 [s[0] / n, s[1] / n, s[2] / n]
             })
             .collect();
+        let variance = sums
+            .iter()
+            .zip(moments)
+            .map(|(s, m)| {
+                let n = s[3];
+                if n < 2.0 {
+                    return [0.0; 3];
+                }
+                // Sample variance M2 / (n - 1), over n for the mean's; rounding can leave
+                // M2 a hair below 0 for a pixel whose samples are all equal.
+                let scale = 1.0 / ((n - 1.0) * n);
+                [0, 1, 2].map(|c| (m[c] * scale).max(0.0))
+            })
+            .collect();
         Ok(ReferenceImage {
             width: acc.width,
             height: acc.height,
             pixels,
+            variance,
             spp: acc.samples,
             capped_paths: count[0],
             rejected_samples: count[1],
@@ -317,6 +350,7 @@ pub struct ReferenceAccumulation {
     scene_generation: Option<u64>,
     samples: u32,
     accumulation: wgpu::Buffer,
+    second_moment: wgpu::Buffer,
     counters: wgpu::Buffer,
     view_buf: wgpu::Buffer,
     params: wgpu::Buffer,
@@ -336,6 +370,7 @@ impl ReferenceAccumulation {
     pub fn reset(&mut self, gpu: &Gpu) {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.accumulation, 0, None);
+        encoder.clear_buffer(&self.second_moment, 0, None);
         encoder.clear_buffer(&self.counters, 0, None);
         gpu.queue.submit([encoder.finish()]);
         self.samples = 0;

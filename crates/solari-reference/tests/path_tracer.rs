@@ -277,6 +277,7 @@ fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
     let progressive = renderer.resolve(&gpu, &acc).unwrap();
     assert_eq!(progressive.spp, 8);
     assert_eq!(progressive.pixels, one_shot.pixels);
+    assert_eq!(progressive.variance, one_shot.variance);
     // Same camera: nothing restarts. A moved camera restarts.
     assert!(!acc.set_camera(&gpu, &camera));
     assert_eq!(acc.samples(), 8);
@@ -298,7 +299,79 @@ fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
         .add_samples(&gpu, &gpu_scene, &mut acc, 1, |_| {})
         .unwrap();
     assert_eq!(acc.samples(), 1);
-    assert_eq!(renderer.resolve(&gpu, &acc).unwrap().spp, 1);
+    let restarted = renderer.resolve(&gpu, &acc).unwrap();
+    assert_eq!(restarted.spp, 1);
+    // One sample has no spread: the second moments restarted with the sums.
+    assert!(restarted.variance.iter().flatten().all(|&v| v == 0.0));
+}
+
+/// The variance a reference render reports for its pixels is the noise it has. The samples'
+/// sequence is nested (64 paths start with the 16), so the 16-path image differs from the
+/// 64-path one by 3/4 of the 16-path image's variance, 3 times the 64-path image's. Summed
+/// as `solari compare`'s relMSE weighs it (over reference² + 0.01): in plain squares a few
+/// pixels on the light's edge, whose paths either see it or not, decide the sum.
+#[test]
+fn the_variance_image_is_the_render_s_own_noise() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = solari_scene::default_scene::cornell_box();
+    let backend = backends(&gpu)[0];
+    let gpu_scene =
+        GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
+    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("pipeline");
+    let lights = LightList::build(&scene);
+    let camera = scene.camera(None).unwrap();
+    let size = 48;
+    let mut acc = renderer
+        .accumulation(
+            &gpu,
+            &lights,
+            &camera,
+            size,
+            size,
+            &ReferenceSettings::default(),
+        )
+        .unwrap();
+    renderer
+        .add_samples(&gpu, &gpu_scene, &mut acc, 16, |_| {})
+        .unwrap();
+    let low = renderer.resolve(&gpu, &acc).unwrap();
+    renderer
+        .add_samples(&gpu, &gpu_scene, &mut acc, 48, |_| {})
+        .unwrap();
+    let high = renderer.resolve(&gpu, &acc).unwrap();
+    let all = low.variance.iter().chain(&high.variance).flatten();
+    assert!(all.clone().all(|v| v.is_finite() && *v >= 0.0));
+    assert!(all.clone().any(|&v| v > 0.0));
+    let (mut measured, mut predicted, mut low_sum, mut high_sum) = (0.0, 0.0, 0.0, 0.0);
+    for ((a, b), (va, vb)) in low
+        .pixels
+        .iter()
+        .zip(&high.pixels)
+        .zip(low.variance.iter().zip(&high.variance))
+    {
+        for c in 0..3 {
+            let weight = 1.0 / ((b[c] as f64).powi(2) + 0.01);
+            measured += (a[c] as f64 - b[c] as f64).powi(2) * weight;
+            predicted += 3.0 * vb[c] as f64 * weight;
+            low_sum += va[c] as f64 * weight;
+            high_sum += vb[c] as f64 * weight;
+        }
+    }
+    let quarter = high_sum / low_sum;
+    eprintln!(
+        "16 against 64 spp: weighted squared difference {measured:.3}, predicted {predicted:.3} \
+         (ratio {:.3}); variance at 64 spp over 16 spp {quarter:.3}",
+        measured / predicted
+    );
+    assert!(
+        (measured / predicted - 1.0).abs() < 0.1,
+        "measured {measured}, predicted {predicted}"
+    );
+    assert!(
+        (quarter - 0.25).abs() < 0.05,
+        "64 spp over 16 spp variance {quarter}"
+    );
 }
 
 #[test]
