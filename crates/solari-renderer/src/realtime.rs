@@ -350,13 +350,16 @@ pub struct RealtimeSettings {
     /// [`RestirDiSettings::light_grid`] is set to match.
     pub light_grid: Option<LightGridSettings>,
     /// Indirect light (default [`GiMode::Path`]: one traced bounce per pixel lit by the world
-    /// cache, no reuse). Chosen by measurement (`benches/RESULTS.md`, "GI: the whole
-    /// matrix"): on the H200 at 1080p with the fallback denoiser its one-frame relMSE was
-    /// within 4% of the best GI mode's on cornell_box, sun_boxes, many_lights and interior
-    /// (lowest on interior); ReSTIR GI's was within ±3% of it on all four (H100, "One
-    /// visibility ray in ReSTIR GI's spatial reuse") for 0.4–0.6 ms more per frame (1.4 ms on
-    /// interior; H100, "ReSTIR GI from half the pixels"), cache-only GI's 21% higher on
-    /// interior.
+    /// cache, no reuse). Chosen by measurement, last on the H200 with ReSTIR GI at half and
+    /// a quarter rate (`benches/RESULTS.md`, "The reference's own noise": GI time at 1080p,
+    /// error at 960×540 against 4096-path references with their noise taken out, fallback
+    /// denoiser): of the modes whose GI costs no more, it has the lowest error on the Cornell
+    /// box, sun_boxes and `interior`, still and moving, and is within 3.5% of the best on
+    /// many_lights. ReSTIR GI at a quarter rate costs 0.14–0.27 ms more for 6–13% more error
+    /// on `interior` and 9–25% more on the Cornell box; at full rate 0.36–1.10 ms more for at
+    /// most 5% less anywhere, and 40% more on `interior` with a still camera (1.4% too
+    /// bright there). Cache-only GI's error was 21% higher on `interior` ("GI: the whole
+    /// matrix").
     pub gi: GiMode,
     /// The world cache's knobs (used with any GI mode or [`FrameView::WorldCache`]).
     pub cache: WorldCacheSettings,
