@@ -375,8 +375,10 @@ pub struct RealtimeArgs {
     pub budget_ms: f32,
     /// Time-against-error table for `--quality auto` (CSV with scene, setting, gpu_ms and
     /// rel_mse columns, and optionally rel_mse_moving (a moving camera's error: a setting
-    /// counts by the worse of the two), as `benches/results/quality_table.py` writes from a
-    /// sweep of your own scenes); default: the table shipped in `solari-renderer`. A scene is
+    /// counts by the worse of the two) and reference_noise / reference_noise_moving (what
+    /// the references' own noise adds to each, taken out before settings are compared), as
+    /// `benches/results/quality_table.py` writes from a sweep of your own scenes); default:
+    /// the table shipped in `solari-renderer`. A scene is
     /// looked up by its file's stem; others get each setting's worst error over the table's
     /// scenes.
     #[arg(long, value_name = "FILE.csv")]
@@ -601,7 +603,7 @@ pub struct RealtimeArgs {
     /// Render the lighting at this fraction of the output's width and height (0.25–1;
     /// 0.5 and 0.67 are the usual ones) and bring it to the output size with the temporal
     /// upscaler (jittered camera). Fallback denoiser or none only. Best for a still
-    /// camera: a moving one read 1.1-3.8x native's best error on the bundled scenes.
+    /// camera: a moving one read 1.2-4.1x native's best error on the bundled scenes.
     #[arg(long, default_value_t = 1.0, value_parser = values::finite, allow_hyphen_values = true)]
     pub internal_scale: f32,
     /// With `--internal-scale` below 1: trace each output pixel's depth on frames whose
