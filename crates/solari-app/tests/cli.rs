@@ -51,6 +51,17 @@ fn solari(dir: &Dir, args: &[&OsStr]) -> Output {
         .expect("run solari")
 }
 
+/// Runs `args` in `dir` and checks that it succeeded (stderr in the message if not).
+fn succeeds(dir: &Dir, args: &[&str]) -> Output {
+    let out = solari(dir, &args.iter().map(OsStr::new).collect::<Vec<_>>());
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// Runs `args` in `dir` and checks: non-zero exit, `needle` in stderr, no new files.
 fn fails(dir: &Dir, args: &[&str], needle: &str) {
     let before = dir.files();
@@ -684,15 +695,7 @@ fn quality_auto_chooses_reports_and_refuses_bad_input() {
 #[test]
 fn the_reference_follows_the_camera_path() {
     let d = Dir::new("camera-path");
-    let run = |args: &[&str]| {
-        let out = solari(&d, &args.iter().map(OsStr::new).collect::<Vec<_>>());
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        out
-    };
+    let run = |args: &[&str]| succeeds(&d, args);
     let common = ["render", "--size", "48x48", "--frames", "60"];
     let orbit = ["--camera-path", "orbit"];
     run(&[
@@ -766,15 +769,7 @@ fn the_reference_follows_the_camera_path() {
 #[test]
 fn compare_takes_the_reference_noise_out() {
     let d = Dir::new("reference-noise");
-    let run = |args: &[&str]| {
-        let out = solari(&d, &args.iter().map(OsStr::new).collect::<Vec<_>>());
-        assert!(
-            out.status.success(),
-            "{args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        out
-    };
+    let run = |args: &[&str]| succeeds(&d, args);
     let common = ["render", "--size", "48x48"];
     for spp in ["64", "256"] {
         run(&[
@@ -836,40 +831,21 @@ fn compare_takes_the_reference_noise_out() {
     // Refusals: a variance image of another size or with a negative value, and a variance
     // asked of a mode without samples.
     let small = exr(&d, "small.exr", 4, 4, |_| 0.1);
-    fails(
-        &d,
-        &[
-            "compare",
-            "rt.exr",
-            "r64.exr",
-            "--reference-variance",
-            &small,
-        ],
-        "small.exr is 4x4 but",
-    );
     let negative = exr(&d, "neg.exr", 48, 48, |i| if i == 9 { -1.0 } else { 0.1 });
-    fails(
-        &d,
-        &[
+    for (variance, needle) in [
+        (small.as_str(), "small.exr is 4x4 but"),
+        (negative.as_str(), "not negative"),
+        ("nope.exr", "--reference-variance"),
+    ] {
+        let args = [
             "compare",
             "rt.exr",
             "r64.exr",
             "--reference-variance",
-            &negative,
-        ],
-        "not negative",
-    );
-    fails(
-        &d,
-        &[
-            "compare",
-            "rt.exr",
-            "r64.exr",
-            "--reference-variance",
-            "nope.exr",
-        ],
-        "--reference-variance",
-    );
+            variance,
+        ];
+        fails(&d, &args, needle);
+    }
     fails(
         &d,
         &[

@@ -39,6 +39,27 @@ fn render(
     image
 }
 
+/// The built-in Cornell box on the first backend, its reference renderer, lights and camera.
+fn built_in_box(
+    gpu: &Gpu,
+) -> (
+    Scene,
+    GpuScene,
+    ReferenceRenderer,
+    LightList,
+    solari_scene::Camera,
+) {
+    let scene = solari_scene::default_scene::cornell_box();
+    let backend = backends(gpu)[0];
+    let gpu_scene =
+        GpuScene::new(gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
+    let renderer = ReferenceRenderer::new(gpu, backend, TraceVariant::for_scene(&gpu_scene))
+        .expect("pipeline");
+    let lights = LightList::build(&scene);
+    let camera = scene.camera(None).unwrap();
+    (scene, gpu_scene, renderer, lights, camera)
+}
+
 /// Mean and standard error of the mean of `values`.
 fn mean_se(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let v: Vec<f64> = values.collect();
@@ -240,14 +261,7 @@ fn absurd_lights_and_degenerate_normals_stay_finite() {
 #[test]
 fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = solari_scene::default_scene::cornell_box();
-    let backend = backends(&gpu)[0];
-    let mut gpu_scene =
-        GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
-    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("pipeline");
-    let lights = LightList::build(&scene);
-    let camera = scene.camera(None).unwrap();
+    let (scene, mut gpu_scene, renderer, lights, camera) = built_in_box(&gpu);
     let settings = ReferenceSettings {
         spp: 8,
         ..Default::default()
@@ -313,14 +327,7 @@ fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
 #[test]
 fn the_variance_image_is_the_render_s_own_noise() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = solari_scene::default_scene::cornell_box();
-    let backend = backends(&gpu)[0];
-    let gpu_scene =
-        GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
-    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("pipeline");
-    let lights = LightList::build(&scene);
-    let camera = scene.camera(None).unwrap();
+    let (_, gpu_scene, renderer, lights, camera) = built_in_box(&gpu);
     let size = 48;
     let mut acc = renderer
         .accumulation(
@@ -377,14 +384,7 @@ fn the_variance_image_is_the_render_s_own_noise() {
 #[test]
 fn pixel_centre_paths_point_sample_the_view() {
     let Some(gpu) = test_gpu() else { return };
-    let scene = solari_scene::default_scene::cornell_box();
-    let backend = backends(&gpu)[0];
-    let gpu_scene =
-        GpuScene::new(&gpu, &scene, backend, &GpuSceneOptions::default()).expect("scene");
-    let renderer = ReferenceRenderer::new(&gpu, backend, TraceVariant::for_scene(&gpu_scene))
-        .expect("pipeline");
-    let lights = LightList::build(&scene);
-    let camera = scene.camera(None).unwrap();
+    let (_, gpu_scene, renderer, lights, camera) = built_in_box(&gpu);
     // Emission seen directly (no bounces): with paths at pixel centres nothing is random, so
     // 1 and 16 paths per pixel give the same image; with jitter, silhouettes differ.
     let image = |spp, pixel_centre| {
