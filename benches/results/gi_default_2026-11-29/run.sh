@@ -19,7 +19,12 @@
 #          (`--variance-out`), then each of $BINS with the fallback denoiser (mean of frames
 #          121-136, still camera) compared with both, the reference's noise taken out
 #          (`compare --reference-variance`). Table: $OUT/noise.csv.
-# Usage: BINS="..." SCENES="..." bash benches/results/gi_default_2026-11-29/run.sh time|still|orbit|noise
+#   grid:  automatic quality's still rows again: per scene in $SCENES, a 1024-spp reference
+#          with its variance, then each grid setting in $SETTINGS (default all 24, flags as
+#          quality_h200.sh gives them) rendered to frame 136 with the fallback denoiser and
+#          compared with it, the noise term beside (`compare --reference-variance`).
+#          Table: $OUT/grid.csv.
+# Usage: BINS="..." SCENES="..." bash benches/results/gi_default_2026-11-29/run.sh time|still|orbit|noise|grid
 set -u
 source benches/results/device_env.sh
 row() { # compare JSON, then the row's leading fields
@@ -117,5 +122,39 @@ case "${1:-}" in
     done
     tar czf "$OUT/noise.tar.gz" -C "$R" .
     cat "$OUT/noise.csv" ;;
-  *) echo "usage: $0 time|still|orbit|noise" >&2; exit 2 ;;
+  grid)
+    unpack_bins
+    R=/root/grid; mkdir -p "$R" "$OUT"
+    nvidia-smi --query-gpu=name,driver_version --format=csv > "$OUT/gpu.csv" 2>/dev/null
+    # quality_h200.sh's grid and flags.
+    all=""; for sc in 50 67 100 aa; do for g in cache path restir; do all="$all $sc-$g $sc-$g-nodi"; done; done
+    gflags() {
+      local parts; IFS=- read -ra parts <<< "$1"
+      case ${parts[0]} in 50) echo "--internal-scale 0.5" ;; 67) echo "--internal-scale 0.67" ;;
+        100) echo "--antialias off" ;; aa) echo "--antialias on" ;; esac
+      case ${parts[1]} in cache) echo "--gi cache --specular-gi off" ;;
+        *) echo "--gi ${parts[1]} --specular-gi on" ;; esac
+      [ "${parts[2]:-}" = nodi ] && echo "--di-reuse none"
+      true
+    }
+    echo "scene,setting,rel_mse,reference_noise,rel_mse_excess,mean_ratio" > "$OUT/grid.csv"
+    for s in ${SCENES:-interior many_lights}; do
+      f=$(scene_file "$s")
+      /usr/bin/time -f "$s ref: %e s" /root/bins/solari render "$f" --mode reference --spp 1024 \
+        --size 960x540 --out "$R/${s}_ref.exr" --variance-out "$R/${s}_var.exr" > /dev/null 2>> "$OUT/grid_log.txt"
+      for g in ${SETTINGS:-$all}; do
+        n="${s}_$g"
+        /root/bins/solari render "$f" --mode realtime --denoiser fallback --frames 136 $(gflags "$g") \
+          --size 960x540 --out "$R/$n.exr" > "$R/$n.log" 2>&1
+        /root/bins/solari compare "$R/$n.exr" "$R/${s}_ref.exr" --reference-variance "$R/${s}_var.exr" \
+          --json > "$R/$n.compare.json"
+        python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); a=d["all"]; n=d["reference_noise"]["all"]; print(",".join(sys.argv[2:]+[str(x) for x in (a["rel_mse"],n["rel_mse"],n["rel_mse_excess"],a["mean_ratio"])]))' \
+          "$R/$n.compare.json" "$s" "$g" >> "$OUT/grid.csv"
+        rm -f "$R/$n.exr"
+      done
+      rm -f "$R/${s}"_ref.exr "$R/${s}"_var.exr
+    done
+    tar czf "$OUT/grid.tar.gz" -C "$R" .
+    cat "$OUT/grid.csv" ;;
+  *) echo "usage: $0 time|still|orbit|noise|grid" >&2; exit 2 ;;
 esac
