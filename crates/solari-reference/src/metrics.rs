@@ -140,8 +140,8 @@ pub fn rmse(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
 /// errors do not depend on that noise, E[(x − r)²] = (x − truth)² + Var(r) per pixel:
 /// every error measured against it carries Var(r) on top of the test image's own. On a
 /// scene lit mostly indirectly this is no small term: `interior`'s 1024-spp reference at
-/// 960×540 puts about as much into relMSE as a converged real-time frame's own error
-/// (`benches/RESULTS.md`, "The reference's own noise"). Subtracting the reference's
+/// 960×540 puts more than twice as much into relMSE as a converged real-time frame's own
+/// error (`benches/RESULTS.md`, "The reference's own noise"). Subtracting the reference's
 /// variance estimate gives an unbiased estimate of the test image's MSE. relMSE divides by
 /// the noisy reference, whose noise then correlates with the error, so its excess is right
 /// only to the order of the reference's relative variance times the test image's relative

@@ -24,7 +24,9 @@
 //!   and camera that pulls every ratio toward 1, is taken out first where the table gives
 //!   it ([`ErrorRow::reference_noise`]). A scene the table holds uses its own rows; any
 //!   other scene uses, for each point, its worst error over the table's scenes (the choice that was never
-//!   far off). [`ErrorTable::builtin`] holds the four bundled scenes measured on an H100.
+//!   far off). [`ErrorTable::builtin`] holds the four bundled scenes: times on an H100, the
+//!   still errors (forty-fourth session) and the noise terms on an H200, the moving errors on
+//!   both (`data/quality_h100.csv`'s header says which rows where).
 
 use crate::quality::{QualitySetting, Resolution};
 use crate::realtime::{GiMode, RealtimeRenderer, RealtimeSettings};
