@@ -3,7 +3,11 @@
 wall time at 1080p, the one-frame error at 960x540 of a still camera, and the mean relMSE of
 the orbit frames measured (rel_mse_moving: a moving camera, the orbit phase), then one row per scene and budget with
 auto quality's pick (setting "auto<B>": the setting it chose in the `chosen` column, its own
-frame time in gpu_ms). Usage: quality_table.py RESULTS_DIR > quality_table.csv."""
+frame time in gpu_ms). reference_noise and reference_noise_moving are what the references'
+own noise adds to rel_mse and rel_mse_moving (from `compare --reference-variance`, which
+sweep_phases.sh passes since the forty-fourth session; nan for older runs), the columns
+auto quality takes out before it compares settings. Usage: quality_table.py RESULTS_DIR >
+quality_table.csv."""
 import json, os, re, sys
 
 r = sys.argv[1]
@@ -18,7 +22,14 @@ def load(p):
 
 
 nan = float("nan")
-print("scene,setting,gpu_ms,wall_ms,rel_mse,flip,mean_ratio,chosen,rel_mse_moving")
+print("scene,setting,gpu_ms,wall_ms,rel_mse,flip,mean_ratio,chosen,rel_mse_moving,"
+      "reference_noise,reference_noise_moving")
+
+
+def noise(compare):
+    """The reference's noise term of a compare JSON, or None."""
+    n = ((compare or {}).get("reference_noise") or {}).get("all") or {}
+    return n.get("rel_mse")
 ORBIT = re.compile(r"^(.*)_orbit(\d+)\.compare\.json$")
 stems = set()
 orbit = {}  # stem -> the orbit frames' compare files
@@ -38,11 +49,19 @@ for stem, auto in sorted(stems):
         continue
     setting = stem[len(scene) + 1:]
     t = (load(f"{stem}.json") if auto else load(f"{stem}_time.json")) or {}
-    e = (load(f"{scene}_{setting}_error.compare.json") or {}).get("all", {})
+    ec = load(f"{scene}_{setting}_error.compare.json") or {}
+    e = ec.get("all", {})
     chosen = (t.get("quality") or {}).get("chosen", "") if auto else ""
-    moving = [(load(f) or {}).get("all", {}).get("rel_mse") for f in orbit.get(stem, [])]
+    oc = [load(f) or {} for f in orbit.get(stem, [])]
+    moving = [c.get("all", {}).get("rel_mse") for c in oc]
     moving = [m for m in moving if m is not None]
+    moving_noise = [noise(c) for c in oc]
+    moving_noise = [m for m in moving_noise if m is not None]
     row = [t.get("gpu_frame_ms") or nan, t.get("wall_frame_ms") or nan,
            e.get("rel_mse", nan), e.get("flip", nan), e.get("mean_ratio") or nan]
     mv = sum(moving) / len(moving) if moving else nan
-    print(",".join([scene, setting] + [f"{v:.6g}" for v in row] + [chosen, f"{mv:.6g}"]))
+    # The moving noise is the mean over the same frames as rel_mse_moving's.
+    mn = sum(moving_noise) / len(moving_noise) if moving_noise and len(moving_noise) == len(moving) else nan
+    sn = noise(ec)
+    print(",".join([scene, setting] + [f"{v:.6g}" for v in row]
+                   + [chosen, f"{mv:.6g}", f"{sn if sn is not None else nan:.6g}", f"{mn:.6g}"]))

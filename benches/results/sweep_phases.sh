@@ -9,6 +9,9 @@
 #   orbit: ${s}_ref_orbit${n}.json/.log (a reference of frame n of the orbit camera, n in
 #          ORBIT_FRAMES, default "32 96") and ${s}_${g}_orbit${n}.json/.log/.compare.json:
 #          frame n of the orbit (a moving camera) against it, at $ERROR_SIZE.
+# Every reference is rendered with its per-pixel variance (`--variance-out`) and every
+# compare takes it (`--reference-variance`), so each .compare.json also holds the
+# reference's own noise (`reference_noise`; benches/RESULTS.md, "The reference's own noise").
 
 # scene_file comes from device_env.sh, which every device script sources first.
 
@@ -40,15 +43,16 @@ sweep_error() {
     f=$(scene_file "$s")
     echo "== $s reference $(date -u +%T)" >&2
     $BIN render "$f" --mode reference --spp "$SPP" --size "$size" --out "$R/${s}_ref.exr" \
-      --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
+      --variance-out "$R/${s}_var.exr" --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
     for g in $SETTINGS; do
       n="${s}_${g}_error"
       $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --frames 136 \
         --size "$size" --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
-      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
+      $BIN compare "$R/$n.exr" "$R/${s}_ref.exr" --reference-variance "$R/${s}_var.exr" --json \
+        > "$R/$n.compare.json" 2>> "$R/$n.log"
       rm -f "$R/$n.exr"
     done
-    rm -f "$R/${s}_ref.exr"
+    rm -f "$R/${s}_ref.exr" "$R/${s}_var.exr"
   done
 }
 
@@ -59,16 +63,17 @@ sweep_orbit() {
     for n in ${ORBIT_FRAMES:-32 96}; do
       echo "== $s orbit reference $n $(date -u +%T)" >&2
       $BIN render "$f" --mode reference --camera-path orbit --frames "$n" --spp "$SPP" \
-        --size "$size" --out "$R/${s}_ref_orbit$n.exr" --json > "$R/${s}_ref_orbit$n.json" \
-        2> "$R/${s}_ref_orbit$n.log"
+        --size "$size" --out "$R/${s}_ref_orbit$n.exr" --variance-out "$R/${s}_var_orbit$n.exr" \
+        --json > "$R/${s}_ref_orbit$n.json" 2> "$R/${s}_ref_orbit$n.log"
       for g in $SETTINGS; do
         m="${s}_${g}_orbit$n"
         $BIN render "$f" --mode realtime $(flags "$g") --denoiser fallback --camera-path orbit \
           --frames "$n" --size "$size" --json --out "$R/$m.exr" > "$R/$m.json" 2> "$R/$m.log"
-        $BIN compare "$R/$m.exr" "$R/${s}_ref_orbit$n.exr" --json > "$R/$m.compare.json" 2>> "$R/$m.log"
+        $BIN compare "$R/$m.exr" "$R/${s}_ref_orbit$n.exr" \
+          --reference-variance "$R/${s}_var_orbit$n.exr" --json > "$R/$m.compare.json" 2>> "$R/$m.log"
         rm -f "$R/$m.exr"
       done
-      rm -f "$R/${s}_ref_orbit$n.exr"
+      rm -f "$R/${s}_ref_orbit$n.exr" "$R/${s}_var_orbit$n.exr"
     done
   done
 }

@@ -89,7 +89,7 @@ impl ErrorTable {
     /// Reads CSV with the columns `scene`, `setting`, `gpu_ms` and `rel_mse`, and optionally
     /// `rel_mse_moving` (an empty or `nan` cell: not measured), `reference_noise` and
     /// `reference_noise_moving` (what the references' own noise adds to the two; 0 where
-    /// absent), in any order, other columns ignored, `#` lines skipped, as
+    /// absent, empty or `nan`), in any order, other columns ignored, `#` lines skipped, as
     /// `benches/results/quality_table.py` writes it.
     /// Rows whose setting is not a grid point are skipped (auto's own rows silently, others
     /// with a warning); a bad number or a missing column is an error naming the line.
@@ -157,7 +157,13 @@ impl ErrorTable {
                 Some(c) if c.is_empty() || c.eq_ignore_ascii_case("nan") => None,
                 Some(_) => Some(number(moving.expect("matched"))?),
             };
-            let noise_of = |c: Option<usize>| c.map_or(Ok(0.0), number);
+            // An empty or `nan` cell: not measured, counted as no noise (as before the columns).
+            let noise_of = |c: Option<usize>| match c.map(cell).transpose()? {
+                Some(v) if !(v.is_empty() || v.eq_ignore_ascii_case("nan")) => {
+                    number(c.expect("matched"))
+                }
+                _ => Ok(0.0),
+            };
             rows.push(ErrorRow {
                 scene: cell(scene)?.to_owned(),
                 setting: point,
@@ -741,5 +747,18 @@ mod tests {
         .unwrap();
         assert!((plain.relative_error("x", &p("100-path")).unwrap() - 1.5).abs() < 1e-12);
         assert_eq!(plain.rows[0].reference_noise, 0.0);
+        // A sweep from before the noise was recorded writes nan there: no noise.
+        let old = ErrorTable::parse_csv(
+            "scene,setting,gpu_ms,rel_mse,reference_noise,reference_noise_moving\n\
+             x,100-path,2,0.03,nan,\n",
+        )
+        .unwrap();
+        assert_eq!(
+            (
+                old.rows[0].reference_noise,
+                old.rows[0].reference_noise_moving
+            ),
+            (0.0, 0.0)
+        );
     }
 }
