@@ -64,18 +64,21 @@ for s in $SCENES; do
   [[ " $PHASES " == *" error "* ]] || break
   f=$(scene_file "$s")
   echo "== $s reference $(date -u +%T)" >&2
+  # With its variance: the compares hold the reference's own noise (gi_table.py's
+  # reference_noise column; benches/RESULTS.md, "The reference's own noise").
   "$BIN" render "$f" --mode reference --spp "$SPP" --size 960x540 --out "$R/${s}_ref.exr" \
-    --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
+    --variance-out "$R/${s}_var.exr" --json > "$R/${s}_ref.json" 2> "$R/${s}_ref.log"
   for g in $MODES; do
     for m in 1 16; do
       n="${s}_${g}_mean$m"
       "$BIN" render "$f" --mode realtime $(flags "$g") --denoiser "$DENOISER" --frames 136 \
         --mean-of $m --size 960x540 --json --out "$R/$n.exr" > "$R/$n.json" 2> "$R/$n.log"
-      "$BIN" compare "$R/$n.exr" "$R/${s}_ref.exr" --json > "$R/$n.compare.json" 2>> "$R/$n.log"
+      "$BIN" compare "$R/$n.exr" "$R/${s}_ref.exr" --reference-variance "$R/${s}_var.exr" \
+        --json > "$R/$n.compare.json" 2>> "$R/$n.log"
       rm -f "$R/$n.exr"
     done
   done
-  rm -f "$R/${s}_ref.exr"
+  rm -f "$R/${s}_ref.exr" "$R/${s}_var.exr"
 done
 tar czf "$OUT/gi_h200.tar.gz" -C "$R" --exclude='*.exr' --exclude='x.png' .
 # The table: one CSV row per scene and mode (benches/results/gi_table.py), kept in $OUT and

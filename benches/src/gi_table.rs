@@ -17,6 +17,9 @@ pub struct GiRow {
     pub rel_mse_1: f64,
     /// relMSE of the mean of 16 frames.
     pub rel_mse_16: f64,
+    /// What the reference's own noise adds to both (`compare --reference-variance`); NaN
+    /// where the run did not record it (the column is absent or `nan`).
+    pub reference_noise: f64,
 }
 
 impl GiRow {
@@ -34,6 +37,16 @@ impl GiRow {
     pub fn di_reuse(&self) -> bool {
         !self.mode.split('+').any(|s| s == "nodi")
     }
+
+    /// One frame's relMSE without the reference's noise where the run recorded it, else as
+    /// measured.
+    pub fn own_rel_mse_1(&self) -> f64 {
+        if self.reference_noise.is_finite() {
+            self.rel_mse_1 - self.reference_noise
+        } else {
+            self.rel_mse_1
+        }
+    }
 }
 
 /// Parses the CSV; the error names the line and column that failed.
@@ -46,6 +59,7 @@ pub fn parse_gi(text: &str) -> Result<Vec<GiRow>, String> {
         t.column("rel_mse_1")?,
         t.column("rel_mse_16")?,
     );
+    let noise = t.column("reference_noise").ok();
     (0..t.len())
         .map(|i| {
             Ok(GiRow {
@@ -54,6 +68,7 @@ pub fn parse_gi(text: &str) -> Result<Vec<GiRow>, String> {
                 gpu_ms: t.num(i, ms)?,
                 rel_mse_1: t.num(i, e1)?,
                 rel_mse_16: t.num(i, e16)?,
+                reference_noise: noise.map_or(Ok(f64::NAN), |c| t.num(i, c))?,
             })
         })
         .collect()
@@ -74,6 +89,15 @@ mod tests {
         assert!(rows[0].specular() && !rows[0].di_reuse());
         assert!(!rows[1].specular() && rows[1].di_reuse());
         assert_eq!(rows[1].gpu_ms, 9.86);
+        assert!(rows[1].reference_noise.is_nan());
+        assert_eq!(rows[1].own_rel_mse_1(), 0.01435);
+        let with_noise = parse_gi(
+            "scene,mode,gpu_ms,rel_mse_1,rel_mse_16,reference_noise\n\
+             interior,path,3.8,0.0066,0.0065,0.0046\ninterior,rq,4.0,0.0067,0.0066,nan\n",
+        )
+        .unwrap();
+        assert!((with_noise[0].own_rel_mse_1() - 0.002).abs() < 1e-12);
+        assert_eq!(with_noise[1].own_rel_mse_1(), 0.0067);
         let bad = parse_gi("scene,mode,gpu_ms,rel_mse_1,rel_mse_16\nx,path,fast,1,1\n");
         assert!(bad.unwrap_err().contains("gpu_ms"));
         assert!(parse_gi("scene,mode\n").unwrap_err().contains("gpu_ms"));

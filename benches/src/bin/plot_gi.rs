@@ -1,5 +1,6 @@
 //! Draws a GI run (`benches/results/gi_table.py`'s CSV) as time against error: one panel per
-//! scene, the frame's GPU ms at 1080p across, the relMSE of one frame up (from 0), a point per
+//! scene, the frame's GPU ms at 1080p across, the relMSE of one frame up (from 0; without the
+//! reference's own noise where the table records it: `GiRow::own_rel_mse_1`), a point per
 //! mode coloured by GI mode, filled with specular GI and hollow without, a triangle where
 //! ReSTIR DI ran without reuse.
 //!
@@ -19,11 +20,13 @@ fn run() -> Result<(), String> {
         PlotInput::from_args("usage: plot-gi GI_TABLE.csv OUT.png [--font FONT.ttf]")?;
     let points = parse_gi(&text)?
         .into_iter()
-        .filter(|r| r.gpu_ms.is_finite() && r.rel_mse_1.is_finite() && r.rel_mse_1 > 0.0)
+        .filter(|r| {
+            r.gpu_ms.is_finite() && r.own_rel_mse_1().is_finite() && r.own_rel_mse_1() > 0.0
+        })
         .map(|r| {
             let point = Point {
                 x: r.gpu_ms,
-                y: r.rel_mse_1,
+                y: r.own_rel_mse_1(),
                 colour: colour(r.gi()),
                 filled: r.specular(),
                 triangle: !r.di_reuse(),
