@@ -319,6 +319,59 @@ fn accumulation_is_progressive_and_resets_on_camera_or_scene_change() {
     assert!(restarted.variance.iter().flatten().all(|&v| v == 0.0));
 }
 
+/// CPU twin of the shader's running second moment: add paths one at a time, read each
+/// running mean back, recover every path's value from the sums (n·mean_n − (n−1)·mean_{n−1}),
+/// and compute each pixel's variance of the mean in f64. The GPU's Welford update must give
+/// the same figure (to f32 rounding of the read-back means).
+#[test]
+fn the_variance_image_matches_its_cpu_twin() {
+    let Some(gpu) = test_gpu() else { return };
+    let (_, gpu_scene, renderer, lights, camera) = built_in_box(&gpu);
+    let (size, paths) = (16u32, 8usize);
+    let mut acc = renderer
+        .accumulation(
+            &gpu,
+            &lights,
+            &camera,
+            size,
+            size,
+            &ReferenceSettings::default(),
+        )
+        .unwrap();
+    let mut means = Vec::new();
+    let mut last = None;
+    for _ in 0..paths {
+        renderer
+            .add_samples(&gpu, &gpu_scene, &mut acc, 1, |_| {})
+            .unwrap();
+        let image = renderer.resolve(&gpu, &acc).unwrap();
+        means.push(image.pixels.clone());
+        last = Some(image);
+    }
+    let gpu_variance = last.expect("paths").variance;
+    let (mut worst, mut spread) = (0.0f64, 0usize);
+    for (i, v) in gpu_variance.iter().enumerate() {
+        for c in 0..3 {
+            let sum = |n: usize| n as f64 * means[n - 1][i][c] as f64;
+            let values: Vec<f64> = (1..=paths)
+                .map(|n| sum(n) - if n > 1 { sum(n - 1) } else { 0.0 })
+                .collect();
+            let mean = values.iter().sum::<f64>() / paths as f64;
+            let var = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>()
+                / ((paths - 1) * paths) as f64;
+            // The recovered values carry the read-back means' f32 rounding, n times over.
+            let tolerance = 1e-4 * (var + mean * mean / paths as f64) + 1e-9;
+            let error = (v[c] as f64 - var).abs();
+            worst = worst.max(error / tolerance);
+            spread += (var > 0.0) as usize;
+        }
+    }
+    eprintln!("GPU variance against the CPU twin: worst error {worst:.3} of the tolerance");
+    // Most channels vary over eight paths, so the check compares something.
+    assert!(spread > gpu_variance.len(), "{spread} channels with spread");
+    assert!(worst <= 1.0, "worst error {worst} tolerances");
+}
+
 /// The variance a reference render reports for its pixels is the noise it has. The samples'
 /// sequence is nested (64 paths start with the 16), so the 16-path image differs from the
 /// 64-path one by 3/4 of the 16-path image's variance, 3 times the 64-path image's. Summed
