@@ -487,7 +487,7 @@ pub struct RealtimeArgs {
     pub gi_adaptive_cap: bool,
     /// At `--gi-half-rate` or `--gi-quarter-rate` with ReSTIR GI: a pixel with no history (a
     /// first frame, surface the view uncovered) traces this frame whatever its phase (on by
-    /// default: along a moving camera interior's error 21% lower at a quarter, for 0.02-0.04
+    /// default: along a moving camera interior's error 21% lower at a quarter, for 0.02-0.03
     /// ms a frame on the H200 at 1080p; `off` makes it wait for its phase). See
     /// `RestirGiSettings::trace_fresh_pixels`.
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",

@@ -84,7 +84,7 @@ pub struct RestirGiSettings {
     /// it looks for the history about the reprojected pixel too, so that a pixel at a
     /// silhouette under the still camera's jitter keeps it instead of tracing every frame.
     /// With `--gi restir` on `interior` at 1080p (`benches/RESULTS.md`, "Pixels without
-    /// history, traced by the merge") the rule costs the initial pass 0.02–0.04 ms at a
+    /// history, traced by the merge") the rule costs the initial pass 0.02–0.03 ms at a
     /// quarter (the two passes 0.989–0.999 ms, 0.969 with it off), against 0.117 when the
     /// tracing dispatch looked the history up itself; nothing changes at full rate or
     /// without reuse.
@@ -190,7 +190,11 @@ pub enum GiRate {
     /// it (the default) 0.00795 and 0.00781, and 0.0080–0.0081 at a quarter with the
     /// neighbour search that made it cheap. With plain path GI a quarter costs
     /// more than it saves: `interior`'s 16-frame mean 0.00712 against 0.00654 at full rate,
-    /// frame 8 0.0385 against 0.0212.
+    /// frame 8 0.0385 against 0.0212. (These relMSE figures carry the 1024-spp references'
+    /// own noise, about 4.6×10⁻³ on `interior`'s still camera and 0.12×10⁻³ on the Cornell
+    /// box, so their ratios understate the differences; without it, against 4096-spp
+    /// references, a quarter's still `interior` reads 6% above plain path GI at full rate
+    /// and its orbit 11–13%: `benches/RESULTS.md`, "The reference's own noise".)
     Quarter,
 }
 
