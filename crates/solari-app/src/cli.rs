@@ -840,8 +840,10 @@ pub struct RenderArgs {
     #[arg(long)]
     pub report: Option<PathBuf>,
     /// What to show. Debug mode: albedo (default), normal, depth or instance. Real-time
-    /// mode: lit (default), world-cache (each pixel shows its world-cache cell's
-    /// irradiance, tinted per cell) or a G-buffer channel, written without tone curve:
+    /// mode: lit (default), indirect (the GI passes' light alone: no emission, direct light
+    /// or environment seen directly; compare with a `--min-bounces 2` reference), world-cache
+    /// (each pixel shows its world-cache cell's irradiance, tinted per cell) or a G-buffer
+    /// channel, written without tone curve:
     /// gbuffer-base-color, gbuffer-normal, gbuffer-geometric-normal, gbuffer-roughness,
     /// gbuffer-metallic, gbuffer-emission, gbuffer-depth or gbuffer-motion.
     #[arg(long, value_parser = values::view)]
@@ -853,6 +855,12 @@ pub struct RenderArgs {
     /// default: Russian roulette ends paths, with a reported safety cap of 256.
     #[arg(long)]
     pub max_bounces: Option<u32>,
+    /// Reference mode: leave out light that reaches the eye after fewer scattering events
+    /// than this (1: no emitters or environment seen directly; 2: indirect light alone, what
+    /// real-time mode's `--view indirect` shows). The paths do not change with it, so with
+    /// the same `--spp` the full image is the sum of `--max-bounces 1` and `--min-bounces 2`.
+    #[arg(long, default_value_t = 0)]
+    pub min_bounces: u32,
     /// Reference mode: start every path at its pixel's centre (no antialiasing), to compare
     /// with renders that point-sample a G-buffer.
     #[arg(long)]
@@ -919,6 +927,17 @@ impl RenderArgs {
             }
             check_writable(v, "--variance-out")?;
         }
+        if self.min_bounces > 0 && self.mode != Mode::Reference {
+            return Err("--min-bounces: only reference mode counts a path's bounces".into());
+        }
+        if let Some(max) = self.max_bounces
+            && self.min_bounces > max
+        {
+            return Err(format!(
+                "--min-bounces {} above --max-bounces {max}: the image would be black",
+                self.min_bounces
+            ));
+        }
         let outputs = ImageOutputs::check(&paths)?;
         let mut debug_view = solari_scene::view_pass::DebugView::Albedo;
         let mut frame_view = FrameView::Lit;
@@ -932,7 +951,7 @@ impl RenderArgs {
                     format!("{mode:?}").to_lowercase(),
                     match mode {
                         Mode::Debug => "albedo, normal, depth or instance",
-                        Mode::Realtime => "lit, world-cache or gbuffer-CHANNEL",
+                        Mode::Realtime => "lit, indirect, world-cache or gbuffer-CHANNEL",
                         Mode::Reference => "only the path-traced image (no --view)",
                     }
                 ));

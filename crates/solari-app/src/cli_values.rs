@@ -214,7 +214,7 @@ pub enum ViewArg {
     Frame(FrameView),
 }
 
-/// `albedo`, `normal`, `depth`, `instance` (debug mode) or `lit`, `world-cache`,
+/// `albedo`, `normal`, `depth`, `instance` (debug mode) or `lit`, `indirect`, `world-cache`,
 /// `gbuffer-CHANNEL` (real time).
 pub fn view(s: &str) -> Result<ViewArg, String> {
     if let Some(v) = DebugView::parse(s) {
@@ -223,7 +223,7 @@ pub fn view(s: &str) -> Result<ViewArg, String> {
     named(
         s,
         FrameView::parse(s).map(ViewArg::Frame),
-        "albedo, normal, depth or instance (debug mode), lit, world-cache or gbuffer-CHANNEL \
+        "albedo, normal, depth or instance (debug mode), lit, indirect, world-cache or gbuffer-CHANNEL \
          with CHANNEL base-color, normal, geometric-normal, roughness, metallic, emission, depth \
          or motion (real-time mode)",
     )

@@ -45,6 +45,7 @@ fn emitter_mask(args: &CompareArgs, w: u32, h: u32) -> Result<Option<Vec<bool>>,
         max_bounces: 0,
         selection: Selection::Power,
         pixel_centre: false,
+        min_bounces: 0,
     };
     let emission = renderer
         .render(

@@ -114,6 +114,7 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
         max_bounces: args.max_bounces.unwrap_or(u32::MAX),
         selection: args.realtime.selection,
         pixel_centre: args.pixel_centre,
+        min_bounces: args.min_bounces,
     };
     let bar = if args.json {
         ProgressBar::hidden()
@@ -159,6 +160,7 @@ fn run_reference(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
     if args.json {
         let v = serde_json::json!({"scene": name, "mode": "reference", "files": files,
             "width": w, "height": h, "spp": args.spp, "max_bounces": args.max_bounces,
+            "min_bounces": args.min_bounces,
             "selection": format!("{:?}", args.realtime.selection).to_lowercase(),
             "brdf": args.scene.brdf.name(),
             "camera_path": format!("{:?}", args.realtime.camera_path).to_lowercase(),

@@ -273,7 +273,7 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
             egui::ComboBox::from_label("view")
                 .selected_text(view_label(c.view))
                 .show_ui(ui, |ui| {
-                    let views = [FrameView::Lit, FrameView::WorldCache]
+                    let views = [FrameView::Lit, FrameView::Indirect, FrameView::WorldCache]
                         .into_iter()
                         .chain(GBufferChannel::ALL.map(FrameView::GBuffer));
                     for v in views {
@@ -305,6 +305,7 @@ fn panel(ctx: &egui::Context, f: &FrameFigures, c: &mut Controls, requests: &mut
 fn view_label(v: FrameView) -> String {
     match v {
         FrameView::Lit => "lit".into(),
+        FrameView::Indirect => "indirect light alone".into(),
         FrameView::WorldCache => "world cache cells".into(),
         FrameView::GBuffer(c) => format!("G-buffer: {}", c.name()),
     }

@@ -865,3 +865,66 @@ fn compare_takes_the_reference_noise_out() {
         "must end in .exr",
     );
 }
+
+#[test]
+fn the_indirect_view_and_its_reference_run_and_bad_uses_are_refused() {
+    let d = Dir::new("indirect-view");
+    let common = ["render", "--size", "24x24"];
+    let out = succeeds(
+        &d,
+        &[
+            &common[..],
+            &["--mode", "reference", "--spp", "4", "--min-bounces", "2"],
+            &["--out", "ind.exr", "--json"],
+        ]
+        .concat(),
+    );
+    let json: Value = serde_json::from_slice(&out.stdout).expect("one JSON object on stdout");
+    assert_eq!(json["min_bounces"], 2);
+    succeeds(
+        &d,
+        &[
+            &common[..],
+            &["--mode", "realtime", "--frames", "2", "--view", "indirect"],
+            &["--out", "rt.exr"],
+        ]
+        .concat(),
+    );
+    assert!(d.0.join("ind.exr").exists() && d.0.join("rt.exr").exists());
+    let refusals: [(&[&str], &str); 4] = [
+        (
+            &["--mode", "realtime", "--min-bounces", "2"],
+            "only reference mode",
+        ),
+        (
+            &[
+                "--mode",
+                "reference",
+                "--min-bounces",
+                "3",
+                "--max-bounces",
+                "2",
+            ],
+            "above --max-bounces 2",
+        ),
+        (&["--mode", "reference", "--view", "indirect"], "no --view"),
+        (
+            &[
+                "--mode",
+                "realtime",
+                "--view",
+                "indirect",
+                "--denoiser",
+                "dlss-rr",
+            ],
+            "indirect view",
+        ),
+    ];
+    for (args, needle) in refusals {
+        fails(
+            &d,
+            &[&common[..], args, &["--out", "x.exr"]].concat(),
+            needle,
+        );
+    }
+}

@@ -115,6 +115,11 @@ pub struct FallbackSettings {
     /// signal instead, so its hard shadow edges do not count as noise, and that estimate
     /// caps the temporal variance at any history length.
     pub spatial_variance_frames: f32,
+    /// Whether the lighting carries the G-buffer's emission (default true), which is exact,
+    /// so the filter takes it out and puts it back. False for lighting without it (the
+    /// real-time renderer's view of indirect light alone): emission is then neither taken
+    /// out nor put back, and an emitter shows only the light it reflects.
+    pub emission_in_lighting: bool,
 }
 
 impl Default for FallbackSettings {
@@ -136,6 +141,7 @@ impl Default for FallbackSettings {
             reset_length: 4.0,
             reset_min_history: 4.0,
             spatial_variance_frames: 4.0,
+            emission_in_lighting: true,
         }
     }
 }
@@ -261,7 +267,8 @@ impl FallbackSettings {
             reset_length: self.reset_length,
             phi_lobe: self.phi_lobe,
             frame: 0,
-            _pad1: [0; 2],
+            no_emission: (!self.emission_in_lighting).into(),
+            _pad1: 0,
         }
     }
 }
@@ -307,8 +314,10 @@ pub struct GpuDenoiseParams {
     /// Frames the denoiser has recorded (wrapping): seeds the history's stochastic rounding
     /// ([`crate::history`]).
     pub frame: u32,
+    /// 1: the lighting holds no emission (not [`FallbackSettings::emission_in_lighting`]).
+    pub no_emission: u32,
     /// Padding.
-    pub _pad1: [u32; 2],
+    pub _pad1: u32,
 }
 
 const _: () = assert!(size_of::<GpuDenoiseParams>() == 80);

@@ -34,6 +34,14 @@ pub struct ReferenceSettings {
     /// The image then point-samples like a G-buffer (no antialiasing), which is what the
     /// real-time renderer is compared against. Default: false.
     pub pixel_centre: bool,
+    /// Leave out light that reaches the eye after fewer scattering events than this. 0 (the
+    /// default) leaves nothing out; 1 leaves out emitters and the environment seen directly;
+    /// 2 gives indirect light alone, what the real-time renderer's GI passes add
+    /// (`solari_renderer::FrameView::Indirect`). The paths are the same at every value (the
+    /// random numbers do not depend on it), so with equal seeds the image at 0 is the sum of
+    /// the images of `max_bounces: 1` and `min_bounces: 2`. Above `max_bounces` the image is
+    /// black.
+    pub min_bounces: u32,
 }
 
 impl Default for ReferenceSettings {
@@ -43,6 +51,7 @@ impl Default for ReferenceSettings {
             max_bounces: u32::MAX,
             selection: Selection::Power,
             pixel_centre: false,
+            min_bounces: 0,
         }
     }
 }
@@ -83,9 +92,11 @@ pub struct ReferenceParams {
     pub safety_cap: u32,
     /// 1: paths start at pixel centres ([`ReferenceSettings::pixel_centre`]).
     pub pixel_centre: u32,
+    /// [`ReferenceSettings::min_bounces`].
+    pub min_bounces: u32,
 }
 
-const _: () = assert!(size_of::<ReferenceParams>() == 16);
+const _: () = assert!(size_of::<ReferenceParams>() == 20);
 
 /// The app's own WESL modules.
 pub const MODULES: &[(&str, &str)] = &[("reference", include_str!("../shaders/reference.wesl"))];
@@ -243,6 +254,7 @@ impl ReferenceRenderer {
                 sample_index: acc.samples,
                 safety_cap: SAFETY_CAP,
                 pixel_centre: acc.settings.pixel_centre.into(),
+                min_bounces: acc.settings.min_bounces,
             };
             gpu.queue
                 .write_buffer(&acc.params, 0, bytemuck::bytes_of(&params));

@@ -25,6 +25,7 @@ pub fn centre_image(
         max_bounces,
         selection: solari_lights::Selection::Power,
         pixel_centre: true,
+        min_bounces: 0,
     };
     Ok(reference_image(gpu, backend, scene, size, size, &settings)?.pixels)
 }

@@ -33,6 +33,7 @@ fn camera_rays_read_the_map_as_the_cpu_twin_does() {
             max_bounces: 0,
             selection: Selection::Power,
             pixel_centre: true,
+            min_bounces: 0,
         };
         let img = solari_reference::reference_image(
             &gpu,
@@ -75,6 +76,7 @@ fn a_lambertian_floor_reflects_the_maps_irradiance() {
         max_bounces: 1,
         selection: Selection::Power,
         pixel_centre: false,
+        min_bounces: 0,
     };
     let img = solari_reference::reference_image(&gpu, Backend::Software, &scene, 16, 16, &settings)
         .expect("render");

@@ -30,6 +30,7 @@ fn render(
         max_bounces,
         selection: Selection::Power,
         pixel_centre: false,
+        min_bounces: 0,
     };
     let image = solari_reference::reference_image(gpu, backend, scene, size, size, &settings)
         .expect("reference render");
@@ -538,6 +539,7 @@ fn white_sphere_furnace_per_brdf_model() {
             max_bounces: 8,
             selection: Selection::Power,
             pixel_centre: false,
+            min_bounces: 0,
         };
         let camera = scene.camera(None).expect("camera");
         let img = renderer
@@ -614,4 +616,53 @@ fn a_mirrored_light_lights_the_room_as_the_unmirrored_one_does() {
             "{backend:?}: mean {ma:.4} plain, {mb:.4} with the light mirrored (tolerance {tol:.4})"
         );
     }
+}
+
+#[test]
+fn bounce_windows_split_the_image_into_parts_that_add_up() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = solari_scene::default_scene::cornell_box();
+    let backend = backends(&gpu)[0];
+    let size = 32;
+    let image = |min_bounces, max_bounces| {
+        let settings = ReferenceSettings {
+            spp: 16,
+            max_bounces,
+            selection: Selection::Power,
+            pixel_centre: false,
+            min_bounces,
+        };
+        solari_reference::reference_image(&gpu, backend, &scene, size, size, &settings)
+            .expect("reference render")
+            .pixels
+    };
+    let full = image(0, u32::MAX);
+    let (direct, indirect) = (image(0, 1), image(2, u32::MAX));
+    let (seen, scattered) = (image(0, 0), image(1, u32::MAX));
+    // The window draws no random numbers, so every render traces the same paths: the parts
+    // add up to the whole in every pixel, to f32 rounding.
+    for (parts, name) in [
+        ((&direct, &indirect), "direct + indirect"),
+        ((&seen, &scattered), "seen + scattered"),
+    ] {
+        let worst = full
+            .iter()
+            .zip(parts.0.iter().zip(parts.1))
+            .flat_map(|(f, (a, b))| (0..3).map(move |c| (f[c] - a[c] - b[c]).abs() / f[c].max(1.0)))
+            .fold(0.0f32, f32::max);
+        assert!(worst < 1e-5, "{name}: off the full image by {worst}");
+    }
+    let mean = |i: &[[f32; 3]]| i.iter().flatten().map(|&x| x as f64).sum::<f64>() / i.len() as f64;
+    // Each part is a real share: the box's indirect light is about a quarter of its image,
+    // and only the light's own pixels see an emitter directly.
+    let share = mean(&indirect) / mean(&full);
+    eprintln!("indirect share {share:.3}");
+    assert!((0.15..0.35).contains(&share), "{share}");
+    let lamp = seen.iter().filter(|p| p.iter().any(|&c| c > 0.0)).count();
+    assert!(
+        lamp > 0 && lamp < full.len() / 10,
+        "{lamp} pixels see the light"
+    );
+    // Nothing is left when the window is empty or starts past every path's end.
+    assert!(image(3, 2).iter().flatten().all(|&c| c == 0.0));
 }

@@ -90,6 +90,7 @@ fn render(scene: &Scene, spp: u32) -> Option<ReferenceImage> {
         max_bounces: 1,
         selection: Selection::Power,
         pixel_centre: true,
+        min_bounces: 0,
     };
     let img =
         solari_reference::reference_image(&gpu, Backend::Software, scene, SIZE, SIZE, &settings)

@@ -289,6 +289,15 @@ pub enum FrameView {
     /// The lit image.
     #[default]
     Lit,
+    /// The indirect light alone: what the GI passes (diffuse GI and specular GI) add, with
+    /// no emission, direct light or environment seen directly, in radiance and through the
+    /// denoiser and upscaler as the lit image goes. Light that reached the eye after two or
+    /// more scattering events: compare it with a reference of `min_bounces: 2`
+    /// (`solari_reference::ReferenceSettings::min_bounces`) to measure GI's own error
+    /// without DI's. Every pass runs as for the lit image, so the frame costs what it does;
+    /// DI's output is dropped ([`solari_restir::RestirDi::set_indirect_only`]). Not with
+    /// DLSS-RR, which takes the lit image as it is.
+    Indirect,
     /// The world cache's cells: each pixel shows its cell's irradiance, tinted per cell.
     WorldCache,
     /// One channel of the G-buffer ([`solari_scene::gbuffer_debug`]), display-referred:
@@ -298,11 +307,12 @@ pub enum FrameView {
 }
 
 impl FrameView {
-    /// Parses `lit`, `world-cache` or `gbuffer-CHANNEL` (`gbuffer-normal`,
+    /// Parses `lit`, `indirect`, `world-cache` or `gbuffer-CHANNEL` (`gbuffer-normal`,
     /// `gbuffer-base-color`, …: [`GBufferChannel::name`]).
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "lit" => Some(Self::Lit),
+            "indirect" => Some(Self::Indirect),
             "world-cache" => Some(Self::WorldCache),
             _ => s
                 .strip_prefix("gbuffer-")
@@ -315,6 +325,7 @@ impl FrameView {
     pub fn name(self) -> String {
         match self {
             Self::Lit => "lit".into(),
+            Self::Indirect => "indirect".into(),
             Self::WorldCache => "world-cache".into(),
             Self::GBuffer(c) => format!("gbuffer-{}", c.name()),
         }
@@ -523,6 +534,13 @@ impl RealtimeSettings {
                 "internal scale must be 0.25 to 1, not {}",
                 self.internal_scale
             ));
+        }
+        if self.view == FrameView::Indirect && self.denoiser == Some(DenoiserKind::DlssRr) {
+            return Err(
+                "the indirect view runs under the fallback denoiser or none: DLSS-RR takes \
+                 the lit image as it is"
+                    .into(),
+            );
         }
         if self.upscaling() && self.denoiser == Some(DenoiserKind::DlssRr) {
             return Err(
@@ -807,7 +825,12 @@ impl RealtimeRenderer {
             None if upscaling => Some(DenoiserKind::Fallback),
             w => w,
         };
-        let created = solari_denoise::create(gpu, wanted, dlss, lighting_size, settings.denoise)?;
+        let denoise = FallbackSettings {
+            // The indirect view's lighting holds no emission for the filter to put back.
+            emission_in_lighting: settings.view != FrameView::Indirect,
+            ..settings.denoise
+        };
+        let created = solari_denoise::create(gpu, wanted, dlss, lighting_size, denoise)?;
         // `Antialias::Auto` follows the denoiser that runs (at scale 1, so the sizes above
         // hold either way).
         let upscaling = settings.upscaling_with(created.kind);
@@ -1230,7 +1253,8 @@ impl RealtimeRenderer {
 
     // Whether this frame's output goes through the denoiser (debug views do not).
     fn denoising(&self) -> bool {
-        self.denoiser.is_some() && self.settings.view == FrameView::Lit
+        self.denoiser.is_some()
+            && matches!(self.settings.view, FrameView::Lit | FrameView::Indirect)
     }
 
     /// Rebuilds the light list from `scene` (after lights were added, removed or changed);
@@ -1497,6 +1521,8 @@ impl RealtimeRenderer {
             context.previous_view = GpuView { frame, ..previous };
         }
         self.tiles.prepare(gpu, &context);
+        let indirect_only = self.settings.view == FrameView::Indirect;
+        self.di.set_indirect_only(indirect_only);
         self.di
             .prepare(gpu, &context, &self.gbuffer, &self.lights)?;
         if let Some((cache, _)) = &mut self.cache {
@@ -1505,7 +1531,8 @@ impl RealtimeRenderer {
         if let Some((gi, _)) = &mut self.gi {
             gi.prepare(gpu, &context, &self.gbuffer)?;
         }
-        if let Some(specular) = &self.specular {
+        if let Some(specular) = &mut self.specular {
+            specular.set_indirect_only(indirect_only);
             specular.prepare(gpu, &context);
         }
         let mut encoder = gpu.device.create_command_encoder(&Default::default());

@@ -25,6 +25,7 @@ fn area_and_centre_references(
             max_bounces: 1,
             selection: solari_lights::Selection::Power,
             pixel_centre,
+            min_bounces: 0,
         };
         solari_reference::reference_image(gpu, backend, scene, SIZE, SIZE, &s)
             .expect("reference")

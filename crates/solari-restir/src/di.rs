@@ -47,6 +47,8 @@ pub struct RestirDi {
     history: bool,
     // Whether the last `prepare` skipped reuse by `reuse_light_threshold`.
     reuse_skipped: bool,
+    // `set_indirect_only`.
+    indirect_only: bool,
 }
 
 // Per-pixel buffers and their bind group. One final-reservoir buffer is history and result
@@ -298,6 +300,7 @@ impl RestirDi {
             frame: 0,
             history: false,
             reuse_skipped: false,
+            indirect_only: false,
         };
         di.resize(gpu, width, height)?;
         if (!settings.temporal && !settings.spatial) || settings.reuse_light_threshold > 0 {
@@ -339,6 +342,16 @@ impl RestirDi {
         )?;
         self.one_pass = Some(pipeline);
         Ok(())
+    }
+
+    /// With `true`, from the next [`RestirDi::prepare`] on, the output holds no light: black
+    /// where a surface is (alpha 1, as always) and on the background, with no shadow data,
+    /// while the passes, their rays and their reservoirs run as before. What later passes
+    /// add to the output (GI) is then the frame: a view of the indirect light alone, to
+    /// measure GI against a reference of indirect light (`min_bounces: 2` in
+    /// `solari_reference`). Off by default.
+    pub fn set_indirect_only(&mut self, on: bool) {
+        self.indirect_only = on;
     }
 
     /// Whether the last [`RestirDi::prepare`] skipped both reuse steps because the scene's
@@ -572,6 +585,9 @@ impl RestirDi {
         }
         if self.appeared {
             bits |= flags::APPEARED;
+        }
+        if self.indirect_only {
+            bits |= flags::NO_LIGHT_OUT;
         }
         let params = GpuDiParams {
             width: self.size.0,

@@ -172,6 +172,8 @@ pub(crate) mod flags {
     pub const HISTORY: u32 = 8;
     pub const INITIAL_VISIBILITY: u32 = 16;
     pub const APPEARED: u32 = 32;
+    /// DI only: write no light to the output (`RestirDi::set_indirect_only`).
+    pub const NO_LIGHT_OUT: u32 = 64;
 
     /// The reuse bits DI and GI share.
     pub fn reuse(temporal: bool, spatial: bool, permutation: bool, history: bool) -> u32 {

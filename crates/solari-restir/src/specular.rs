@@ -155,6 +155,7 @@ mod flags {
     pub const CACHE_END: u32 = 4;
     pub const PSR: u32 = 8;
     pub const OVERRIDES_IN_GI: u32 = 16;
+    pub const INDIRECT_ONLY: u32 = 32;
 }
 
 // A pixel's override and its GI reservoir take the same 32 bytes, so a pixel's store of one
@@ -223,6 +224,8 @@ pub struct SpecularGi {
     psr: bool,
     // The override buffer is the GI reservoirs' (flags::OVERRIDES_IN_GI).
     overrides_in_gi: bool,
+    // `set_indirect_only`.
+    indirect_only: bool,
 }
 
 impl SpecularGi {
@@ -290,6 +293,7 @@ impl SpecularGi {
             reuse_gi: false,
             psr: false,
             overrides_in_gi: false,
+            indirect_only: false,
         })
     }
 
@@ -375,6 +379,16 @@ impl SpecularGi {
         self.params.size() + self.no_reservoirs.size() + stand_ins
     }
 
+    /// With `true`, from the next [`SpecularGi::prepare`] on, the pass adds indirect light
+    /// only: what its first segment meets (an emitter or the environment, which reached the
+    /// eye after one scattering event) is left out at mirrors too, where it otherwise counts
+    /// because direct light evaluates no mirror lobe. With
+    /// [`crate::RestirDi::set_indirect_only`] this makes a frame of indirect light alone.
+    /// Off by default.
+    pub fn set_indirect_only(&mut self, on: bool) {
+        self.indirect_only = on;
+    }
+
     /// Whether primary surface replacement is bound ([`SpecularGi::bind`]).
     pub fn replaces_surfaces(&self) -> bool {
         self.psr
@@ -403,6 +417,9 @@ impl SpecularGi {
         }
         if self.overrides_in_gi {
             bits |= flags::OVERRIDES_IN_GI;
+        }
+        if self.indirect_only {
+            bits |= flags::INDIRECT_ONLY;
         }
         let params = GpuSpecularParams {
             width: self.size.0,

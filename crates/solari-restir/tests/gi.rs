@@ -1203,6 +1203,7 @@ fn reuse_at_a_quarter_rate_under_jitter_keeps_its_total_light() {
         max_bounces: u32::MAX,
         selection: solari_lights::Selection::Power,
         pixel_centre: false,
+        min_bounces: 0,
     };
     let truth = solari_reference::reference_image(&gpu, backend, &scene, size, size, &settings)
         .expect("reference render")
