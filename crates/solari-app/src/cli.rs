@@ -485,6 +485,11 @@ pub struct RealtimeArgs {
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub gi_adaptive_cap: bool,
+    /// ReSTIR GI: frames a still view (no light change) keeps the adaptive cap before it
+    /// stops (it biases a settled view bright; `RestirGiSettings::adaptive_cap_settle_frames`).
+    /// `never` keeps it always (the behaviour before).
+    #[arg(long, default_value = "32", value_parser = values::settle_frames)]
+    pub gi_adaptive_cap_settle: u32,
     /// At `--gi-half-rate` or `--gi-quarter-rate` with ReSTIR GI: a pixel with no history (a
     /// first frame, surface the view uncovered) traces this frame whatever its phase (on by
     /// default: along a moving camera interior's error 21% lower at a quarter, for 0.02-0.03
@@ -669,6 +674,7 @@ impl RealtimeArgs {
                 half_rate_spatial: self.gi_half_rate_spatial,
                 ignore_cold_cells: self.gi_ignore_cold_cells,
                 adaptive_cap: self.gi_adaptive_cap,
+                adaptive_cap_settle_frames: self.gi_adaptive_cap_settle,
                 trace_fresh_pixels: self.gi_trace_fresh,
                 ..Default::default()
             },

@@ -74,6 +74,16 @@ pub fn finite(s: &str) -> Result<f32, String> {
     }
 }
 
+/// A count of frames, or `never` (`u32::MAX`: the frames never run out).
+pub fn settle_frames(s: &str) -> Result<u32, String> {
+    match s.trim() {
+        "never" => Ok(u32::MAX),
+        t => t
+            .parse()
+            .map_err(|_| format!("{s}: a number of frames or never")),
+    }
+}
+
 /// A positive number or `inf` (a distance that may be unbounded).
 pub fn positive_or_inf(s: &str) -> Result<f32, String> {
     let v: f32 = s.trim().parse().map_err(|_| format!("{s}: not a number"))?;
@@ -288,6 +298,11 @@ mod tests {
             assert!(positive_or_inf(bad).is_err(), "{bad}");
         }
         assert_eq!(exposure("-2.5"), Ok(-2.5));
+        assert_eq!(settle_frames("never"), Ok(u32::MAX));
+        assert_eq!(settle_frames(" 32"), Ok(32));
+        for bad in ["-1", "x", "1.5", ""] {
+            assert!(settle_frames(bad).unwrap_err().contains("never"), "{bad}");
+        }
     }
 
     #[test]

@@ -641,14 +641,17 @@ mod tests {
                 assert!(*e >= table.relative_error(&s, g).unwrap());
             }
         }
-        // The point that was never far off anywhere: native antialiased path GI (1.06×, the
-        // Cornell box still, with the references' noise out).
+        // The point that is never far off anywhere: native antialiased ReSTIR GI (1.18×, the
+        // Cornell box moving, with the references' noise out); path GI's (the defaults)
+        // 1.22× (the Cornell box still).
         let best = generic
             .iter()
             .min_by(|a, b| a.1.partial_cmp(&b.1).unwrap())
             .unwrap();
-        assert_eq!(best.0.name(), "aa-path");
-        assert!(best.1 < 1.1);
+        assert_eq!(best.0.name(), "aa-restir");
+        assert!(best.1 < 1.2);
+        let defaults = generic.iter().find(|g| g.0.name() == "aa-path").unwrap();
+        assert!(defaults.1 < 1.25);
     }
 
     #[test]

@@ -17,21 +17,24 @@
 //! (`--quality TIER`, fallback denoiser, 300 frames, thirty-third session; the sweep's own
 //! times are older and higher). The errors are without the references' own noise (the
 //! table's `reference_noise` columns), the still ones measured again on the forty-fourth
-//! session's renderer: with the noise in, a constant of up to 70% of each figure, the
+//! session's renderer (ReSTIR GI's rows again in the forty-fifth, after its adaptive cap
+//! stopped on settled views, which made it the best still point on three scenes): with the
+//! noise in, a constant of up to 70% of each figure, the
 //! multiples read up to twice as close to 1 (`benches/RESULTS.md`, "The reference's own
 //! noise"; the old table's low tier read 3.9 / 2.2 / 1.9 / 5.8 still):
 //!
 //! | tier | point | error × best, still | moving | GPU ms | why |
 //! |---|---|---|---|---|---|
-//! | low | `100-cache-nodi` | 5.6 / 4.8 / 3.4 / 9.1 | 2.7 / 1.4 / 1.1 / 2.6 | 1.27 / 2.53 / 2.05 / 1.47 | the cheapest native point (below) |
-//! | medium | `100-path-nodi` | 2.9 / 1.7 / 3.3 / 2.1 | 1.1 / 1.0 / 1.0 / 1.0 | 1.52 / 3.74 / 2.54 / 1.84 | native without DI reuse: at most 3.3× the best |
-//! | high | `100-path` | 2.9 / 1.7 / 2.4 / 2.1 | 1.0 / 1.0 / 1.0 / 1.05 | 1.52 / 3.74 / 2.80 / 1.84 | native, no antialiasing |
-//! | ultra | `aa-path` | 1.06 / 1.01 / 1.00 / 1.04 | 1.0 / 1.0 / 1.0 / 1.04 | 1.62 / 3.88 / 2.93 / 1.97 | within 6% of the best everywhere: the library defaults |
+//! | low | `100-cache-nodi` | 6.5 / 5.0 / 3.4 / 9.5 | 2.7 / 1.4 / 1.1 / 2.6 | 1.27 / 2.53 / 2.05 / 1.47 | the cheapest native point (below) |
+//! | medium | `100-path-nodi` | 3.3 / 1.8 / 3.3 / 2.2 | 1.1 / 1.0 / 1.0 / 1.0 | 1.52 / 3.74 / 2.54 / 1.84 | native without DI reuse: at most 3.3× the best |
+//! | high | `100-path` | 3.3 / 1.8 / 2.4 / 2.2 | 1.0 / 1.0 / 1.0 / 1.05 | 1.52 / 3.74 / 2.80 / 1.84 | native, no antialiasing |
+//! | ultra | `aa-path` | 1.22 / 1.05 / 1.00 / 1.08 | 1.0 / 1.0 / 1.0 / 1.04 | 1.62 / 3.88 / 2.93 / 1.97 | within 22% of the best everywhere: the library defaults |
 //!
 //! The sweep's plainest finding: antialiasing (`aa`) costs 0.10–0.11 ms over native and cut
 //! relMSE 1.2–1.7× on every scene (`benches/RESULTS.md`, "Automatic quality"). So the
 //! defaults antialias since the thirty-second session, which makes them the ultra tier: the
-//! best point of the grid by its worst error, and no point of the grid has a lower one.
+//! best point of the grid by its worst error until the forty-fifth session, when antialiased
+//! ReSTIR GI (`aa-restir`, 1.18× at worst) passed it for 0.3–1.1 ms more GI a frame.
 //! Measured again then at 1920×1080 on an H100 with today's passes (`benches/RESULTS.md`,
 //! "Antialiasing by default"): 0.10–0.14 ms a frame, relMSE of the 136th frame against
 //! 1024-spp references 1.9× lower on the Cornell box, 1.8× on sun_boxes, 1.5× on many_lights,
@@ -308,8 +311,9 @@ mod tests {
             }
             assert!(worst(pair[0]) >= worst(pair[1]) * 0.95, "{pair:?}");
         }
-        // 1.06 (the Cornell box still) with the references' noise out.
-        assert!(worst(QualityTier::Ultra) < 1.1);
+        // 1.22 (the Cornell box still, where antialiased ReSTIR GI is best since its
+        // adaptive cap stops on settled views) with the references' noise out.
+        assert!(worst(QualityTier::Ultra) < 1.25);
     }
 
     /// Along the orbit camera (the table's moving column, the references' noise out) no tier

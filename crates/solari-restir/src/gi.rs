@@ -151,6 +151,15 @@ struct SpatialForm {
 /// one that traces and the temporal merge); plain path GI runs the first alone, one dispatch.
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
 
+/// The default of [`RestirGiSettings::adaptive_cap_settle_frames`]: frames a view must hold
+/// still (the same camera, history kept, no light change since
+/// [`RestirGi::follow_light_change`]'s frames ran out) before
+/// [`RestirGiSettings::adaptive_cap`] stops; past them temporal reuse caps every history at
+/// [`RestirGiSettings::confidence_cap`] alone. The world cache's own averaging spans 30
+/// samples by default, so after 32 frames its cells have settled and the cap would only
+/// weigh histories by the (noisy) light they hold.
+pub const ADAPTIVE_CAP_SETTLE_FRAMES: u32 = 32;
+
 /// ReSTIR GI: reads the G-buffer (group 1), the scene (group 0) and the world cache, and adds
 /// diffuse indirect light to a target image (`vec4<f32>` per pixel, group 3,
 /// [`RestirGi::target_group`]).
@@ -187,6 +196,9 @@ pub struct RestirGi {
     history: bool,
     // Frames left with the history's confidence capped at 1 (`follow_light_change`).
     short_history: u32,
+    // Frames in a row with history, the same camera and no light change: past
+    // `ADAPTIVE_CAP_SETTLE_FRAMES` the adaptive cap stops.
+    settled: u32,
 }
 
 // The initial pass's (first dispatch's) pipeline, built for reuse or without it, with the
@@ -339,6 +351,7 @@ impl RestirGi {
             frame: 0,
             history: false,
             short_history: 0,
+            settled: 0,
         };
         gi.resize(gpu, width, height, cache)?;
         Ok(gi)
@@ -572,7 +585,15 @@ impl RestirGi {
         if s.ignore_cold_cells {
             bits |= flags::IGNORE_COLD;
         }
-        if s.adaptive_cap {
+        // The adaptive cap weighs a history by the sample it holds, which biases a settled
+        // view: it runs only while the view or the lights are unsettled.
+        let still = history && frame.view.same_camera(&frame.previous_view);
+        self.settled = if still && self.short_history == 0 {
+            self.settled.saturating_add(1)
+        } else {
+            0
+        };
+        if s.adaptive_cap && self.settled <= s.adaptive_cap_settle_frames {
             bits |= flags::ADAPTIVE_CAP;
         }
         if s.trace_fresh_pixels {

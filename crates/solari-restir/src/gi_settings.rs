@@ -122,7 +122,22 @@ pub struct RestirGiSettings {
     /// that depends on the sample weighs a history by what it holds, so this is not
     /// unbiased; the 16-frame mean after 120 frames measured −2%, −1%, +1% and **+7%** on
     /// `interior`, whose mean brightness rose from 0.974 to 1.003 of the reference.
+    ///
+    /// That cost is now confined to unsettled views: the cap stops once the view has held
+    /// still for [`RestirGiSettings::adaptive_cap_settle_frames`] frames with no light
+    /// change. On a settled view it had made the indirect light alone (the real-time
+    /// renderer's indirect view against a `min_bounces: 2` reference, raw frames) 2.6%
+    /// too bright on the Cornell box and 3.2% on `interior` on the H200, and 4–5% on
+    /// lavapipe's 128² Cornell box, where stopping it leaves +0.7% (+0.2% with the cap off
+    /// throughout) and the young frames as with the cap (`benches/RESULTS.md`, "GI's own
+    /// error").
     pub adaptive_cap: bool,
+    /// Frames a view must hold still (the same camera, history kept, no light change still
+    /// shortening histories) before [`RestirGiSettings::adaptive_cap`] stops (default
+    /// [`crate::ADAPTIVE_CAP_SETTLE_FRAMES`], 32; `u32::MAX` keeps the cap always, as before).
+    /// The world cache's cells average 30 samples by default, so by then they have settled
+    /// and the cap would only weigh histories by the light they hold.
+    pub adaptive_cap_settle_frames: u32,
     /// Plain path GI (no reuse) shades its samples in a second dispatch instead of the one
     /// that traces them (default off; ignored with reuse, whose temporal merge is always a
     /// dispatch of its own). The tracing kernel then holds no shading state across the
@@ -292,6 +307,7 @@ impl Default for RestirGiSettings {
             trace_fresh_pixels: true,
             ignore_cold_cells: true,
             adaptive_cap: true,
+            adaptive_cap_settle_frames: crate::ADAPTIVE_CAP_SETTLE_FRAMES,
             shade_apart: false,
         }
     }

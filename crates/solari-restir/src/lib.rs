@@ -80,7 +80,9 @@ pub mod settings;
 pub mod specular;
 
 pub use di::{DI_BINDINGS, PASS_LABELS, RestirDi};
-pub use gi::{GI_BINDINGS, GI_PASS_LABELS, GI_TARGET_BINDINGS, RestirGi};
+pub use gi::{
+    ADAPTIVE_CAP_SETTLE_FRAMES, GI_BINDINGS, GI_PASS_LABELS, GI_TARGET_BINDINGS, RestirGi,
+};
 pub use gi_reservoir::{GpuGiReservoir, gi_reservoir_check};
 pub use gi_settings::{GiRate, GpuGiParams, RestirGiSettings, SpatialVisibility};
 pub use reservoir::{GpuReservoir, reservoir_check};
