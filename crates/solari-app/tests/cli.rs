@@ -281,7 +281,7 @@ fn bad_arguments_are_refused_before_any_work() {
         (&["render", "--view", "bogus"], "world-cache"),
         (
             &["render", "--mode", "realtime", "--view", "albedo"],
-            "lit, world-cache or gbuffer-CHANNEL",
+            "lit, indirect, world-cache or gbuffer-CHANNEL",
         ),
         (
             &["render", "--tracer", "bogus"],
@@ -609,12 +609,13 @@ fn quality_auto_chooses_reports_and_refuses_bad_input() {
     assert_eq!(q["fitting"], json!(24));
     assert_eq!(q["considered"], json!(24));
     // The built-in box is the table's cornell_box; with every setting in budget its best
-    // measured setting is taken (the best still, within 0.4% of the best moving), and the
-    // JSON shows the applied knobs.
+    // measured setting by the worse of its still and moving errors is taken (antialiased
+    // ReSTIR GI without DI reuse: 1.01x the best still, 1.150x the best moving; path GI's
+    // twin is 1.151x, still), and the JSON shows the applied knobs.
     assert_eq!(q["table_scene"], json!("cornell_box"));
     let expected = q["expected_error"].as_f64().expect("a number");
-    assert!((1.0..1.01).contains(&expected), "{q}");
-    assert_eq!(q["chosen"], json!("aa-path-nodi"));
+    assert!((1.14..1.16).contains(&expected), "{q}");
+    assert_eq!(q["chosen"], json!("aa-restir-nodi"));
     assert_eq!(generous["antialias"], json!(true));
     assert_eq!(generous["di_reuse"], json!("none"));
     // Nothing fits: the cheapest point as this run's probe predicted it, applied. (Which
