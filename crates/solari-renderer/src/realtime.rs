@@ -367,10 +367,14 @@ pub struct RealtimeSettings {
     /// denoiser): of the modes whose GI costs no more, it has the lowest error on the Cornell
     /// box, sun_boxes and `interior`, still and moving, and is within 3.5% of the best on
     /// many_lights. ReSTIR GI at a quarter rate costs 0.14–0.27 ms more for 6–13% more error
-    /// on `interior` and 9–25% more on the Cornell box; at full rate 0.36–1.10 ms more for at
-    /// most 5% less anywhere, and 40% more on `interior` with a still camera (1.4% too
-    /// bright there). Cache-only GI's error was 21% higher on `interior` ("GI: the whole
-    /// matrix").
+    /// on `interior` and 9–25% more on the Cornell box. At full rate it costs 0.36–1.10 ms
+    /// more; once its adaptive cap stopped on settled views (forty-fifth session, "GI's own
+    /// error": the cap had made a still view 1.4% too bright on `interior` and its error 40%
+    /// higher) its still error is 14% below path GI's on the Cornell box and 4% on
+    /// `interior` (mean of 16 frames: 0.096 against 0.112, 1.896 against 1.974 ×10⁻³), which
+    /// path GI with 4 candidates matches (0.092, 1.879) and the default frame's budget on
+    /// `interior` (issue 17's 4 ms) does not leave room for. Cache-only GI's error was 21%
+    /// higher on `interior` ("GI: the whole matrix").
     pub gi: GiMode,
     /// The world cache's knobs (used with any GI mode or [`FrameView::WorldCache`]).
     pub cache: WorldCacheSettings,

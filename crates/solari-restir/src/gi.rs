@@ -13,7 +13,8 @@
 //! 2. **Temporal reuse** of last frame's final reservoir at the reprojected pixel, permuted
 //!    within 4×4 blocks, rejected where the surfaces differ; confidence capped
 //!    ([`RestirGiSettings::confidence_cap`]; lower where the world cache saw the reused
-//!    sample's light changing when it was traced, [`RestirGiSettings::adaptive_cap`]).
+//!    sample's light changing when it was traced, [`RestirGiSettings::adaptive_cap`], until
+//!    the view has settled: [`RestirGiSettings::adaptive_cap_settle_frames`]).
 //! 3. **Spatial reuse** of one neighbour ([`RestirGiSettings::spatial_radius`], up to
 //!    [`RestirGiSettings::spatial_tries`] tries with the radius halved). By default one
 //!    visibility ray per pixel ([`SpatialVisibility::Chosen`]): the merge chooses between
