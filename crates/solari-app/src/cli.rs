@@ -485,10 +485,10 @@ pub struct RealtimeArgs {
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub gi_adaptive_cap: bool,
-    /// ReSTIR GI: frames a still view (no light change) keeps the adaptive cap before it
+    /// ReSTIR GI: frames a still view (no moved instance or changed light) keeps the adaptive cap before it
     /// stops (it biases a settled view bright; `RestirGiSettings::adaptive_cap_settle_frames`).
     /// `never` keeps it always (the behaviour before).
-    #[arg(long, default_value = "32", value_parser = values::settle_frames)]
+    #[arg(long, default_value_t = solari_restir::ADAPTIVE_CAP_SETTLE_FRAMES, value_parser = values::settle_frames)]
     pub gi_adaptive_cap_settle: u32,
     /// At `--gi-half-rate` or `--gi-quarter-rate` with ReSTIR GI: a pixel with no history (a
     /// first frame, surface the view uncovered) traces this frame whatever its phase (on by

@@ -118,7 +118,9 @@ pub struct FallbackSettings {
     /// Whether the lighting carries the G-buffer's emission (default true), which is exact,
     /// so the filter takes it out and puts it back. False for lighting without it (the
     /// real-time renderer's view of indirect light alone): emission is then neither taken
-    /// out nor put back, and an emitter shows only the light it reflects.
+    /// out nor put back, and an emitter shows only the light it reflects. The real-time
+    /// renderer sets it from its view (false for `FrameView::Indirect` only), whatever its
+    /// `RealtimeSettings::denoise` holds.
     pub emission_in_lighting: bool,
 }
 

@@ -20,12 +20,12 @@
 //!   camera still and, where measured, moving (the orbit camera): a point counts by the worse
 //!   of its two errors, each as a multiple of the scene's best, since a user's camera both
 //!   moves and stands still (the upscaled points are 1.2–4.1× the best point moving, and
-//!   1.7–9.8× still: [`crate::quality`]); the references' own noise, a constant per scene
+//!   1.7–10.2× still: [`crate::quality`]); the references' own noise, a constant per scene
 //!   and camera that pulls every ratio toward 1, is taken out first where the table gives
 //!   it ([`ErrorRow::reference_noise`]). A scene the table holds uses its own rows; any
 //!   other scene uses, for each point, its worst error over the table's scenes (the choice that was never
 //!   far off). [`ErrorTable::builtin`] holds the four bundled scenes: times on an H100, the
-//!   still errors (forty-fourth session) and the noise terms on an H200, the moving errors on
+//!   still errors (forty-fourth session; ReSTIR GI's forty-fifth) and the noise terms on an H200, the moving errors on
 //!   both (`data/quality_h100.csv`'s header says which rows where).
 
 use crate::quality::{QualitySetting, Resolution};

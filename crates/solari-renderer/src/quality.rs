@@ -47,7 +47,7 @@
 //! camera", "The upscaler under motion", "Moving silhouettes", "Occluders out of the clamp",
 //! "An output-resolution depth as the upscaler's guide" and "An emitter is a surface of its
 //! own"): `50-path-nodi`, the low tier until the thirty-third session, is 1.41 / 1.50 / 1.45
-//! / 3.23× the best moving point and 3.6 / 2.9 / 3.8 / 4.3× still without the references'
+//! / 3.23× the best moving point and 4.1 / 3.0 / 3.8 / 4.5× still without the references'
 //! noise (Cornell box / interior / many_lights / sun_boxes; with it in, as the older figures
 //! that follow are, 1.35 / 1.30 / 1.29 / 3.05× moving; 9.9 / 2.3
 //! / 14 / 3.6× before the upscaler's guide (0a537ed, emitters told apart in a21e69c; the
@@ -58,7 +58,7 @@
 //! So the low tier is native, and automatic quality judges every point by the worse of its
 //! still and moving errors ([`crate::auto_quality::ErrorTable::relative_error`]). With the
 //! still camera's errors the larger on most points, the upscaled `67` path and ReSTIR points
-//! (1.7–3.1× the best still, 1.2–2.2× moving) outrank the native cache points (2.4–9.1× the
+//! (1.7–3.1× the best still, 1.2–2.2× moving) outrank the native cache points (2.4–9.5× the
 //! best still) that cost as much or more on every scene.
 
 use crate::realtime::{Antialias, GiMode, RealtimeSettings};

@@ -296,7 +296,12 @@ pub enum FrameView {
     /// (`solari_reference::ReferenceSettings::min_bounces`) to measure GI's own error
     /// without DI's. Every pass runs as for the lit image, so the frame costs what it does;
     /// DI's output is dropped ([`solari_restir::RestirDi::set_indirect_only`]). Not with
-    /// DLSS-RR, which takes the lit image as it is.
+    /// DLSS-RR, which takes the lit image as it is. One exception: under a uniform sky that
+    /// light sampling does not cover, cache GI ([`GiMode::WorldCache`]) keeps the sky the
+    /// pixel's cell sees, which is direct light (the cell stores it with the rest); path and
+    /// ReSTIR GI leave it out ([`solari_restir::RestirGi::set_indirect_only`]).
+    /// The fallback denoiser's statistics then see the indirect light alone, not the lit
+    /// frame, so a denoised indirect view is filtered as the lit frame's share would not be.
     Indirect,
     /// The world cache's cells: each pixel shows its cell's irradiance, tinted per cell.
     WorldCache,
@@ -680,6 +685,8 @@ pub struct RealtimeRenderer {
     // transforms generation specular GI was bound with (None: bound without them).
     psr: bool,
     psr_generation: Option<u64>,
+    // The scene upload's generation at the last frame (`GpuScene::generation`).
+    scene_generation: Option<u64>,
     list: LightList,
     lights: GpuLights,
     grid_report: Option<LightGridReport>,
@@ -991,6 +998,7 @@ impl RealtimeRenderer {
             specular,
             psr,
             psr_generation: None,
+            scene_generation: None,
             list,
             lights,
             grid_report: grid.map(|g| g.report),
@@ -1303,6 +1311,10 @@ impl RealtimeRenderer {
         self.lights = GpuLights::with_grid(gpu, &list, self.settings.selection, grid.as_ref())?;
         self.grid_report = grid.map(|g| g.report);
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
+        if let Some((gi, _)) = &mut self.gi {
+            // Whatever the change, ReSTIR GI's adaptive cap follows it until the view settles.
+            gi.unsettle();
+        }
         let change = power_change_share(&self.list, &list);
         if change > LIGHT_CHANGE_SHARE {
             // The cache's samples and ReSTIR GI's reused ones hold the old light: both
@@ -1493,6 +1505,13 @@ impl RealtimeRenderer {
         }
         let frame = self.frame;
         self.frame = self.frame.wrapping_add(1);
+        // Instances that moved change the indirect light under a still camera: ReSTIR GI's
+        // adaptive cap follows until the view settles again.
+        if self.scene_generation.replace(gpu_scene.generation()) != Some(gpu_scene.generation())
+            && let Some((gi, _)) = &mut self.gi
+        {
+            gi.unsettle();
+        }
         // Untimed frames open no profiler scope and leave the profiler's frames alone.
         let timed =
             self.profiler.is_some() && frame.is_multiple_of(self.settings.timestamp_interval);
@@ -1533,6 +1552,7 @@ impl RealtimeRenderer {
             cache.prepare(gpu, &context, light_count);
         }
         if let Some((gi, _)) = &mut self.gi {
+            gi.set_indirect_only(indirect_only);
             gi.prepare(gpu, &context, &self.gbuffer)?;
         }
         if let Some(specular) = &mut self.specular {

@@ -177,3 +177,28 @@ fn restir_gi_on_a_settled_view_converges_without_the_adaptive_caps_bias() {
     assert!(capped > settled + 0.02, "{capped} against {settled}");
     assert!(settled.abs() < 0.03, "{settled}");
 }
+
+#[test]
+fn a_uniform_sky_seen_after_one_bounce_stays_out_of_the_indirect_view() {
+    // The box's open front lets GI rays escape to a uniform sky, which light sampling does
+    // not cover: GI adds it in the lit frame, but from the primary surface it is one
+    // scattering event, direct light.
+    let mut scene = solari_scene::default_scene::cornell_box();
+    scene.environment_radiance = glam::Vec3::splat(4.0);
+    let Some(c) = Cornell::with_scene(scene) else {
+        return;
+    };
+    let indirect_reference = reference(&c, 2, u32::MAX);
+    let mut r = c.renderer(settings(
+        GiMode::Path,
+        FrameView::Indirect,
+        DenoiserKind::None,
+    ));
+    for _ in 0..16 {
+        next_frame(&c, &mut r);
+    }
+    let (mean, _) = frame_mean(48, || next_frame(&c, &mut r));
+    let bias = total(&mean) / total(&indirect_reference) - 1.0;
+    println!("indirect view against the indirect reference: {bias:+.4}");
+    assert!(bias.abs() < 0.05, "{bias}");
+}

@@ -153,8 +153,8 @@ struct SpatialForm {
 pub const GI_PASS_LABELS: [&str; 2] = ["gi_initial_temporal", "gi_spatial_shade"];
 
 /// The default of [`RestirGiSettings::adaptive_cap_settle_frames`]: frames a view must hold
-/// still (the same camera, history kept, no light change since
-/// [`RestirGi::follow_light_change`]'s frames ran out) before
+/// still (the same camera, history kept, no [`RestirGi::unsettle`] and no
+/// [`RestirGi::follow_light_change`] whose frames have not run out) before
 /// [`RestirGiSettings::adaptive_cap`] stops; past them temporal reuse caps every history at
 /// [`RestirGiSettings::confidence_cap`] alone. The world cache's own averaging spans 30
 /// samples by default, so after 32 frames its cells have settled and the cap would only
@@ -197,9 +197,13 @@ pub struct RestirGi {
     history: bool,
     // Frames left with the history's confidence capped at 1 (`follow_light_change`).
     short_history: u32,
-    // Frames in a row with history, the same camera and no light change: past
+    // Frames in a row with history, the same camera and no scene or light change: past
     // `ADAPTIVE_CAP_SETTLE_FRAMES` the adaptive cap stops.
     settled: u32,
+    // `set_indirect_only`.
+    indirect_only: bool,
+    // Whether the last `prepare` set the adaptive cap's flag.
+    cap_active: bool,
 }
 
 // The initial pass's (first dispatch's) pipeline, built for reuse or without it, with the
@@ -353,6 +357,8 @@ impl RestirGi {
             history: false,
             short_history: 0,
             settled: 0,
+            indirect_only: false,
+            cap_active: false,
         };
         gi.resize(gpu, width, height, cache)?;
         Ok(gi)
@@ -509,6 +515,31 @@ impl RestirGi {
     /// ([`RestirGiSettings::adaptive_cap`]), so the shortening ends with its frames.
     pub fn follow_light_change(&mut self, frames: u32) {
         self.short_history = frames;
+        self.settled = 0;
+    }
+
+    /// Whether the last [`RestirGi::prepare`] ran [`RestirGiSettings::adaptive_cap`] (the
+    /// setting on and the view not yet settled).
+    pub fn adaptive_cap_active(&self) -> bool {
+        self.cap_active
+    }
+
+    /// Tells ReSTIR GI that the scene changed other than by its camera (instances moved,
+    /// lights moved or changed by any amount): [`RestirGiSettings::adaptive_cap`] runs again
+    /// from the next [`RestirGi::prepare`] until the view has been still for
+    /// [`RestirGiSettings::adaptive_cap_settle_frames`] frames. ([`RestirGi::follow_light_change`]
+    /// does this too.)
+    pub fn unsettle(&mut self) {
+        self.settled = 0;
+    }
+
+    /// With `true`, from the next [`RestirGi::prepare`] on, a GI ray that misses carries no
+    /// sky: where light sampling does not cover the environment, GI otherwise adds the sky
+    /// seen from the primary surface, which is one scattering event, direct light. With
+    /// [`crate::RestirDi::set_indirect_only`] and [`crate::SpecularGi::set_indirect_only`]
+    /// this makes a frame of indirect light alone. Off by default.
+    pub fn set_indirect_only(&mut self, on: bool) {
+        self.indirect_only = on;
     }
 
     /// Writes the frame's parameters. `gbuffer` is the G-buffer this frame reads (its
@@ -594,11 +625,15 @@ impl RestirGi {
         } else {
             0
         };
-        if s.adaptive_cap && self.settled <= s.adaptive_cap_settle_frames {
+        self.cap_active = s.adaptive_cap && self.settled <= s.adaptive_cap_settle_frames;
+        if self.cap_active {
             bits |= flags::ADAPTIVE_CAP;
         }
         if s.trace_fresh_pixels {
             bits |= flags::TRACE_FRESH;
+        }
+        if self.indirect_only {
+            bits |= flags::INDIRECT_ONLY;
         }
         // After a light change (`follow_light_change`) a history counts as one frame's
         // sample; the caps new samples carry still come from the settings, so the shortening

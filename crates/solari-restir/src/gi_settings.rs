@@ -132,8 +132,10 @@ pub struct RestirGiSettings {
     /// throughout) and the young frames as with the cap (`benches/RESULTS.md`, "GI's own
     /// error").
     pub adaptive_cap: bool,
-    /// Frames a view must hold still (the same camera, history kept, no light change still
-    /// shortening histories) before [`RestirGiSettings::adaptive_cap`] stops (default
+    /// Frames a view must hold still (the same camera, history kept, and no scene or light
+    /// change reported through [`crate::RestirGi::unsettle`] or
+    /// [`crate::RestirGi::follow_light_change`]) before [`RestirGiSettings::adaptive_cap`]
+    /// stops (default
     /// [`crate::ADAPTIVE_CAP_SETTLE_FRAMES`], 32; `u32::MAX` keeps the cap always, as before).
     /// The world cache's cells average 30 samples by default, so by then they have settled
     /// and the cap would only weigh histories by the light they hold.
@@ -379,6 +381,8 @@ pub(crate) mod flags {
     pub const ADAPTIVE_CAP: u32 = 512;
     /// [`super::RestirGiSettings::trace_fresh_pixels`].
     pub const TRACE_FRESH: u32 = 1024;
+    /// `RestirGi::set_indirect_only`: a ray that misses carries no sky.
+    pub const INDIRECT_ONLY: u32 = 2048;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.

@@ -106,7 +106,18 @@ impl Setup {
     /// As [`Setup::frame`], the G-buffer's samples `jitter` pixels off the pixel centres.
     fn frame_jittered(&mut self, gpu: &Gpu, scene: &Scene, jitter: [f32; 2]) {
         let camera = scene.camera(None).unwrap();
-        self.direct.prepare_jittered(gpu, scene, &camera, jitter);
+        self.frame_from(gpu, scene, &camera, jitter);
+    }
+
+    /// As [`Setup::frame_jittered`], seen from `camera`.
+    fn frame_from(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        camera: &solari_scene::Camera,
+        jitter: [f32; 2],
+    ) {
+        self.direct.prepare_jittered(gpu, scene, camera, jitter);
         let context = *self.direct.context();
         self.cache
             .prepare(gpu, &context, self.direct.lights.light_count);
@@ -1364,5 +1375,59 @@ fn a_confidence_cap_beyond_f16_stays_finite() {
         let (mean, _) = s.mean(&gpu, &scene, 8, 8);
         let light: f64 = mean.iter().map(|p| (p[0] + p[1] + p[2]) as f64).sum();
         assert!(light > 0.0, "adaptive cap {adaptive_cap}: no light at all");
+    }
+}
+
+/// The adaptive cap runs while the view is unsettled: from the first frame until the camera
+/// has held still for `adaptive_cap_settle_frames` frames, and again after the camera moves,
+/// the scene changes (`unsettle`), the lights change (`follow_light_change`, for its frames
+/// and the settling after) or history is dropped.
+#[test]
+fn the_adaptive_cap_runs_until_the_view_settles() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    let settings = RestirGiSettings {
+        adaptive_cap_settle_frames: 3,
+        ..Default::default()
+    };
+    let mut s = setup(&gpu, &scene, 16, Mode::Gi(settings));
+    let camera = scene.camera(None).unwrap();
+    let mut moved = camera.clone();
+    moved.transform.w_axis.x += 0.01;
+    let run = |s: &mut Setup, frames: usize, camera: &solari_scene::Camera| {
+        (0..frames)
+            .map(|_| {
+                s.frame_from(&gpu, &scene, camera, [0.0; 2]);
+                s.gi.adaptive_cap_active()
+            })
+            .collect::<Vec<_>>()
+    };
+    // The first frame has no history; then 1, 2, 3 settled frames keep the cap, the 4th not.
+    assert_eq!(
+        run(&mut s, 6, &camera),
+        [true, true, true, true, false, false]
+    );
+    // A moved camera unsettles the view; holding the new one settles it again.
+    assert_eq!(run(&mut s, 1, &moved), [true]);
+    assert_eq!(run(&mut s, 5, &moved), [true, true, true, false, false]);
+    s.gi.unsettle();
+    assert_eq!(run(&mut s, 5, &moved), [true, true, true, false, false]);
+    // A light change: its short histories, then the settling.
+    s.gi.follow_light_change(2);
+    assert_eq!(
+        run(&mut s, 7, &moved),
+        [true, true, true, true, true, false, false]
+    );
+    s.gi.reset();
+    assert_eq!(run(&mut s, 5, &moved), [true, true, true, true, false]);
+    // `u32::MAX` keeps it always; the setting off never runs it.
+    for (settle, adaptive_cap, expected) in [(u32::MAX, true, true), (3, false, false)] {
+        let settings = RestirGiSettings {
+            adaptive_cap_settle_frames: settle,
+            adaptive_cap,
+            ..Default::default()
+        };
+        let mut s = setup(&gpu, &scene, 16, Mode::Gi(settings));
+        assert!(run(&mut s, 8, &camera).iter().all(|&on| on == expected));
     }
 }
