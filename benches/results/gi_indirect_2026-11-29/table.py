@@ -24,10 +24,16 @@ def load(path, tag, rename=None):
         out[(tag, r['scene'], b, r['denoiser'], r['mean_of'])] = r
     return out
 ind = {}; ind.update(load('h200_1/indirect.csv', 'old')); ind.update(load('h200_2/indirect.csv', 'new'))
+# Call 6 (867721f): sun_boxes and many_lights, path GI ('old' as in call 1: the cap does not
+# touch it) and ReSTIR GI with the cap's stop ('new').
+for k, r in load('h200_6/indirect.csv', 'new').items():
+    ind[k] = r
+    if k[2].startswith('p'):
+        ind[('old',) + k[1:]] = r
 lit = {}; lit.update(load('h200_2/lit.csv', 'new')); lit.update(load('h200_4/lit.csv', 'new'))
 x = lambda r: 1e3 * float(r['rel_mse_excess'])
 scenes = ['cornell_box', 'interior']
-def table(title, data, rows):
+def table(title, data, rows, scenes=scenes):
     print(f'## {title}')
     print('| scene | mode | GI ms | raw f136 | raw mean of 16 | denoised f136 | denoised mean of 16 | raw f136 mean/ref |')
     print('|---|---|---|---|---|---|---|---|')
@@ -40,7 +46,8 @@ def table(title, data, rows):
                   f"{x(k('fallback','1')):.3f} | {x(k('fallback','16')):.3f} | {float(k('none','1')['mean_ratio']):.4f} |")
     print()
 table('GI alone: the indirect view against indirect references (relMSE x1e3 without the reference\'s noise)', ind,
-      [('old', b) for b in 'p p2 p4 r rh rq'.split()] + [('new', b) for b in 'r rh rq'.split()])
+      [('old', b) for b in 'p p2 p4 r rh rq'.split()] + [('new', b) for b in 'r rh rq'.split()],
+      scenes + ['sun_boxes', 'many_lights'])
 table('The lit frame against full references (relMSE x1e3 without the reference\'s noise)', lit,
       [('new', b) for b in 'p p2 p4 r rh rq rN rqN'.split()])
 # Equal time: path GI's curve through 1, 2 and 4 candidates, log-log between neighbours (and
@@ -53,11 +60,12 @@ def path_at(data, tag_path, s, d, m, t):
 print('## Equal GPU time: path GI (1, 2, 4 candidates) read at each ReSTIR mode\'s GI ms, over the mode\'s own error')
 print('| scene | mode | GI ms | GI alone, raw f136 | lit raw f136 | lit denoised mean of 16 |')
 print('|---|---|---|---|---|---|')
-for s in scenes:
+for s in scenes + ['sun_boxes', 'many_lights']:
     for tag, b in [('old', 'r'), ('old', 'rh'), ('old', 'rq'), ('new', 'r'), ('new', 'rh'), ('new', 'rq')]:
+        if (tag, s, b, 'none', '1') not in ind: continue
         t = gi_ms(s, b)
         a = path_at(ind, 'old', s, 'none', '1', t) / x(ind[(tag, s, b, 'none', '1')])
-        if tag == 'new':
+        if tag == 'new' and (tag, s, b, 'none', '1') in lit:
             l1 = path_at(lit, 'new', s, 'none', '1', t) / x(lit[('new', s, b, 'none', '1')])
             l2 = path_at(lit, 'new', s, 'fallback', '16', t) / x(lit[('new', s, b, 'fallback', '16')])
             lit_cells = f'{l1:.2f}x | {l2:.2f}x'
