@@ -61,6 +61,21 @@ fn built_in_box(
     (scene, gpu_scene, renderer, lights, camera)
 }
 
+/// A `size × size` accumulation of the default settings, for tests that add paths one
+/// dispatch at a time.
+fn square_accumulation(
+    gpu: &Gpu,
+    renderer: &ReferenceRenderer,
+    lights: &LightList,
+    camera: &solari_scene::Camera,
+    size: u32,
+) -> solari_reference::path_tracer::ReferenceAccumulation {
+    let settings = ReferenceSettings::default();
+    renderer
+        .accumulation(gpu, lights, camera, size, size, &settings)
+        .expect("accumulation")
+}
+
 /// Mean and standard error of the mean of `values`.
 fn mean_se(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let v: Vec<f64> = values.collect();
@@ -329,16 +344,7 @@ fn the_variance_image_matches_its_cpu_twin() {
     let Some(gpu) = test_gpu() else { return };
     let (_, gpu_scene, renderer, lights, camera) = built_in_box(&gpu);
     let (size, paths) = (16u32, 8usize);
-    let mut acc = renderer
-        .accumulation(
-            &gpu,
-            &lights,
-            &camera,
-            size,
-            size,
-            &ReferenceSettings::default(),
-        )
-        .unwrap();
+    let mut acc = square_accumulation(&gpu, &renderer, &lights, &camera, size);
     let mut means = Vec::new();
     let mut last = None;
     for _ in 0..paths {
@@ -383,16 +389,7 @@ fn the_variance_image_is_the_render_s_own_noise() {
     let Some(gpu) = test_gpu() else { return };
     let (_, gpu_scene, renderer, lights, camera) = built_in_box(&gpu);
     let size = 48;
-    let mut acc = renderer
-        .accumulation(
-            &gpu,
-            &lights,
-            &camera,
-            size,
-            size,
-            &ReferenceSettings::default(),
-        )
-        .unwrap();
+    let mut acc = square_accumulation(&gpu, &renderer, &lights, &camera, size);
     renderer
         .add_samples(&gpu, &gpu_scene, &mut acc, 16, |_| {})
         .unwrap();

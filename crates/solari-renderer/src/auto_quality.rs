@@ -152,26 +152,24 @@ impl ErrorTable {
                     Err(format!("quality table line {}: {v} is out of range", i + 1))
                 }
             };
-            let rel_mse_moving = match moving.map(cell).transpose()? {
-                None => None,
-                Some(c) if c.is_empty() || c.eq_ignore_ascii_case("nan") => None,
-                Some(_) => Some(number(moving.expect("matched"))?),
-            };
-            // An empty or `nan` cell: not measured, counted as no noise (as before the columns).
-            let noise_of = |c: Option<usize>| match c.map(cell).transpose()? {
-                Some(v) if !(v.is_empty() || v.eq_ignore_ascii_case("nan")) => {
-                    number(c.expect("matched"))
+            // An optional column: absent, or an empty or `nan` cell, is not measured.
+            let measured = |c: Option<usize>| -> Result<Option<f64>, String> {
+                match c {
+                    Some(c) if !(cell(c)?.is_empty() || cell(c)?.eq_ignore_ascii_case("nan")) => {
+                        number(c).map(Some)
+                    }
+                    _ => Ok(None),
                 }
-                _ => Ok(0.0),
             };
             rows.push(ErrorRow {
                 scene: cell(scene)?.to_owned(),
                 setting: point,
                 gpu_ms: number(gpu_ms)?,
                 rel_mse: number(rel_mse)?,
-                rel_mse_moving,
-                reference_noise: noise_of(noise)?,
-                reference_noise_moving: noise_of(noise_moving)?,
+                rel_mse_moving: measured(moving)?,
+                // No noise term measured counts as none (as before the columns).
+                reference_noise: measured(noise)?.unwrap_or(0.0),
+                reference_noise_moving: measured(noise_moving)?.unwrap_or(0.0),
             });
         }
         if rows.is_empty() {
