@@ -39,15 +39,21 @@ impl GiRow {
     }
 
     /// One frame's relMSE without the reference's noise where the run recorded it, else as
-    /// measured.
+    /// measured. At least [`MIN_OWN_ERROR_SHARE`] of the measured figure stays, as automatic
+    /// quality counts it (`solari_renderer::auto_quality::ErrorTable::own_error`): the noise
+    /// is an estimate, and a frame measured below it still has an error to plot.
     pub fn own_rel_mse_1(&self) -> f64 {
         if self.reference_noise.is_finite() {
-            self.rel_mse_1 - self.reference_noise
+            (self.rel_mse_1 - self.reference_noise).max(MIN_OWN_ERROR_SHARE * self.rel_mse_1)
         } else {
             self.rel_mse_1
         }
     }
 }
+
+/// `solari_renderer::auto_quality::MIN_OWN_ERROR_SHARE` (this crate does not depend on the
+/// renderer): the least share of a measured relMSE counted as the frame's own.
+pub const MIN_OWN_ERROR_SHARE: f64 = 0.05;
 
 /// Parses the CSV; the error names the line and column that failed.
 pub fn parse_gi(text: &str) -> Result<Vec<GiRow>, String> {
@@ -98,6 +104,12 @@ mod tests {
         .unwrap();
         assert!((with_noise[0].own_rel_mse_1() - 0.002).abs() < 1e-12);
         assert_eq!(with_noise[1].own_rel_mse_1(), 0.0067);
+        // Measured below the noise: 5% of the figure stays.
+        let below = parse_gi(
+            "scene,mode,gpu_ms,rel_mse_1,rel_mse_16,reference_noise\ninterior,path,3.8,0.004,0.004,0.0046\n",
+        )
+        .unwrap();
+        assert!((below[0].own_rel_mse_1() - MIN_OWN_ERROR_SHARE * 0.004).abs() < 1e-12);
         let bad = parse_gi("scene,mode,gpu_ms,rel_mse_1,rel_mse_16\nx,path,fast,1,1\n");
         assert!(bad.unwrap_err().contains("gpu_ms"));
         assert!(parse_gi("scene,mode\n").unwrap_err().contains("gpu_ms"));
