@@ -39,8 +39,10 @@ fn total(image: &[[f32; 3]]) -> f64 {
 }
 
 // The image's light over the reference's, in 4 × 4 blocks of the image (16 × 16 pixels
-// each at SIZE 64): the largest relative miss of a block whose reference is lit.
-fn worst_block(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
+// each at SIZE 64): the largest relative miss of a block that holds at least `min_share`
+// of the reference's light. A block's noise grows as its light shrinks, so dim blocks get
+// their own, looser bound.
+fn worst_block(image: &[[f32; 3]], reference: &[[f32; 3]], min_share: f64) -> f64 {
     let (n, side) = (4usize, SIZE as usize);
     let mut worst = 0.0f64;
     for by in 0..n {
@@ -52,7 +54,7 @@ fn worst_block(image: &[[f32; 3]], reference: &[[f32; 3]]) -> f64 {
                     b += common::luminance(reference[y * side + x]);
                 }
             }
-            if b > 1e-3 * total(reference) {
+            if b > min_share * total(reference) {
                 worst = worst.max((a / b - 1.0).abs());
             }
         }
@@ -90,22 +92,30 @@ fn the_indirect_view_is_what_the_gi_passes_add() {
     let reference_indirect = reference(&c, 2, u32::MAX);
     let direct_bias = total(&direct) / total(&reference_direct) - 1.0;
     let indirect_bias = total(&indirect_mean) / total(&reference_indirect) - 1.0;
-    let (direct_block, indirect_block) = (
-        worst_block(&direct, &reference_direct),
-        worst_block(&indirect_mean, &reference_indirect),
+    // Blocks with at least a 64th of the light (a block is a 16th of the image), and the
+    // dim ones (the ceiling's corners hold 0.3–1% of the direct light).
+    let (bright, dim) = (1.0 / 64.0, 1e-3);
+    let (direct_block, direct_dim_block, indirect_block) = (
+        worst_block(&direct, &reference_direct, bright),
+        worst_block(&direct, &reference_direct, dim),
+        worst_block(&indirect_mean, &reference_indirect, dim),
     );
     println!(
         "lit − indirect against the direct reference: total {direct_bias:+.4}, worst block \
-         {direct_block:.4}; indirect against the indirect reference: total \
-         {indirect_bias:+.4}, worst block {indirect_block:.4}"
+         {direct_block:.4} (with the dim ones {direct_dim_block:.4}); indirect against the \
+         indirect reference: total {indirect_bias:+.4}, worst block {indirect_block:.4}"
     );
     // Direct light is unbiased: what is left after the indirect view is taken out is the
-    // direct reference within its noise (48 frames of ReSTIR DI).
+    // direct reference within its noise (48 frames of ReSTIR DI; lavapipe's frames vary from
+    // run to run, the world cache's atomics landing in another order). Over eleven runs here
+    // the worst bright block missed by 1.2–2.3% and the worst dim one by 2.1–5.4%; CI's
+    // machine read 5.1% in a dim block, which failed the single 5% bound this test had.
     assert!(direct_bias.abs() < 0.01, "{direct_bias}");
-    assert!(direct_block < 0.05, "{direct_block}");
+    assert!(direct_block < 0.04, "{direct_block}");
+    assert!(direct_dim_block < 0.10, "{direct_dim_block}");
     // Path GI ends in the world cache, whose light lags and blurs: a few per cent low in
-    // total, more in some blocks (measured on lavapipe: −2.7% in total, 5.8% in the worst
-    // block; the tolerance states that bias).
+    // total, more in some blocks (measured on lavapipe over eleven runs: −1.8% to −2.7% in
+    // total, 5.0–6.5% in the worst block; the tolerance states that bias).
     assert!(indirect_bias.abs() < 0.05, "{indirect_bias}");
     assert!(indirect_block < 0.10, "{indirect_block}");
 }
