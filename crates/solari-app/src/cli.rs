@@ -442,8 +442,15 @@ pub struct RealtimeArgs {
     /// occluders). `RestirGiSettings::spatial_visibility` gives the measurements.
     #[arg(long, default_value = "chosen", value_parser = values::gi_spatial_visibility)]
     pub gi_spatial_visibility: SpatialVisibility,
-    /// GI candidate rays per pixel (1–16), resampled to one by the target function: more
-    /// samples per pixel for plain path GI, better initial samples for ReSTIR GI.
+    /// With `--gi-spatial-visibility both` or `neighbour`: shade both samples of the spatial
+    /// merge by their resampling weights, not the chosen one alone (on by default; the same
+    /// mean, less noise, most of it colour). `RestirGiSettings::shade_both_samples`.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub gi_shade_both: bool,
+    /// GI candidate rays per pixel (1–16): more samples per pixel for plain path GI (their
+    /// average is shaded), better initial samples for ReSTIR GI (resampled to one by the
+    /// target function).
     #[arg(long, default_value_t = 1)]
     pub gi_samples: u32,
     /// Permute ReSTIR GI's temporal source pixel within 4×4 blocks (for DLSS-RR; costs
@@ -666,6 +673,7 @@ impl RealtimeArgs {
                 permutation_sampling: self.gi_permutation,
                 initial_samples: self.gi_samples,
                 spatial_visibility: self.gi_spatial_visibility,
+                shade_both_samples: self.gi_shade_both,
                 rate: match (self.gi_half_rate, self.gi_quarter_rate) {
                     (_, true) => GiRate::Quarter,
                     (true, false) => GiRate::Half,

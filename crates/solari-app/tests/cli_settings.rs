@@ -137,6 +137,15 @@ fn gi_spatial_visibility_reaches_the_settings() {
         .expect_err("unknown names are refused")
         .to_string();
     assert!(err.contains("both, chosen or neighbour"), "{err}");
+    // Both samples of a two-ray merge are shaded unless switched off (the library's default).
+    let both = |args: &[&str]| settings(args).restir_gi.shade_both_samples;
+    assert!(both(&[]));
+    assert_eq!(
+        both(&[]),
+        solari_restir::RestirGiSettings::default().shade_both_samples
+    );
+    assert!(!both(&["--gi-shade-both", "off"]));
+    assert!(both(&["--gi-shade-both"]), "the bare flag means on");
 }
 
 /// `--denoise-kernel` reaches the fallback denoiser's settings (default: the 13-tap diamond,

@@ -269,7 +269,8 @@ fn spatial_pipeline(
 
 // The pass specialisations `s` wants: (the initial pass's resampling of several candidates,
 // the spatial pass's form, plain path GI's shading apart where the instance is built without
-// reuse, `in_place`).
+// reuse, `in_place`, and draws one candidate: several are averaged as they are traced, and
+// only the reservoir they are resampled to is stored).
 fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, SpatialForm, bool) {
     (
         s.initial_samples > 1,
@@ -277,7 +278,7 @@ fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, SpatialForm,
             chosen: s.spatial_visibility == SpatialVisibility::Chosen,
             half_rate: s.rate.reduced() && s.half_rate_spatial,
         },
-        in_place && s.shade_apart,
+        in_place && s.shade_apart && s.initial_samples == 1,
     )
 }
 
@@ -610,6 +611,9 @@ impl RestirGi {
         // `Chosen` is the spatial pipeline built above (CHOSEN_ONLY), not a flag.
         if s.spatial_visibility == SpatialVisibility::Both {
             bits |= flags::UNBIASED_SPATIAL;
+        }
+        if s.shade_both_samples && s.spatial_visibility != SpatialVisibility::Chosen {
+            bits |= flags::SHADE_BOTH;
         }
         if s.rate.reduced() {
             bits |= flags::HALF_RATE;

@@ -142,9 +142,67 @@ pub fn chosen_weight_sum(
     })
 }
 
+/// The light of a merge with resampling weights `weights` (w_c, w_o) shaded over its choice
+/// ([`crate::RestirGiSettings::shade_both_samples`]; WGSL twin `gi_expected_light`):
+/// Σ w_i · f(y_i) / p̂(y_i), where `c` and `o` hold each sample's diffuse contribution f and
+/// target p̂ at the canonical pixel. The chosen sample's light is f(y) · Σw / p̂(y) and it is
+/// chosen with chance w_y / Σw, so this is that light's expectation over the choice (the
+/// tests below check the identity); a sample with no weight or no target adds nothing.
+pub fn expected_light(weights: (f32, f32), c: ([f32; 3], f32), o: ([f32; 3], f32)) -> [f32; 3] {
+    let weighted = |w: f32, (f, target): ([f32; 3], f32)| {
+        let scale = w / target;
+        if w > 0.0 && scale > 0.0 && scale < 3.4e38 {
+            f.map(|x| x * scale)
+        } else {
+            [0.0; 3]
+        }
+    };
+    let (a, b) = (weighted(weights.0, c), weighted(weights.1, o));
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_expected_light_is_the_chosen_samples_light_averaged_over_the_choice() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
+        for _ in 0..2000 {
+            let draw = |rng: &mut rand_pcg::Pcg32| {
+                let f = [0, 1, 2].map(|_| rng.random_range(0.0..3.0f32));
+                // The target is the luminance of a larger BRDF than the diffuse part shaded.
+                let target = 0.2126 * f[0] + 0.7152 * f[1] + 0.0722 * f[2];
+                (f, target * rng.random_range(1.0..2.0))
+            };
+            let (c, o) = (draw(&mut rng), draw(&mut rng));
+            let w = (rng.random_range(0.0..5.0f32), rng.random_range(0.0..5.0f32));
+            let sum = w.0 + w.1;
+            // What the merge shades: the chosen sample's f · Σw / p̂, chosen with w / Σw.
+            let chosen = |(f, target): ([f32; 3], f32), weight: f32| {
+                f.map(|x| x * sum / target * weight / sum)
+            };
+            let (a, b) = (chosen(c, w.0), chosen(o, w.1));
+            let got = expected_light(w, c, o);
+            for k in 0..3 {
+                let want = a[k] + b[k];
+                assert!(
+                    (got[k] - want).abs() <= 1e-5 * want.max(1.0),
+                    "{got:?} {want}"
+                );
+            }
+        }
+        // No weight, no light; a zero target adds nothing rather than a NaN.
+        assert_eq!(
+            expected_light((0.0, 0.0), ([1.0; 3], 1.0), ([1.0; 3], 1.0)),
+            [0.0; 3]
+        );
+        assert_eq!(
+            expected_light((1.0, 0.0), ([1.0; 3], 0.0), ([1.0; 3], 1.0)),
+            [0.0; 3]
+        );
+    }
 
     #[test]
     fn jacobian_is_one_for_the_same_pixel_and_reciprocal_between_two() {

@@ -39,7 +39,11 @@ pub struct RestirGiSettings {
     /// [`MAX_GI_INITIAL_SAMPLES`]), combined by resampled importance sampling with the
     /// target function: the pixel keeps one of them, weighted as if sampled in proportion to
     /// the target. Each costs a ray and a cache query; with plain path GI this is how more
-    /// samples per pixel are bought. With 1 the initial pass is built without its
+    /// samples per pixel are bought, and plain path GI shades the candidates' average (the
+    /// kept one still goes to specular GI's rough pixels): one resampled sample keeps the
+    /// colour of the surface it came from, a noise that more candidates do not lower
+    /// (lavapipe's 128² Cornell box, indirect light, raw frame: relMSE 0.0228 with 16
+    /// candidates resampled, 0.0154 + 0.120 / n in all). With 1 the initial pass is built without its
     /// resampling loop (9.5–14% faster on an H100 at 1080p); a change to or from 1 builds the
     /// pass again at the next frame.
     pub initial_samples: u32,
@@ -147,10 +151,28 @@ pub struct RestirGiSettings {
     /// fallback denoiser, three reps) GI's pass took 7.9% less on `interior` (0.920 → 0.847 ms,
     /// the frame 3.825 → 3.752) and 0.9% less on many_lights, and 6.1% more on sun_boxes and
     /// 19% more on the Cornell box, whose traversal is trivial (`benches/RESULTS.md`, "The
-    /// temporal merge in a dispatch of its own"). The images are the same. The renderer
+    /// temporal merge in a dispatch of its own"). The images are the same. Ignored with more
+    /// than one [`RestirGiSettings::initial_samples`]: their average is shaded as they are
+    /// traced. The renderer
     /// turns it on by the scene's triangle count (`solari_renderer`'s
     /// `PATH_GI_SHADE_APART_TRIANGLES`). A change builds the pass again at the next frame.
     pub shade_apart: bool,
+    /// With two-ray spatial visibility ([`SpatialVisibility::Both`] or
+    /// [`SpatialVisibility::Neighbour`]), the spatial pass shades both samples of its merge,
+    /// each weighted by its resampling weight (Σ w_i · f(y_i) / p̂(y_i)), instead of the chosen
+    /// sample alone (f(y) · W). That is the chosen sample's light averaged over the merge's
+    /// choice (Rao–Blackwellisation): the same expectation, never more variance, and the
+    /// choice and the history it leaves are unchanged. It matters most for colour: a
+    /// reservoir holds one sample, and its target is a luminance, so a single shaded sample
+    /// carries the colour of the one surface it came from (the Cornell box's red or green
+    /// wall) however long its history; that colour noise does not fall with more reuse.
+    /// `Chosen` traces one of the two rays and cannot shade the other sample (ignored there).
+    /// On an H200 (the indirect light alone, raw frame 136 at 960×540) it took `Both`'s
+    /// relMSE from 13.91 to 9.91 ×10⁻³ on the Cornell box and from 53.84 to 52.54 on
+    /// `interior`, whose indirect light has little colour; lavapipe's 128² Cornell box
+    /// 0.0323 → 0.0249, chroma alone 0.0172 → 0.0108 (`benches/RESULTS.md`, "Colour noise").
+    /// It costs a few arithmetic operations.
+    pub shade_both_samples: bool,
 }
 
 /// How many of the pixels trace GI rays each frame ([`RestirGiSettings::rate`]). At a reduced
@@ -248,7 +270,13 @@ impl GiRate {
 /// the Cornell box, 0.91 on sun_boxes, 1.16 on many_lights, 2.31 on interior), its spatial
 /// pass within 4% of `Neighbour`'s time, with `Both`'s error (relMSE of one frame within
 /// ±2.4% of it, of a 16-frame mean within −1.3% to +3.1%, on all four scenes; `Neighbour`'s
-/// is 20–31% higher on three of them and darkens interior by 3.5%).
+/// is 20–31% higher on three of them and darkens interior by 3.5%). With two rays the
+/// spatial pass can shade both samples of its merge ([`RestirGiSettings::shade_both_samples`],
+/// on by default), which `Chosen` cannot: on an H200 (the indirect light alone, raw frame 136
+/// at 960×540, GI ms at 1920×1080; `benches/RESULTS.md`, "Colour noise") `Both` read relMSE
+/// 9.91 ×10⁻³ on the Cornell box against `Chosen`'s 14.96, for 0.659 ms against 0.577
+/// (1.32× as efficient), and 52.5 against 64.4 on `interior` for 2.471 ms against 1.928
+/// (0.96×), so `Chosen` stays the default.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SpatialVisibility {
     /// Two rays: y_o from the pixel (a hidden y_o cannot be chosen) and y_c from the
@@ -311,6 +339,7 @@ impl Default for RestirGiSettings {
             adaptive_cap: true,
             adaptive_cap_settle_frames: crate::ADAPTIVE_CAP_SETTLE_FRAMES,
             shade_apart: false,
+            shade_both_samples: true,
         }
     }
 }
@@ -383,6 +412,8 @@ pub(crate) mod flags {
     pub const TRACE_FRESH: u32 = 1024;
     /// `RestirGi::set_indirect_only`: a ray that misses carries no sky.
     pub const INDIRECT_ONLY: u32 = 2048;
+    /// [`super::RestirGiSettings::shade_both_samples`] (with two spatial rays).
+    pub const SHADE_BOTH: u32 = 4096;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.

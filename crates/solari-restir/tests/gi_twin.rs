@@ -1,13 +1,14 @@
 //! ReSTIR GI's reuse math on the GPU (`restir_gi_math.wesl`, run by `restir_gi_test.wesl`)
 //! against its Rust twins (`solari_restir::gi_reservoir`): the reconnection Jacobian and the
-//! merge weights, and the one-ray merge's weight sum, on random and adversarial cases (coincident points, samples behind a surface,
+//! merge weights, the one-ray merge's weight sum and the light of a merge shaded over its
+//! choice, on random and adversarial cases (coincident points, samples behind a surface,
 //! empty reservoirs, zero and huge targets, Jacobians at and over the bound).
 
 use bytemuck::{Pod, Zeroable};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg32;
 use solari_restir::gi_reservoir::{
-    MergeSide, chosen_weight_sum, merge_weights, reconnection_jacobian,
+    MergeSide, chosen_weight_sum, expected_light, merge_weights, reconnection_jacobian,
 };
 use solari_scene::case_kernel::CaseKernel;
 use solari_scene::gpu::test_gpu;
@@ -23,6 +24,8 @@ struct Case {
     c: [f32; 4],
     o: [f32; 4],
     jacobians: [f32; 4],
+    light_c: [f32; 4],
+    light_o: [f32; 4],
 }
 
 /// WGSL twin: `Output` in `restir_gi_test.wesl`.
@@ -31,6 +34,7 @@ struct Case {
 struct Output {
     weights: [f32; 4],
     chosen: [f32; 4],
+    light: [f32; 4],
 }
 
 fn point(rng: &mut Pcg32) -> [f32; 3] {
@@ -70,6 +74,17 @@ fn side(rng: &mut Pcg32) -> [f32; 4] {
     [confidence, weight, target(rng), target(rng)]
 }
 
+/// A sample's diffuse contribution (rgb) and its target: ordinary, or a zero or tiny target.
+fn light(rng: &mut Pcg32) -> [f32; 4] {
+    let f = [0, 1, 2].map(|_| rng.random_range(0.0..3.0f32));
+    let target = match rng.random_range(0..10) {
+        0 => 0.0,
+        1 => 1e-30,
+        _ => 0.2126 * f[0] + 0.7152 * f[1] + 0.0722 * f[2] + rng.random_range(0.0..1.0f32),
+    };
+    [f[0], f[1], f[2], target]
+}
+
 fn cases() -> Vec<Case> {
     let mut rng = Pcg32::seed_from_u64(18);
     (0..4000)
@@ -93,6 +108,8 @@ fn cases() -> Vec<Case> {
                 c: side(&mut rng),
                 o: side(&mut rng),
                 jacobians: [jacobian(&mut rng), jacobian(&mut rng), 0.0, 0.0],
+                light_c: light(&mut rng),
+                light_o: light(&mut rng),
             }
         })
         .collect()
@@ -184,6 +201,16 @@ fn gi_reuse_math_matches_its_rust_twin() {
                     "w_o: GPU {} CPU {wo} for {k:?}",
                     r[2]
                 );
+                // The merge shaded over its choice, from the twin's weights.
+                let split = |v: [f32; 4]| ([v[0], v[1], v[2]], v[3]);
+                let cpu = expected_light((wc, wo), split(k.light_c), split(k.light_o));
+                for c in 0..3 {
+                    assert!(
+                        close(out.light[c], cpu[c], 1e-4),
+                        "expected light: GPU {:?} CPU {cpu:?} for {k:?}",
+                        out.light
+                    );
+                }
                 merged += 1;
             }
         }
