@@ -11,7 +11,7 @@
 #             (`--denoiser none`) frame 136 and the mean of 121-136, each compared with its
 #             reference with the reference's noise taken out (`compare --reference-variance`).
 #             Table: $OUT/indirect.csv. SIZE and RUNS (frames:mean-of pairs) shrink it for a
-#             try on lavapipe.
+#             try on lavapipe; MODES="none" KINDS="centre" measures the raw frames alone.
 #   lit:      the same for the lit image against full-bounce references (no --min-bounces),
 #             so that the frame as a user sees it is measured by the same binaries and
 #             references of the same kind. Table: $OUT/lit.csv.
@@ -29,7 +29,7 @@ case "${1:-}" in
     [ -f "$OUT/$phase.csv" ] || echo "scene,binary,denoiser,frames,mean_of,rel_mse,noise_rel_mse,rel_mse_excess,rmse,rmse_excess,mean_ratio" > "$OUT/$phase.csv"
     for s in ${SCENES:-cornell_box interior}; do
       f=$(scene_file "$s")
-      for kind in jit centre; do
+      for kind in ${KINDS:-jit centre}; do
         extra=""; [ $kind = centre ] && extra="--pixel-centre"
         echo "== $s reference $kind $(date -u +%T)" >&2
         /usr/bin/time -f "$s ref $kind ${SPP:-4096}: %e s" /root/bins/solari render "$f" --mode reference \
@@ -37,7 +37,7 @@ case "${1:-}" in
           --variance-out "$R/${s}_${kind}_var.exr" --json > "$R/${s}_$kind.json" 2>> "$OUT/${phase}_log.txt"
       done
       for b in ${BINS:-p}; do
-        for mode in fallback none; do
+        for mode in ${MODES:-fallback none}; do
           kind=jit; [ $mode = none ] && kind=centre
           for run in ${RUNS:-136:1 136:16}; do
             frames=${run%%:*} m=${run#*:}
