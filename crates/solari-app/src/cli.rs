@@ -448,6 +448,12 @@ pub struct RealtimeArgs {
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
     pub gi_shade_both: bool,
+    /// ReSTIR GI: the share (0–1) of a reusing pixel's light taken from its own reservoir
+    /// before spatial reuse, the rest from the spatial merge's chosen sample (both unbiased;
+    /// 0 is the merge alone; a merge with both samples shaded ignores it).
+    /// `RestirGiSettings::own_sample_share`.
+    #[arg(long, default_value_t = 0.5, value_parser = values::finite)]
+    pub gi_own_share: f32,
     /// GI candidate rays per pixel (1–16): more samples per pixel for plain path GI (their
     /// average is shaded), better initial samples for ReSTIR GI (resampled to one by the
     /// target function).
@@ -674,6 +680,7 @@ impl RealtimeArgs {
                 initial_samples: self.gi_samples,
                 spatial_visibility: self.gi_spatial_visibility,
                 shade_both_samples: self.gi_shade_both,
+                own_sample_share: self.gi_own_share,
                 rate: match (self.gi_half_rate, self.gi_quarter_rate) {
                     (_, true) => GiRate::Quarter,
                     (true, false) => GiRate::Half,

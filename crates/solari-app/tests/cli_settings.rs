@@ -146,6 +146,15 @@ fn gi_spatial_visibility_reaches_the_settings() {
     );
     assert!(!both(&["--gi-shade-both", "off"]));
     assert!(both(&["--gi-shade-both"]), "the bare flag means on");
+    // The own reservoir's share, the library's default unless given; out of range refused.
+    let share = |args: &[&str]| settings(args).restir_gi.own_sample_share;
+    assert_eq!(
+        share(&[]),
+        solari_restir::RestirGiSettings::default().own_sample_share
+    );
+    assert_eq!(share(&["--gi-own-share", "0"]), 0.0);
+    let err = settings_error(&["--gi-own-share", "2"]);
+    assert!(err.contains("own_sample_share"), "{err}");
 }
 
 /// `--denoise-kernel` reaches the fallback denoiser's settings (default: the 13-tap diamond,

@@ -294,3 +294,32 @@ fn shading_both_samples_of_a_spatial_merge_keeps_the_mean_and_lowers_the_noise()
     assert!(bias.abs() < 0.05, "{bias}");
     assert!(both < 0.9 * one, "{both} against {one}");
 }
+
+#[test]
+fn the_own_reservoirs_share_keeps_the_mean_and_lowers_the_noise() {
+    let Some(c) = Cornell::new() else { return };
+    let reference = reference(&c, 2, u32::MAX);
+    // The default one-ray merge, shaded from the merge alone and half from the pixel's own
+    // reservoir before it.
+    let run = |share: f32| {
+        let mut s = settings(GiMode::Restir, FrameView::Indirect, DenoiserKind::None);
+        s.restir_gi.own_sample_share = share;
+        let mut r = c.renderer(s);
+        frame_errors(&c, &mut r, &reference, 48, 128)
+    };
+    let ((merge, merge_mean), (blend, blend_mean)) = (run(0.0), run(0.5));
+    let shift = total(&blend_mean) / total(&merge_mean) - 1.0;
+    let bias = total(&blend_mean) / total(&reference) - 1.0;
+    println!(
+        "ReSTIR GI, one frame's relMSE: the merge alone {merge:.5}, half the own reservoir \
+         {blend:.5}; the means' total light {shift:+.4} apart, the blend against the \
+         reference {bias:+.4}"
+    );
+    // Two unbiased estimates blended: the same mean (within the runs' noise and the world
+    // cache's lag, as in `shading_both_samples_...`), less noise in one frame. Five runs
+    // here: the means −1.1% to +0.8% apart, the blend −1.0% to −1.7% against the reference,
+    // one frame's error 0.80–0.87 of the merge's alone.
+    assert!(shift.abs() < 0.02, "{shift}");
+    assert!(bias.abs() < 0.05, "{bias}");
+    assert!(blend < 0.92 * merge, "{blend} against {merge}");
+}

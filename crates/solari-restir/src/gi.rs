@@ -660,6 +660,8 @@ impl RestirGi {
             initial_samples: s.initial_samples,
             history_cap,
             rate_shift: s.rate_shift(),
+            own_share: s.own_sample_share,
+            pad: [0; 3],
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));

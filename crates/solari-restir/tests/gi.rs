@@ -583,6 +583,22 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
         let e = s.validate().expect_err("refused").to_string();
         assert!(e.contains("ReSTIR GI settings"), "{e}");
     }
+    // A share of the pixel's own estimate outside 0..1 (or NaN) is named.
+    for own_sample_share in [f32::NAN, -0.1, 1.5, f32::INFINITY] {
+        let s = RestirGiSettings {
+            own_sample_share,
+            ..Default::default()
+        };
+        let e = s.validate().expect_err("refused").to_string();
+        assert!(e.contains("own_sample_share"), "{e}");
+    }
+    for own_sample_share in [0.0, 0.5, 1.0] {
+        let s = RestirGiSettings {
+            own_sample_share,
+            ..Default::default()
+        };
+        s.validate().unwrap();
+    }
     RestirGiSettings::default().validate().unwrap();
     RestirGiSettings::plain().validate().unwrap();
     // Half or quarter rate, with reuse or without, and with spatial reuse at that rate.
