@@ -437,7 +437,8 @@ pub struct RealtimeArgs {
     pub gi_jacobian_bound: f32,
     /// Which visibility rays ReSTIR GI's spatial reuse traces: chosen (one ray, for the
     /// sample the merge chooses; unbiased), both (the neighbour's sample from the pixel and
-    /// the pixel's from the neighbour; unbiased, the same error as chosen for one more ray)
+    /// the pixel's from the neighbour; unbiased, one more ray, and both samples shaded:
+    /// less noise, most of it colour, see `--gi-shade-both`)
     /// or neighbour (one ray, the neighbour's sample; biased, darkens indirect light near
     /// occluders). `RestirGiSettings::spatial_visibility` gives the measurements.
     #[arg(long, default_value = "chosen", value_parser = values::gi_spatial_visibility)]

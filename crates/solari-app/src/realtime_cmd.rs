@@ -224,7 +224,10 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             (applied.restir_gi.rate.reduced() && applied.restir_gi.half_rate_spatial).into();
         v["gi_ignore_cold_cells"] = applied.restir_gi.ignore_cold_cells.into();
         v["gi_adaptive_cap"] = applied.restir_gi.adaptive_cap.into();
-        v["gi_shade_both"] = applied.restir_gi.shade_both_samples.into();
+        // In effect: it needs two spatial rays.
+        v["gi_shade_both"] = (applied.restir_gi.shade_both_samples
+            && applied.restir_gi.spatial_visibility != solari_restir::SpatialVisibility::Chosen)
+            .into();
         v["gi_own_share"] = applied.restir_gi.own_sample_share.into();
         v["gi_trace_fresh"] = applied.restir_gi.trace_fresh_pixels.into();
         v["gi_shade_apart"] = renderer.gi_settings().is_some_and(|s| s.shade_apart).into();

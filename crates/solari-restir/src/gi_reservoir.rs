@@ -169,7 +169,7 @@ mod tests {
     fn the_expected_light_is_the_chosen_samples_light_averaged_over_the_choice() {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
-        for _ in 0..2000 {
+        for _ in 0..200 {
             let draw = |rng: &mut rand_pcg::Pcg32| {
                 let f = [0, 1, 2].map(|_| rng.random_range(0.0..3.0f32));
                 // The target is the luminance of a larger BRDF than the diffuse part shaded.
@@ -179,17 +179,30 @@ mod tests {
             let (c, o) = (draw(&mut rng), draw(&mut rng));
             let w = (rng.random_range(0.0..5.0f32), rng.random_range(0.0..5.0f32));
             let sum = w.0 + w.1;
-            // What the merge shades: the chosen sample's f · Σw / p̂, chosen with w / Σw.
-            let chosen = |(f, target): ([f32; 3], f32), weight: f32| {
-                f.map(|x| x * sum / target * weight / sum)
-            };
-            let (a, b) = (chosen(c, w.0), chosen(o, w.1));
-            let got = expected_light(w, c, o);
+            // The merge as the spatial pass runs it: o where u·Σw < w_o, else c, and the
+            // chosen sample shaded as f(y) · W with W = Σw / p̂(y). Its mean over many picks
+            // must be the expected light, within five standard errors.
+            let picks = 20_000;
+            let (mut mean, mut square) = ([0.0f64; 3], [0.0f64; 3]);
+            for _ in 0..picks {
+                let (f, target) = if rng.random::<f32>() * sum < w.1 {
+                    o
+                } else {
+                    c
+                };
+                for k in 0..3 {
+                    let light = (f[k] * (sum / target)) as f64;
+                    mean[k] += light / picks as f64;
+                    square[k] += light * light / picks as f64;
+                }
+            }
+            let want = expected_light(w, c, o);
             for k in 0..3 {
-                let want = a[k] + b[k];
+                let error = ((square[k] - mean[k] * mean[k]).max(0.0) / picks as f64).sqrt();
                 assert!(
-                    (got[k] - want).abs() <= 1e-5 * want.max(1.0),
-                    "{got:?} {want}"
+                    (mean[k] - want[k] as f64).abs() <= 5.0 * error + 1e-5,
+                    "channel {k}: picks {} against {want:?} (standard error {error})",
+                    mean[k]
                 );
             }
         }

@@ -181,7 +181,8 @@ pub struct RestirGiSettings {
     /// mean; the blend shades two samples where the merge chose the neighbour's, and the two
     /// estimates' noise is only partly shared. Pixels without a neighbour shade their own
     /// reservoir whatever the share; a merge shaded over its choice holds both samples
-    /// already and ignores it (blended, the Cornell box's raw frame read 2% worse).
+    /// already, in balance, and ignores it (blended, the Cornell box's raw frame read 2% worse
+    /// and `interior`'s 3% better, within the runs' noise).
     ///
     /// On an H200 (the indirect light alone, raw frame 136 at 960×540; `benches/RESULTS.md`,
     /// "Colour noise") the default one-ray merge's relMSE fell from 14.76 to 11.78 ×10⁻³ on the
@@ -292,7 +293,10 @@ impl GiRate {
 /// at 960×540, GI ms at 1920×1080; `benches/RESULTS.md`, "Colour noise") `Both` read relMSE
 /// 9.91 ×10⁻³ on the Cornell box against `Chosen`'s 14.96, for 0.659 ms against 0.577
 /// (1.32× as efficient), and 52.5 against 64.4 on `interior` for 2.471 ms against 1.928
-/// (0.96×), so `Chosen` stays the default.
+/// (0.96×). `Chosen` then gained [`RestirGiSettings::own_sample_share`] (11.78 on the Cornell
+/// box, 57.3 on `interior` for 1.989 ms), which leaves `Both` about 1.05× as efficient on the
+/// Cornell box (`Chosen`'s time there not measured with it) and 0.88× on `interior`:
+/// `Chosen` stays the default.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SpatialVisibility {
     /// Two rays: y_o from the pixel (a hidden y_o cannot be chosen) and y_c from the

@@ -338,6 +338,8 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // the spatial pass's second visibility ray -0.74%; with temporal permutation -0.9 to -1.0%.
     // One-frame RMSE plain 0.044, ReSTIR 0.023. Since emissive hits' reflected light counts
     // (the light's own albedo), one run: plain +0.07%, ReSTIR +0.11%.
+    // (The figures below predate `shade_both_samples` and `own_sample_share`, 2026-11-29,
+    // which lower one frame's error: see the last assertion's note.)
     // The default one spatial ray (`SpatialVisibility::Chosen`), four runs: total light
     // -0.28 to -0.17%, one-frame RMSE 0.0233-0.0249, 256-frame mean 0.0054-0.0056 (two rays,
     // three runs: -0.26 to -0.22%, 0.0235-0.0250, 0.0053-0.0054). Where it chooses the

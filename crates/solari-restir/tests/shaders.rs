@@ -121,6 +121,8 @@ fn gi_entry_points_compose_and_mirrors_match() {
             ),
             ("initial_samples", offset_of!(GpuGiParams, initial_samples)),
             ("history_cap", offset_of!(GpuGiParams, history_cap)),
+            ("rate_shift", offset_of!(GpuGiParams, rate_shift)),
+            ("own_share", offset_of!(GpuGiParams, own_share)),
         ],
     );
 }
