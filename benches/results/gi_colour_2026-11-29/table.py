@@ -36,3 +36,35 @@ for s in ("cornell_box", "interior"):
     for b in ("p", "p2", "p4", "r", "rb", "rbo"):
         e1, e16, t = err[(s, b, "1")], err[(s, b, "16")], ms[(s, b)]
         print(f"| {s} | {names[b]} | {t:.3f} | {e1:.2f} | {e16:.3f} | {e1 * t:.2f} | {base / (e1 * t):.2f} |")
+
+# Call 2 (h200_2/): the pixel's own reservoir's share (`--gi-own-share 0` / `0.5`), with the
+# one-ray merge (r0, r5) and with two rays and both samples shaded (rb0, rb5; since this call
+# the share is ignored there). GI ms: interior from this call's timing (r0 and r5 run the same
+# passes, the share being a uniform); the Cornell box's were not timed in this call.
+rows2 = list(csv.DictReader(open(os.path.join(here, "h200_2/indirect.csv"))))
+times2 = {}
+with tarfile.open(os.path.join(here, "h200_2/time.tar.gz")) as t:
+    for m in t.getmembers():
+        n = os.path.basename(m.name)
+        if not (n.startswith("ab_") and n.endswith(".json")):
+            continue
+        scene, b, _ = n[3:-5].rsplit("_", 2)
+        j = json.load(t.extractfile(m))
+        gi = sum(v["mean_ms"] for k, v in j["passes"].items() if k.startswith("gi_") and v["mean_ms"])
+        times2.setdefault((scene, b), []).append(gi)
+ms2 = {k: statistics.median(v) for k, v in times2.items()}
+err2 = {(r["scene"], r["binary"], r["mean_of"]): 1e3 * float(r["rel_mse_excess"]) for r in rows2}
+names2 = {"r0": "ReSTIR GI, one ray, own share 0", "r5": "ReSTIR GI, one ray, own share 0.5",
+          "rb0": "ReSTIR GI, two rays, both shaded, share 0", "rb5": "two rays, both shaded, share 0.5 (blended)"}
+print()
+print("| scene | mode | GI ms | raw f136 | raw mean of 16 | f136 × ms | equal-time factor vs path GI |")
+print("|---|---|---|---|---|---|---|")
+for s in ("cornell_box", "interior"):
+    base = err[(s, "p", "1")] * ms[(s, "p")]
+    for b in ("r0", "r5", "rb0", "rb5"):
+        e1, e16 = err2[(s, b, "1")], err2[(s, b, "16")]
+        t = ms2.get((s, b))
+        if t is None:
+            print(f"| {s} | {names2[b]} | (not timed) | {e1:.2f} | {e16:.3f} | | |")
+        else:
+            print(f"| {s} | {names2[b]} | {t:.3f} | {e1:.2f} | {e16:.3f} | {e1 * t:.2f} | {base / (e1 * t):.2f} |")
