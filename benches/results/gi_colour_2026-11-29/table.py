@@ -7,18 +7,26 @@ candidate path GI (its relMSE x ms over the row's). Usage: python3 table.py"""
 import csv, io, json, os, statistics, tarfile
 
 here = os.path.dirname(os.path.abspath(__file__))
+
+
+def gi_ms(folder):
+    """Median over reps of each (scene, binary)'s GI passes' summed mean GPU ms."""
+    times = {}
+    with tarfile.open(os.path.join(here, folder, "time.tar.gz")) as t:
+        for m in t.getmembers():
+            n = os.path.basename(m.name)
+            if not (n.startswith("ab_") and n.endswith(".json")):
+                continue
+            scene, b, _ = n[3:-5].rsplit("_", 2)
+            j = json.load(t.extractfile(m))
+            passes = j["passes"].items()
+            gi = sum(v["mean_ms"] for k, v in passes if k.startswith("gi_") and v["mean_ms"])
+            times.setdefault((scene, b), []).append(gi)
+    return {k: statistics.median(v) for k, v in times.items()}
+
+
 rows = list(csv.DictReader(open(os.path.join(here, "h200_1/indirect.csv"))))
-times = {}
-with tarfile.open(os.path.join(here, "h200_1/time.tar.gz")) as t:
-    for m in t.getmembers():
-        n = os.path.basename(m.name)
-        if not (n.startswith("ab_") and n.endswith(".json")):
-            continue
-        scene, b, _ = n[3:-5].rsplit("_", 2)
-        j = json.load(t.extractfile(m))
-        gi = sum(v["mean_ms"] for k, v in j["passes"].items() if k.startswith("gi_") and v["mean_ms"])
-        times.setdefault((scene, b), []).append(gi)
-ms = {k: statistics.median(v) for k, v in times.items()}
+ms = gi_ms("h200_1")
 # One-candidate path GI's GI pass (not in this call's timing): the forty-fifth session's
 # (gi_indirect_2026-11-29/table.md, the same pass).
 ms[("cornell_box", "p")] = 0.217
@@ -42,17 +50,7 @@ for s in ("cornell_box", "interior"):
 # the share is ignored there). GI ms: interior from this call's timing (r0 and r5 run the same
 # passes, the share being a uniform); the Cornell box's were not timed in this call.
 rows2 = list(csv.DictReader(open(os.path.join(here, "h200_2/indirect.csv"))))
-times2 = {}
-with tarfile.open(os.path.join(here, "h200_2/time.tar.gz")) as t:
-    for m in t.getmembers():
-        n = os.path.basename(m.name)
-        if not (n.startswith("ab_") and n.endswith(".json")):
-            continue
-        scene, b, _ = n[3:-5].rsplit("_", 2)
-        j = json.load(t.extractfile(m))
-        gi = sum(v["mean_ms"] for k, v in j["passes"].items() if k.startswith("gi_") and v["mean_ms"])
-        times2.setdefault((scene, b), []).append(gi)
-ms2 = {k: statistics.median(v) for k, v in times2.items()}
+ms2 = gi_ms("h200_2")
 err2 = {(r["scene"], r["binary"], r["mean_of"]): 1e3 * float(r["rel_mse_excess"]) for r in rows2}
 names2 = {"r0": "ReSTIR GI, one ray, own share 0", "r5": "ReSTIR GI, one ray, own share 0.5",
           "rb0": "ReSTIR GI, two rays, both shaded, share 0", "rb5": "two rays, both shaded, share 0.5 (blended)"}
