@@ -230,7 +230,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             .into();
         v["gi_own_share"] = applied.restir_gi.own_sample_share.into();
         v["gi_trace_fresh"] = applied.restir_gi.trace_fresh_pixels.into();
-        v["gi_shade_apart"] = renderer.gi_settings().is_some_and(|s| s.shade_apart).into();
+        // In effect, as the passes are built (one candidate, no reuse).
+        v["gi_shade_apart"] = renderer.gi_shades_apart().into();
         v["cache_light_change_frames"] = applied.cache.light_change_frames.into();
         v["cache_warm_up"] = applied.cache.warm_up_exponent.into();
         v["cache_warm_up_rounds"] = applied.cache.warm_up_rounds.into();

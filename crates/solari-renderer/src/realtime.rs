@@ -1398,6 +1398,13 @@ impl RealtimeRenderer {
         self.gi.as_ref().map(|(gi, _)| gi.settings())
     }
 
+    /// Whether plain path GI shades in a second dispatch as its pipelines are built
+    /// ([`solari_restir::RestirGi::shades_apart`]: never with reuse or with more than one
+    /// candidate, whatever [`RestirGiSettings::shade_apart`] says); false without traced GI.
+    pub fn gi_shades_apart(&self) -> bool {
+        self.gi.as_ref().is_some_and(|(gi, _)| gi.shades_apart())
+    }
+
     /// Changes ReSTIR GI's settings (history is kept). With [`GiMode::Path`] reuse stays
     /// off whatever `settings` say; without a traced GI mode only the stored settings change.
     pub fn set_gi_settings(&mut self, settings: RestirGiSettings) -> Result<(), GpuError> {

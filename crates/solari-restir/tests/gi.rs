@@ -812,6 +812,19 @@ fn plain_path_gi_shaded_apart_matches_shaded_where_traced() {
         }),
     );
     assert!(!reuse.gi.shades_apart());
+    // Nor with several candidates: their average exists only in the tracing dispatch, so the
+    // pass shades there, and a switch to one candidate builds the pass apart again.
+    let several = RestirGiSettings {
+        initial_samples: 4,
+        ..apart
+    };
+    let mut multi = setup(&gpu, &scene, size, Mode::Gi(several));
+    multi.frame(&gpu, &scene);
+    assert!(!multi.gi.shades_apart() && multi.gi.initial_multi_candidate());
+    multi.gi.set_settings(apart).expect("valid settings");
+    multi.mode = Mode::Gi(apart);
+    multi.frame(&gpu, &scene);
+    assert!(multi.gi.shades_apart() && !multi.gi.initial_multi_candidate());
 }
 
 /// Two runs of plain path GI that must trace the same samples and add the same light. Their
