@@ -4,25 +4,17 @@ relMSE x 10^3 without the reference's noise (indirect.csv), the GI passes' GPU m
 time and the rbo time are the forty-fifth session's and this call's rb's), the product of
 the two (relMSE x ms: lower is more efficient) and the factor at equal time against one-
 candidate path GI (its relMSE x ms over the row's). Usage: python3 table.py"""
-import csv, io, json, os, statistics, tarfile
+import csv, os, statistics, sys
 
 here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.dirname(here))
+import ab_runs  # noqa: E402 (benches/results/ab_runs.py)
 
 
 def gi_ms(folder):
     """Median over reps of each (scene, binary)'s GI passes' summed mean GPU ms."""
-    times = {}
-    with tarfile.open(os.path.join(here, folder, "time.tar.gz")) as t:
-        for m in t.getmembers():
-            n = os.path.basename(m.name)
-            if not (n.startswith("ab_") and n.endswith(".json")):
-                continue
-            scene, b, _ = n[3:-5].rsplit("_", 2)
-            j = json.load(t.extractfile(m))
-            passes = j["passes"].items()
-            gi = sum(v["mean_ms"] for k, v in passes if k.startswith("gi_") and v["mean_ms"])
-            times.setdefault((scene, b), []).append(gi)
-    return {k: statistics.median(v) for k, v in times.items()}
+    runs = ab_runs.runs_in_tarball(os.path.join(here, folder, "time.tar.gz"))
+    return {k: statistics.median(ab_runs.gi_ms(j) for j in v) for k, v in runs.items()}
 
 
 rows = list(csv.DictReader(open(os.path.join(here, "h200_1/indirect.csv"))))

@@ -3,16 +3,11 @@
 # is against the 4096-spp reference; "floor" is that reference's own noise term, estimated as
 # relMSE(1024 spp, 4096 spp) / 3 (nested samples: the 1024-spp image's noise term v, the
 # two differ by 3v/4, the 4096-spp image's is v/4); "excess" is relMSE - floor.
-import csv, glob, json, re, statistics, tarfile, io, collections
-times = collections.defaultdict(list)
-with tarfile.open('time/time.tar.gz') as t:
-    for m in t.getmembers():
-        g = re.match(r'\./ab_(.+)_(\w+)_(\d+)\.json$', m.name)
-        if not g: continue
-        s, b, _ = g.groups()
-        j = json.load(t.extractfile(m))
-        gi = sum(v['mean_ms'] for k, v in j['passes'].items() if k.startswith('gi') and v['mean_ms'] is not None)
-        times[(s, b)].append((gi, j['gpu_frame_ms'], j['wall_frame_ms']))
+import csv, glob, json, re, statistics, tarfile, io, collections, sys
+sys.path.insert(0, '..')
+import ab_runs
+times = {k: [(ab_runs.gi_ms(j), j['gpu_frame_ms'], j['wall_frame_ms']) for j in v]
+         for k, v in ab_runs.runs_in_tarball('time/time.tar.gz').items()}
 med = lambda k, i: statistics.median(x[i] for x in times[k])
 rows = []
 for f in glob.glob('still/*/still.csv'):

@@ -6,17 +6,11 @@
 # references, denoised (fallback) against jittered ones, 4096 paths each.
 # "new": the adaptive cap stops on settled views (4d1c202); "old": always on (3415810, and the
 # N wrappers: --gi-adaptive-cap-settle never).
-import csv, json, re, statistics, tarfile, collections, math
-times = collections.defaultdict(list)
-with tarfile.open('../gi_default_2026-11-29/time/time.tar.gz') as t:
-    for m in t.getmembers():
-        g = re.match(r'\./ab_(.+)_(\w+)_(\d+)\.json$', m.name)
-        if not g: continue
-        s, b, _ = g.groups()
-        j = json.load(t.extractfile(m))
-        times[(s, b)].append(sum(v['mean_ms'] for k, v in j['passes'].items()
-                                 if k.startswith('gi') and v['mean_ms'] is not None))
-gi_ms = lambda s, b: statistics.median(times[(s, b.rstrip('N'))])
+import csv, json, re, statistics, tarfile, collections, math, sys
+sys.path.insert(0, '..')
+import ab_runs
+runs = ab_runs.runs_in_tarball('../gi_default_2026-11-29/time/time.tar.gz')
+gi_ms = lambda s, b: statistics.median(ab_runs.gi_ms(j) for j in runs[(s, b.rstrip('N'))])
 def load(path, tag, rename=None):
     out = {}
     for r in csv.DictReader(open(path)):
