@@ -432,6 +432,10 @@ pub struct RealtimeArgs {
     /// ReSTIR GI's first spatial search radius, in pixels.
     #[arg(long, default_value_t = 30.0, value_parser = values::finite)]
     pub gi_spatial_radius: f32,
+    /// ReSTIR GI: the most confidence (frames' worth of samples) a history carries into a
+    /// frame. `RestirGiSettings::confidence_cap`.
+    #[arg(long, default_value_t = 8.0, value_parser = values::finite)]
+    pub gi_confidence_cap: f32,
     /// ReSTIR GI refuses reuse where a reconnection Jacobian exceeds this.
     #[arg(long, default_value_t = 2.0, value_parser = values::finite)]
     pub gi_jacobian_bound: f32,
@@ -455,6 +459,11 @@ pub struct RealtimeArgs {
     /// `RestirGiSettings::own_sample_share`.
     #[arg(long, default_value_t = 0.5, value_parser = values::finite)]
     pub gi_own_share: f32,
+    /// ReSTIR GI: next frame's history is the spatial merge's reservoir (on), or the pixel's
+    /// own from before spatial reuse (off). `RestirGiSettings::spatial_history`.
+    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
+          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
+    pub gi_spatial_history: bool,
     /// GI candidate rays per pixel (1–16): more samples per pixel for plain path GI (their
     /// average is shaded), better initial samples for ReSTIR GI (resampled to one by the
     /// target function).
@@ -677,11 +686,13 @@ impl RealtimeArgs {
             restir_gi: RestirGiSettings {
                 spatial_radius: self.gi_spatial_radius,
                 jacobian_bound: self.gi_jacobian_bound,
+                confidence_cap: self.gi_confidence_cap,
                 permutation_sampling: self.gi_permutation,
                 initial_samples: self.gi_samples,
                 spatial_visibility: self.gi_spatial_visibility,
                 shade_both_samples: self.gi_shade_both,
                 own_sample_share: self.gi_own_share,
+                spatial_history: self.gi_spatial_history,
                 rate: match (self.gi_half_rate, self.gi_quarter_rate) {
                     (_, true) => GiRate::Quarter,
                     (true, false) => GiRate::Half,

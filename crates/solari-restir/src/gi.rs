@@ -620,6 +620,9 @@ impl RestirGi {
         if s.shade_both_samples && s.spatial_visibility != SpatialVisibility::Chosen {
             bits |= flags::SHADE_BOTH;
         }
+        if s.spatial_history {
+            bits |= flags::SPATIAL_HISTORY;
+        }
         if s.rate.reduced() {
             bits |= flags::HALF_RATE;
         }

@@ -190,6 +190,12 @@ pub struct RestirGiSettings {
     /// spatial pass read 0.974 ms on `interior` at 1920×1080 against 0.916 without this code
     /// (another machine of the same kind), the cost of evaluating the own sample again.
     pub own_sample_share: f32,
+    /// Next frame's history is the reservoir spatial reuse made (true, the seeds' way), or
+    /// the pixel's own from before it (false), so that each pixel's temporal chain holds its
+    /// own samples and spatial reuse only shades. Fed back, a neighbour's reservoir comes
+    /// back through the merges with its confidence counted again each frame: the same
+    /// samples counted as independent evidence, and neighbours left holding one sample.
+    pub spatial_history: bool,
 }
 
 /// How many of the pixels trace GI rays each frame ([`RestirGiSettings::rate`]). At a reduced
@@ -361,6 +367,7 @@ impl Default for RestirGiSettings {
             shade_apart: false,
             shade_both_samples: true,
             own_sample_share: 0.5,
+            spatial_history: true,
         }
     }
 }
@@ -441,6 +448,8 @@ pub(crate) mod flags {
     pub const INDIRECT_ONLY: u32 = 2048;
     /// [`super::RestirGiSettings::shade_both_samples`] (with two spatial rays).
     pub const SHADE_BOTH: u32 = 4096;
+    /// GI_FLAG_SPATIAL_HISTORY: [`RestirGiSettings::spatial_history`].
+    pub const SPATIAL_HISTORY: u32 = 8192;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.
