@@ -320,6 +320,15 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
                 ..Default::default()
             }),
         ),
+        (
+            "restir, own history",
+            Mode::Gi(RestirGiSettings {
+                spatial_radius: 3.0,
+                spatial_history: false,
+                adaptive_cap: false,
+                ..Default::default()
+            }),
+        ),
     ];
     for (name, mode) in modes {
         let mut s = setup(&gpu, &scene, size, mode);
@@ -380,7 +389,8 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         results[0], results[1], results[2], results[5], results[6], results[7], results[8],
         results[9],
     );
-    let (quarter, restir_quarter, adaptive) = (results[10], results[11], results[12]);
+    let (quarter, restir_quarter, adaptive, own_history) =
+        (results[10], results[11], results[12], results[13]);
     assert!(
         adaptive.3.abs() < 0.01,
         "{}: total light off by {:+.2}%",
@@ -401,6 +411,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         (half_spatial, 1.5, 0.005),
         (quarter, 1.75, 0.0065),
         (restir_quarter, 1.75, 0.0065),
+        (own_history, 1.5, 0.005),
     ] {
         // All estimate the cache-terminated bounce without bias.
         assert!(
@@ -428,6 +439,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         half_spatial,
         restir_quarter,
         adaptive,
+        own_history,
     ] {
         assert!(
             gi.1 < 0.7 * plain.1,
@@ -1462,5 +1474,41 @@ fn the_adaptive_cap_runs_until_the_view_settles() {
         };
         let mut s = setup(&gpu, &scene, 16, Mode::Gi(settings));
         assert!(run(&mut s, 8, &camera).iter().all(|&on| on == expected));
+    }
+}
+
+/// `spatial_history` off: next frame's history is the pixel's own reservoir from before
+/// spatial reuse, the temporal merge's output bit for bit; on (the default), the merge's,
+/// which differs wherever a neighbour's sample was chosen or the confidences were summed.
+#[test]
+fn the_history_is_the_spatial_merge_or_the_pixels_own() {
+    let Some(gpu) = test_gpu() else { return };
+    let scene = default_scene::cornell_box();
+    for spatial_history in [false, true] {
+        let settings = RestirGiSettings {
+            spatial_history,
+            ..Default::default()
+        };
+        let (mut s, scratch) = setup_reading_initial(&gpu, &scene, 32, settings);
+        for _ in 0..6 {
+            s.frame(&gpu, &scene);
+        }
+        let own = initial_reservoirs(&gpu, &s, &scratch);
+        let history: Vec<solari_restir::GpuGiReservoir> = gpu
+            .read_buffer(s.gi.reservoirs(), s.gi.scratch_bytes())
+            .unwrap()
+            .chunks_exact(size_of::<solari_restir::GpuGiReservoir>())
+            .map(bytemuck::pod_read_unaligned)
+            .collect();
+        let differ = own
+            .iter()
+            .zip(&history)
+            .filter(|(a, b)| bytemuck::bytes_of(*a) != bytemuck::bytes_of(*b))
+            .count();
+        if spatial_history {
+            assert!(differ > own.len() / 4, "{differ} of {} differ", own.len());
+        } else {
+            assert_eq!(differ, 0, "the history must be the own reservoirs");
+        }
     }
 }
