@@ -186,9 +186,11 @@ pub struct RestirGiSettings {
     ///
     /// On an H200 (the indirect light alone, raw frame 136 at 960×540; `benches/RESULTS.md`,
     /// "Colour noise") the default one-ray merge's relMSE fell from 14.76 to 11.78 ×10⁻³ on the
-    /// Cornell box and from 65.5 to 57.3 on `interior` (16-frame means −4% and −5%); the
-    /// spatial pass read 0.974 ms on `interior` at 1920×1080 against 0.916 without this code
-    /// (another machine of the same kind), the cost of evaluating the own sample again.
+    /// Cornell box and from 65.5 to 57.3 on `interior` (16-frame means −4% and −5%). The own
+    /// sample's value comes from the merge's terms, so the blend costs a multiply-add: when
+    /// it was evaluated again the spatial pass read 0.967 ms on `interior` at 1920×1080 and
+    /// 0.282 on the Cornell box, now 0.926 and 0.274 (`benches/RESULTS.md`, "The spatial
+    /// merge as history").
     pub own_sample_share: f32,
     /// Next frame's history is the reservoir spatial reuse made (true, the default and the
     /// seeds' way), or the pixel's own from before it (false), so that each pixel's temporal
