@@ -155,6 +155,19 @@ fn gi_spatial_visibility_reaches_the_settings() {
     assert_eq!(share(&["--gi-own-share", "0"]), 0.0);
     let err = settings_error(&["--gi-own-share", "2"]);
     assert!(err.contains("own_sample_share"), "{err}");
+    // The history is the spatial merge's unless switched off; the confidence cap is the
+    // library's unless given, and one under 1 is refused by name.
+    let defaults = solari_restir::RestirGiSettings::default();
+    let history = |args: &[&str]| settings(args).restir_gi.spatial_history;
+    assert_eq!(history(&[]), defaults.spatial_history);
+    assert!(history(&[]));
+    assert!(!history(&["--gi-spatial-history", "off"]));
+    assert!(history(&["--gi-spatial-history"]), "the bare flag means on");
+    let cap = |args: &[&str]| settings(args).restir_gi.confidence_cap;
+    assert_eq!(cap(&[]), defaults.confidence_cap);
+    assert_eq!(cap(&["--gi-confidence-cap", "4"]), 4.0);
+    let err = settings_error(&["--gi-confidence-cap", "0.5"]);
+    assert!(err.contains("confidence_cap"), "{err}");
 }
 
 /// `--denoise-kernel` reaches the fallback denoiser's settings (default: the 13-tap diamond,
