@@ -8,7 +8,7 @@
 # .dev/SOLARI_COMMIT). Output: $OUT/rays.jsonl (each line tagged "binary" and "rep") and a
 # table of medians (ms of each ray kind, build seconds).
 # Usage: RUNS="solari_a:very-slow solari_b:very-slow:medium,very-slow" REPS=3 bash benches/results/bench_rays_ab.sh
-set -u
+set -u -o pipefail
 source benches/results/device_env.sh
 unpack_bins
 mkdir -p "$OUT"

@@ -32,7 +32,8 @@ v own_both_cap16 --gi-spatial-history off --gi-confidence-cap 16 --gi-spatial-vi
 v own_cap4 --gi-spatial-history off --gi-confidence-cap 4
 for c in 4 16 32; do v cap$c --gi-confidence-cap $c; done
 python3 "$(dirname "$0")/../gi_colour_2026-11-29/split.py" "$W/ref.exr" "$W/var.exr" "${imgs[@]}"
-python3 - "$W/ref.exr" "$W"/hm_*.exr <<'PY'
+means=(); for f in "${imgs[@]}"; do case $f in */hm_*) means+=("$f") ;; esac; done
+python3 - "$W/ref.exr" "${means[@]}" <<'PY'
 import OpenEXR, numpy as np, sys
 def load(p):
     ch = OpenEXR.File(p).channels(); k = 'RGB' if 'RGB' in ch else 'RGBA'

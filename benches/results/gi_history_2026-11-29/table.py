@@ -1,7 +1,7 @@
 """The tables of benches/RESULTS.md's "The spatial merge as history" section. Call 1 (h200_1/):
 GI alone, raw (`--view indirect --denoiser none`), relMSE x 10^3 without the reference's noise,
 frame 136 and the mean of frames 121-136, with the GI passes' GPU ms at 1920x1080 (medians of
-two reps; ro's and rob's passes are r's and rb's, the history choice being a flag) and the
+two reps; ro16's and rob's passes are ro's and rb's, which differ only in uniforms) and the
 product relMSE x ms against one-candidate path GI's. Call 2 (h200_2/): the lit frame with the
 fallback denoiser against a full-bounce reference (relMSE x 10^3 without its noise), and the
 orbit camera's relMSE at frames 32 and 96. Call 3 (h200_3/): the own share's cost, the spatial

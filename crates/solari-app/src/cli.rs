@@ -504,7 +504,7 @@ pub struct RealtimeArgs {
     pub gi_ignore_cold_cells: bool,
     /// ReSTIR GI: temporal reuse caps the history's confidence lower where the world cache
     /// saw the reused sample's light changing when it was traced, as it does while the cache
-    /// fills (on by default; `--gi-adaptive-cap off` keeps the fixed cap of 8). See
+    /// fills (on by default; `--gi-adaptive-cap off` keeps the fixed `--gi-confidence-cap`). See
     /// `RestirGiSettings::adaptive_cap`.
     #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
           value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]

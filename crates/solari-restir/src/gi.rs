@@ -33,7 +33,9 @@
 //!    comparable by the reconnection Jacobian in both directions; reuse is refused where
 //!    either Jacobian exceeds [`RestirGiSettings::jacobian_bound`]. The CPU twin is
 //!    [`crate::gi_reservoir`].
-//! 5. The merged reservoir is stored for the next frame, then shaded: its contribution
+//! 5. The merged reservoir is stored for the next frame
+//!    ([`RestirGiSettings::spatial_history`]; off, the pixel's own from before spatial
+//!    reuse is), then shaded: its contribution
 //!    times W is added to the target image, blended half and half with the pixel's own
 //!    reservoir's from before spatial reuse
 //!    ([`RestirGiSettings::own_sample_share`]), or, with two spatial rays, both samples
@@ -779,8 +781,10 @@ impl RestirGi {
     }
 
     /// This frame's final reservoirs ([`GpuGiReservoir`] per pixel, row by row), which the
-    /// next frame reuses (built without reuse: the one reservoir buffer, where each pixel's
-    /// shade stored its sample back); layout for the non-finite detector:
+    /// next frame reuses and specular GI's rough pixels shade: the spatial merge's, or with
+    /// [`RestirGiSettings::spatial_history`] off each pixel's own from before spatial reuse
+    /// (built without reuse: the one reservoir buffer, where each pixel's shade stored its
+    /// sample back); layout for the non-finite detector:
     /// [`crate::gi_reservoir::gi_reservoir_check`].
     pub fn reservoirs(&self) -> &wgpu::Buffer {
         let (history, initial) = self.buffers.as_ref().expect("resize allocates");

@@ -197,7 +197,8 @@ pub struct RestirGiSettings {
     /// chain holds its own samples and spatial reuse only shades. Fed back, the spatial
     /// merge's reservoir returns through later merges with its confidence counted again, so
     /// neighbours come to hold the same samples; kept apart, one frame is less noisy but a
-    /// pixel's frames are more alike.
+    /// pixel's frames are more alike. Specular GI's rough pixels shade the same reservoirs
+    /// ([`crate::RestirGi::reservoirs`]), so off they too shade each pixel's own.
     ///
     /// On an H200 (`benches/RESULTS.md`, "The spatial merge as history"; the indirect light
     /// alone at 960×540, relMSE ×10⁻³ without the reference's noise, the one-ray default
@@ -458,7 +459,7 @@ pub(crate) mod flags {
     pub const INDIRECT_ONLY: u32 = 2048;
     /// [`super::RestirGiSettings::shade_both_samples`] (with two spatial rays).
     pub const SHADE_BOTH: u32 = 4096;
-    /// GI_FLAG_SPATIAL_HISTORY: [`RestirGiSettings::spatial_history`].
+    /// GI_FLAG_SPATIAL_HISTORY: [`super::RestirGiSettings::spatial_history`].
     pub const SPATIAL_HISTORY: u32 = 8192;
 }
 

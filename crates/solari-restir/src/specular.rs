@@ -8,7 +8,8 @@
 //!
 //! - **Rough pixels** (perceptual roughness above
 //!   [`SpecularGiSettings::rough_threshold`], when ReSTIR GI ran this frame) trace nothing:
-//!   they weigh this frame's final GI reservoir by the specular lobe, `L · f_spec · cos · W`.
+//!   they weigh this frame's final GI reservoir ([`crate::RestirGi::reservoirs`]) by the
+//!   specular lobe, `L · f_spec · cos · W`.
 //!   ReSTIR GI's target function includes the specular lobe, so its reservoirs also serve
 //!   rough metals, which have no diffuse lobe.
 //! - **Other pixels** trace a path. The first direction samples the specular lobe alone

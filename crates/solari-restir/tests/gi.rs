@@ -385,6 +385,9 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // the one-ray default 0.0051-0.0056 (up to 1.19 against CI's). Each bound leaves CI's
     // spread room: plain 1.25, both ReSTIR variants 1.35 (the biased spatial mode reads
     // 0.0052-0.0059 here too; bias is the total-light check's to catch, not this one's).
+    // The pixel's own reservoir as history (`spatial_history` off), 2026-11-29, one run: total
+    // light -0.11% (cache -0.32%), one-frame RMSE 0.0184 (the adaptive-cap defaults 0.0201),
+    // 256-frame mean 0.0057 (1.19 of cache GI's 0.0048; its frames are more alike).
     let (cache, plain, restir, plain4, chosen, half, restir_half, half_spatial) = (
         results[0], results[1], results[2], results[5], results[6], results[7], results[8],
         results[9],
@@ -411,7 +414,7 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
         (half_spatial, 1.5, 0.005),
         (quarter, 1.75, 0.0065),
         (restir_quarter, 1.75, 0.0065),
-        (own_history, 1.5, 0.005),
+        (own_history, 1.35, 0.005),
     ] {
         // All estimate the cache-terminated bounce without bias.
         assert!(
