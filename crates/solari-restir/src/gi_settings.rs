@@ -500,3 +500,47 @@ pub struct GpuGiParams {
 }
 
 const _: () = assert!(size_of::<GpuGiParams>() == 64);
+
+#[cfg(test)]
+mod tests {
+    use super::flags;
+    use crate::settings::flags as shared;
+
+    /// Every `GI_FLAG_*` that `restir_gi.wesl` declares has its Rust twin with the same bit,
+    /// and every Rust GI flag has its WGSL one: a flag set on one side only would switch on
+    /// nothing, or something else.
+    #[test]
+    fn gi_flags_match_the_shader() {
+        let rust = [
+            ("TEMPORAL", shared::TEMPORAL),
+            ("SPATIAL", shared::SPATIAL),
+            ("PERMUTATION", shared::PERMUTATION),
+            ("HISTORY", shared::HISTORY),
+            ("UNBIASED_SPATIAL", flags::UNBIASED_SPATIAL),
+            ("HALF_RATE", flags::HALF_RATE),
+            ("IGNORE_COLD", flags::IGNORE_COLD),
+            ("ADAPTIVE_CAP", flags::ADAPTIVE_CAP),
+            ("TRACE_FRESH", flags::TRACE_FRESH),
+            ("INDIRECT_ONLY", flags::INDIRECT_ONLY),
+            ("SHADE_BOTH", flags::SHADE_BOTH),
+            ("SPATIAL_HISTORY", flags::SPATIAL_HISTORY),
+        ];
+        let wgsl: Vec<(&str, u32)> = include_str!("../shaders/restir_gi.wesl")
+            .lines()
+            .filter_map(|line| {
+                let rest = line.trim().strip_prefix("const GI_FLAG_")?;
+                let (name, value) = rest.split_once(": u32 = ")?;
+                Some((name, value.strip_suffix("u;")?.parse().ok()?))
+            })
+            .collect();
+        assert_eq!(wgsl.len(), rust.len(), "WGSL declares {wgsl:?}");
+        for (name, bit) in rust {
+            let found = wgsl.iter().find(|(n, _)| *n == name).map(|f| f.1);
+            assert_eq!(found, Some(bit), "GI_FLAG_{name}");
+        }
+        let mut bits: Vec<u32> = rust.iter().map(|r| r.1).collect();
+        bits.sort_unstable();
+        bits.dedup();
+        assert_eq!(bits.len(), rust.len(), "two flags share a bit");
+    }
+}
