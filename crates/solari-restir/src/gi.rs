@@ -35,17 +35,17 @@
 //!    [`crate::gi_reservoir`].
 //! 5. The merged reservoir is stored for the next frame
 //!    ([`RestirGiSettings::spatial_history`]; off, the pixel's own from before spatial
-//!    reuse is), then shaded: its contribution
-//!    times W is added to the target image, blended half and half with the pixel's own
-//!    reservoir's from before spatial reuse
-//!    ([`RestirGiSettings::own_sample_share`]), or, with two spatial rays, both samples
-//!    of the merge by their resampling weights
+//!    reuse is), then shaded: its contribution times W is added to the target image,
+//!    blended with the pixel's own reservoir's from before spatial reuse (half and half by
+//!    default, [`RestirGiSettings::own_sample_share`]), or, with two spatial rays, both
+//!    samples of the merge by their resampling weights
 //!    ([`RestirGiSettings::shade_both_samples`]): one shaded sample keeps the colour of
 //!    the surface it came from. Diffuse lobe only; smooth metals (metallic > 0.9999,
 //!    roughness ≤ 0.4) skip the passes.
 //!
 //! With [`RestirGiSettings::plain`] (no reuse) this is plain path GI: the initial sample shaded
-//! as it is (several candidates: their average), an unbiased estimate of the cache-terminated bounce, in one pass
+//! as it is (several candidates: their average), an unbiased estimate of the
+//! cache-terminated bounce, in one pass
 //! (`gi_initial_temporal` shades; `gi_spatial_shade` does not run). At
 //! [`GiRate::Half`](crate::GiRate::Half), with reuse or without, each frame only half the
 //! pixels (a checkerboard that flips every frame) trace, at twice the weight; the others draw

@@ -310,10 +310,11 @@ impl GiRate {
 /// at 960×540, GI ms at 1920×1080; `benches/RESULTS.md`, "Colour noise") `Both` read relMSE
 /// 9.91 ×10⁻³ on the Cornell box against `Chosen`'s 14.96, for 0.659 ms against 0.577
 /// (1.32× as efficient), and 52.5 against 64.4 on `interior` for 2.471 ms against 1.928
-/// (0.96×). `Chosen` then gained [`RestirGiSettings::own_sample_share`] (11.78 on the Cornell
-/// box, 57.3 on `interior` for 1.989 ms), which leaves `Both` about 1.05× as efficient on the
-/// Cornell box (`Chosen`'s time there not measured with it) and 0.88× on `interior`:
-/// `Chosen` stays the default.
+/// (0.96×). `Chosen` then gained [`RestirGiSettings::own_sample_share`]; measured again
+/// with it (`benches/RESULTS.md`, "The spatial merge as history": errors from one call, GI
+/// ms from another) `Chosen` read 11.68 on the Cornell box for 0.579 ms and 56.6 on
+/// `interior` for 1.938 ms, `Both` 9.90 for 0.669 and 52.0 for 2.519: `Both` 1.02× as
+/// efficient on the Cornell box, 0.84× on `interior`. `Chosen` stays the default.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum SpatialVisibility {
     /// Two rays: y_o from the pixel (a hidden y_o cannot be chosen) and y_c from the

@@ -89,7 +89,16 @@ fn initial_reservoirs(
     s: &Setup,
     scratch: &wgpu::Buffer,
 ) -> Vec<solari_restir::GpuGiReservoir> {
-    gpu.read_buffer(scratch, s.gi.scratch_bytes())
+    reservoirs_in(gpu, s, scratch)
+}
+
+/// The per-pixel reservoirs `buffer` holds (the scratch's or [`RestirGi::reservoirs`]).
+fn reservoirs_in(
+    gpu: &Gpu,
+    s: &Setup,
+    buffer: &wgpu::Buffer,
+) -> Vec<solari_restir::GpuGiReservoir> {
+    gpu.read_buffer(buffer, s.gi.scratch_bytes())
         .unwrap()
         .chunks_exact(size_of::<solari_restir::GpuGiReservoir>())
         .map(bytemuck::pod_read_unaligned)
@@ -1497,12 +1506,7 @@ fn the_history_is_the_spatial_merge_or_the_pixels_own() {
             s.frame(&gpu, &scene);
         }
         let own = initial_reservoirs(&gpu, &s, &scratch);
-        let history: Vec<solari_restir::GpuGiReservoir> = gpu
-            .read_buffer(s.gi.reservoirs(), s.gi.scratch_bytes())
-            .unwrap()
-            .chunks_exact(size_of::<solari_restir::GpuGiReservoir>())
-            .map(bytemuck::pod_read_unaligned)
-            .collect();
+        let history = reservoirs_in(&gpu, &s, s.gi.reservoirs());
         let differ = own
             .iter()
             .zip(&history)
