@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Persistent threads with dynamic ray fetch against the inline ray bench (device: H200).
+# Needs binaries built from 5684a92 (`bench-rays --schedules`, reverted after this measurement;
+# persistent_schedule.patch).
 # bench-rays, 1920x1080 primary + one cosine hemisphere ray per pixel, 200 frames, software
 # tracing, on the 8.4M-triangle heightfield (very-slow build; tray_racing's seed and camera)
 # and interior (merged, medium and very-slow), every schedule in $SCHEDULES measured on the same

@@ -149,7 +149,6 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                 .map_err(|e| e.to_string())?,
         ],
     };
-    let schedules = args.schedules()?;
     let camera = args.scene.pick_camera(&name, &scene)?;
     let tris = scene.stats().triangles;
     if !args.json {
@@ -158,9 +157,9 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             gpu.info.name
         );
         println!(
-            "| backend | preset | checks | traversal | schedule | BVH build s | build Mtri/s | primary ms | primary Grays/s | primary+hemi ms | rays/frame | Grays/s |"
+            "| backend | preset | checks | traversal | BVH build s | build Mtri/s | primary ms | primary Grays/s | primary+hemi ms | rays/frame | Grays/s |"
         );
-        println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+        println!("|---|---|---|---|---|---|---|---|---|---|---|");
     }
     for backend in backends {
         // Ray queries build their own structure: one row, whatever the presets.
@@ -213,44 +212,39 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
                     }
                 }
                 for (checks, variant) in variants {
-                    for &schedule in &schedules {
-                        let pass =
-                            ViewPass::ray_bench_scheduled(&gpu, backend, checks, variant, schedule)
-                                .map_err(|e| e.to_string())?;
-                        // The general pipeline on a merged scene reads the merge flag at run time.
-                        let traversal = match (variant, gs.is_merged()) {
-                            (TraceVariant::General, true) => "two-level code, merged BVH",
-                            _ => variant.name(),
-                        };
-                        let mut view = GpuView::new(&camera, w, h);
-                        view.view_mode = 0;
-                        let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;
-                        view.view_mode = 1;
-                        let both = measure(&gpu, &pass, &gs, &view, args.frames)?;
-                        let primary_rate =
-                            primary.rays_per_frame as f64 / (primary.median_ms * 1e-3) / 1e9;
-                        let rate = both.rays_per_frame as f64 / (both.median_ms * 1e-3) / 1e9;
-                        let checks = checks.name();
-                        let schedule = schedule.name();
-                        if args.json {
-                            println!(
-                                "{}",
-                                serde_json::json!({"scene": name, "triangles": tris, "width": w, "height": h,
-                            "adapter": gpu.info.name, "backend": backend.name(), "preset": preset, "runtime_checks": checks, "traversal": traversal,
-                            "schedule": schedule,
-                            "bvh_build_s": build_s, "build_mtris_per_s": build_rate,
-                            "primary_ms": primary.median_ms, "primary_rays": primary.rays_per_frame, "primary_grays_per_s": primary_rate,
-                            "ao_ms": both.median_ms, "ao_rays": both.rays_per_frame, "ao_grays_per_s": rate, "frames": args.frames})
-                            );
-                        } else {
-                            println!(
-                                "| {} | {preset} | {checks} | {traversal} | {schedule} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
-                                backend.name(),
-                                primary.median_ms,
-                                both.median_ms,
-                                both.rays_per_frame as f64 / 1e6
-                            );
-                        }
+                    let pass = ViewPass::ray_bench(&gpu, backend, checks, variant)
+                        .map_err(|e| e.to_string())?;
+                    // The general pipeline on a merged scene reads the merge flag at run time.
+                    let traversal = match (variant, gs.is_merged()) {
+                        (TraceVariant::General, true) => "two-level code, merged BVH",
+                        _ => variant.name(),
+                    };
+                    let mut view = GpuView::new(&camera, w, h);
+                    view.view_mode = 0;
+                    let primary = measure(&gpu, &pass, &gs, &view, args.frames)?;
+                    view.view_mode = 1;
+                    let both = measure(&gpu, &pass, &gs, &view, args.frames)?;
+                    let primary_rate =
+                        primary.rays_per_frame as f64 / (primary.median_ms * 1e-3) / 1e9;
+                    let rate = both.rays_per_frame as f64 / (both.median_ms * 1e-3) / 1e9;
+                    let checks = checks.name();
+                    if args.json {
+                        println!(
+                            "{}",
+                            serde_json::json!({"scene": name, "triangles": tris, "width": w, "height": h,
+                        "adapter": gpu.info.name, "backend": backend.name(), "preset": preset, "runtime_checks": checks, "traversal": traversal,
+                        "bvh_build_s": build_s, "build_mtris_per_s": build_rate,
+                        "primary_ms": primary.median_ms, "primary_rays": primary.rays_per_frame, "primary_grays_per_s": primary_rate,
+                        "ao_ms": both.median_ms, "ao_rays": both.rays_per_frame, "ao_grays_per_s": rate, "frames": args.frames})
+                        );
+                    } else {
+                        println!(
+                            "| {} | {preset} | {checks} | {traversal} | {build_s:.3} | {build_rate:.2} | {:.3} | {primary_rate:.2} | {:.3} | {:.2} M | {rate:.2} |",
+                            backend.name(),
+                            primary.median_ms,
+                            both.median_ms,
+                            both.rays_per_frame as f64 / 1e6
+                        );
                     }
                 }
             }

@@ -24,7 +24,6 @@ use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::{Gpu, TracerChoice};
 use solari_scene::gpu_scene::{GpuScene, GpuSceneOptions};
 use solari_scene::shaders::Backend;
-use solari_scene::view_pass::RaySchedule;
 use solari_scene::{Camera, ImportOptions, Scene, default_scene, load_gltf_with};
 use solari_worldcache::WorldCacheSettings;
 use std::path::{Path, PathBuf};
@@ -1205,12 +1204,6 @@ pub struct BenchArgs {
     /// JSON lines instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// How rays are assigned to GPU threads (comma separated, each measured): `inline`, one
-    /// thread per pixel as the renderer's passes trace, or `persistent:THREADS:REFILL`,
-    /// THREADS persistent threads that each keep a ray in flight and take new pixels once
-    /// REFILL lanes of their subgroup are idle (needs subgroup operations).
-    #[arg(long, default_value = "inline")]
-    pub schedules: String,
 }
 
 impl BenchArgs {
@@ -1219,15 +1212,9 @@ impl BenchArgs {
         values::list(&self.presets, "--presets", values::bvh_quality)
     }
 
-    /// The ray schedules to measure.
-    pub fn schedules(&self) -> Result<Vec<RaySchedule>, String> {
-        values::list(&self.schedules, "--schedules", values::ray_schedule)
-    }
-
     /// Up-front checks.
     pub fn check(&self) -> Result<(), String> {
         self.scene.check()?;
-        self.schedules()?;
         self.presets().map(drop)
     }
 }

@@ -9,7 +9,7 @@ use solari_restir::SpatialVisibility;
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
-use solari_scene::view_pass::{DebugView, RaySchedule};
+use solari_scene::view_pass::DebugView;
 
 /// Largest image side the commands accept; the device's own limits are checked later.
 pub const MAX_SIDE: u32 = 16384;
@@ -237,29 +237,6 @@ pub fn view(s: &str) -> Result<ViewArg, String> {
          with CHANNEL base-color, normal, geometric-normal, roughness, metallic, emission, depth \
          or motion (real-time mode)",
     )
-}
-
-/// `inline` or `persistent:THREADS:REFILL` (a ray schedule of `bench-rays`).
-pub fn ray_schedule(s: &str) -> Result<RaySchedule, String> {
-    if s == "inline" {
-        return Ok(RaySchedule::Inline);
-    }
-    let bad =
-        || format!("'{s}': expected inline or persistent:THREADS:REFILL (e.g. persistent:65536:8)");
-    let mut parts = s.split(':');
-    if parts.next() != Some("persistent") {
-        return Err(bad());
-    }
-    let threads: u32 = parts.next().and_then(|t| t.parse().ok()).ok_or_else(bad)?;
-    let refill: u32 = parts.next().and_then(|t| t.parse().ok()).ok_or_else(bad)?;
-    if parts.next().is_some() || !(64..=1 << 24).contains(&threads) || !(1..=128).contains(&refill)
-    {
-        return Err(format!(
-            "{}; THREADS in 64..=16777216, REFILL in 1..=128",
-            bad()
-        ));
-    }
-    Ok(RaySchedule::Persistent { threads, refill })
 }
 
 /// A comma-separated list of values each read by `item`; `what` names the option.

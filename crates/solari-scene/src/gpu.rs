@@ -11,9 +11,7 @@ pub const OPTIONAL_FEATURES: wgpu::Features = wgpu::Features::EXPERIMENTAL_RAY_Q
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS)
     .union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES)
     // Rg16Float storage, for the traced G-buffer's motion vectors.
-    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)
-    // Subgroup operations, for the persistent-thread ray bench.
-    .union(wgpu::Features::SUBGROUP);
+    .union(wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES);
 
 /// The wgpu runtime checks a shader module is compiled with.
 ///

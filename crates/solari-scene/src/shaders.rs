@@ -37,11 +37,6 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/scene_bindings.wesl"),
     ),
     ("trace", include_str!("../shaders/trace.wesl")),
-    ("trace_step", include_str!("../shaders/trace_step.wesl")),
-    (
-        "ray_bench_common",
-        include_str!("../shaders/ray_bench_common.wesl"),
-    ),
     ("hit", include_str!("../shaders/hit.wesl")),
     ("rng", include_str!("../shaders/rng.wesl")),
     ("view", include_str!("../shaders/view.wesl")),
@@ -67,10 +62,6 @@ pub const ENTRY_POINTS: &[(&str, &str)] = &[
     ("primary", include_str!("../shaders/primary.wesl")),
     ("trace_rays", include_str!("../shaders/trace_rays.wesl")),
     ("ray_bench", include_str!("../shaders/ray_bench.wesl")),
-    (
-        "ray_bench_persistent",
-        include_str!("../shaders/ray_bench_persistent.wesl"),
-    ),
     ("brdf_test", include_str!("../shaders/brdf_test.wesl")),
     (
         "gbuffer_raster",

@@ -41,16 +41,6 @@ pub const PRIMARY_BINDINGS: BufferGroup = BufferGroup::new(2, 0, &[("out_pixels"
 /// Group 2 of `ray_bench.wesl`: one ray count per pixel.
 pub const RAY_BENCH_BINDINGS: BufferGroup =
     BufferGroup::new(2, 0, &[("out_counts", Buf::ReadWrite)]);
-/// Group 2 of `ray_bench_persistent.wesl`: the ray counts and the pixel counter lanes take
-/// work from.
-pub const RAY_BENCH_PERSISTENT_BINDINGS: BufferGroup = BufferGroup::new(
-    2,
-    0,
-    &[
-        ("out_counts", Buf::ReadWrite),
-        ("next_pixel", Buf::ReadWrite),
-    ],
-);
 
 // What distinguishes the view passes: entry point, label, output group, bytes per pixel.
 #[derive(Clone, Copy)]
@@ -75,46 +65,6 @@ const RAY_BENCH: Shape = Shape {
     element_size: 4,
 };
 
-const RAY_BENCH_PERSISTENT: Shape = Shape {
-    entry: "ray_bench_persistent",
-    label: "solari_scene/ray_bench_persistent",
-    out: &RAY_BENCH_PERSISTENT_BINDINGS,
-    element_size: 4,
-};
-
-/// How the ray-throughput pass assigns rays to GPU threads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RaySchedule {
-    /// One thread per pixel traces its primary ray and then its hemisphere ray
-    /// (`ray_bench.wesl`), as the renderer's passes trace: a subgroup runs until its slowest
-    /// ray ends.
-    Inline,
-    /// `threads` persistent threads (rounded up to whole workgroups of 64) each keep one ray in
-    /// flight and take new pixels from a global counter once `refill` lanes of their subgroup
-    /// are idle (`ray_bench_persistent.wesl`). Needs [`wgpu::Features::SUBGROUP`]. With ray
-    /// queries a ray is one step (the driver traverses it whole), so only the scheduling
-    /// differs.
-    Persistent {
-        /// GPU threads launched.
-        threads: u32,
-        /// Idle lanes of a subgroup at which it fetches new pixels (clamped to the subgroup
-        /// size).
-        refill: u32,
-    },
-}
-
-impl RaySchedule {
-    /// A short name for reports: `inline` or `persistent-<threads>-<refill>`.
-    pub fn name(self) -> String {
-        match self {
-            RaySchedule::Inline => "inline".into(),
-            RaySchedule::Persistent { threads, refill } => {
-                format!("persistent-{threads}-{refill}")
-            }
-        }
-    }
-}
-
 /// A compute pass over every pixel of a view, writing one output element per pixel.
 pub struct ViewPass {
     pipeline: wgpu::ComputePipeline,
@@ -124,21 +74,12 @@ pub struct ViewPass {
     element_size: u64,
     label: &'static str,
     variant: TraceVariant,
-    // Workgroups of 64 persistent threads, for the persistent ray bench.
-    persistent_groups: Option<u32>,
 }
 
 impl ViewPass {
     /// The primary-ray debug-view pass (`primary.wesl`, 16 bytes per pixel).
     pub fn primary(gpu: &Gpu, backend: Backend, variant: TraceVariant) -> Result<Self, GpuError> {
-        Self::new(
-            gpu,
-            backend,
-            &PRIMARY,
-            ShaderChecks::BoundsOnly,
-            variant,
-            &[],
-        )
+        Self::new(gpu, backend, &PRIMARY, ShaderChecks::BoundsOnly, variant)
     }
 
     /// Rays a run of the [`ViewPass::ray_bench`] pass traced, from its output (one `u32` per
@@ -156,40 +97,7 @@ impl ViewPass {
         checks: ShaderChecks,
         variant: TraceVariant,
     ) -> Result<Self, GpuError> {
-        Self::new(gpu, backend, &RAY_BENCH, checks, variant, &[])
-    }
-
-    /// The ray-throughput benchmark with the given schedule: [`RaySchedule::Inline`] is
-    /// [`ViewPass::ray_bench`]; [`RaySchedule::Persistent`] traces the same rays (the same
-    /// output, pixel for pixel) with persistent threads. Fails for the persistent schedule
-    /// on an adapter without subgroup operations.
-    pub fn ray_bench_scheduled(
-        gpu: &Gpu,
-        backend: Backend,
-        checks: ShaderChecks,
-        variant: TraceVariant,
-        schedule: RaySchedule,
-    ) -> Result<Self, GpuError> {
-        let RaySchedule::Persistent { threads, refill } = schedule else {
-            return Self::ray_bench(gpu, backend, checks, variant);
-        };
-        if !gpu.features.contains(wgpu::Features::SUBGROUP) {
-            return Err(GpuError::Unsupported(format!(
-                "the persistent ray schedule needs subgroup operations, which adapter '{}' lacks; use the inline schedule",
-                gpu.info.name
-            )));
-        }
-        let refill = [("7200", refill.max(1) as f64)];
-        let mut pass = Self::new(
-            gpu,
-            backend,
-            &RAY_BENCH_PERSISTENT,
-            checks,
-            variant,
-            &refill,
-        )?;
-        pass.persistent_groups = Some(threads.div_ceil(64).max(1));
-        Ok(pass)
+        Self::new(gpu, backend, &RAY_BENCH, checks, variant)
     }
 
     fn new(
@@ -198,7 +106,6 @@ impl ViewPass {
         shape: &'static Shape,
         checks: ShaderChecks,
         variant: TraceVariant,
-        extra_constants: &[(&str, f64)],
     ) -> Result<Self, GpuError> {
         let Shape {
             entry,
@@ -210,14 +117,12 @@ impl ViewPass {
         let out_layout = out.layout(gpu, label);
         let scene_layout = GpuScene::layout_for(gpu, backend);
         let wgsl = compose(entry, backend, &[])?;
-        let mut constants = variant.for_backend(backend).constants().to_vec();
-        constants.extend_from_slice(extra_constants);
         let pipeline = gpu.compute_pipeline(
             label,
             &wgsl,
             &[Some(&scene_layout), Some(&view_layout), Some(&out_layout)],
             checks,
-            &constants,
+            variant.for_backend(backend).constants(),
         )?;
         Ok(Self {
             pipeline,
@@ -227,7 +132,6 @@ impl ViewPass {
             element_size,
             label,
             variant: variant.for_backend(backend),
-            persistent_groups: None,
         })
     }
 
@@ -249,25 +153,15 @@ impl ViewPass {
             &self.view_layout,
             &[("view", &uniform)],
         );
-        let counter = self.persistent_groups.map(|_| {
-            gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("solari_scene/ray_bench_persistent counter"),
-                size: 16,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        });
-        let mut buffers = vec![(self.out.bindings[0].0, &output)];
-        if let Some(c) = &counter {
-            buffers.push((self.out.bindings[1].0, c));
-        }
-        let out_group = self.out.bind(gpu, self.label, &self.out_layout, &buffers);
+        let name = self.out.bindings[0].0;
+        let out_group = self
+            .out
+            .bind(gpu, self.label, &self.out_layout, &[(name, &output)]);
         Ok(ViewTarget {
             uniform,
             output,
             view_group,
             out_group,
-            counter,
             view: *view,
             bytes: size,
         })
@@ -283,9 +177,6 @@ impl ViewPass {
         timestamps: Option<(&wgpu::QuerySet, u32)>,
     ) -> Result<(), GpuError> {
         self.variant.check(scene)?;
-        if let Some(counter) = &target.counter {
-            encoder.clear_buffer(counter, 0, None);
-        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(self.label),
             timestamp_writes: timestamps.map(|(set, i)| wgpu::ComputePassTimestampWrites {
@@ -298,14 +189,11 @@ impl ViewPass {
         pass.set_bind_group(0, scene.bind_group(), &[]);
         pass.set_bind_group(1, &target.view_group, &[]);
         pass.set_bind_group(2, &target.out_group, &[]);
-        match self.persistent_groups {
-            Some(groups) => pass.dispatch_workgroups(groups, 1, 1),
-            None => pass.dispatch_workgroups(
-                target.view.width.div_ceil(8),
-                target.view.height.div_ceil(8),
-                1,
-            ),
-        }
+        pass.dispatch_workgroups(
+            target.view.width.div_ceil(8),
+            target.view.height.div_ceil(8),
+            1,
+        );
         Ok(())
     }
 
@@ -334,8 +222,6 @@ pub struct ViewTarget {
     pub output: wgpu::Buffer,
     view_group: wgpu::BindGroup,
     out_group: wgpu::BindGroup,
-    // The persistent ray bench's pixel counter, cleared before each dispatch.
-    counter: Option<wgpu::Buffer>,
     /// The view these resources were made for.
     pub view: GpuView,
     bytes: u64,

@@ -59,17 +59,11 @@ fn bindings_are_bound_by_their_wgsl_names() {
     use solari_scene::gbuffer::{GBUFFER_VIEW_BINDINGS, TRANSFORMS_BINDINGS};
     use solari_scene::gbuffer_debug::GBUFFER_DEBUG_BINDINGS;
     use solari_scene::trace_pass::TRACE_RAYS_BINDINGS;
-    use solari_scene::view_pass::{
-        PRIMARY_BINDINGS, RAY_BENCH_BINDINGS, RAY_BENCH_PERSISTENT_BINDINGS, VIEW_BINDINGS,
-    };
+    use solari_scene::view_pass::{PRIMARY_BINDINGS, RAY_BENCH_BINDINGS, VIEW_BINDINGS};
     check_groups(
         &[
             ("primary", &[&VIEW_BINDINGS, &PRIMARY_BINDINGS]),
             ("ray_bench", &[&VIEW_BINDINGS, &RAY_BENCH_BINDINGS]),
-            (
-                "ray_bench_persistent",
-                &[&VIEW_BINDINGS, &RAY_BENCH_PERSISTENT_BINDINGS],
-            ),
             ("trace_rays", &[&TRACE_RAYS_BINDINGS]),
             (
                 "gbuffer_raster",
