@@ -3,7 +3,7 @@
 # (llvmpipe, 2 cores; `cargo build --release -p solari-app`): the indirect view raw
 # (`--view indirect --denoiser none`) against a `--min-bounces 2` reference at pixel centres
 # (made here if absent), with `split.py`'s relMSE per channel, in luminance and in chroma
-# alone, and each image's mean brightness against the reference's.
+# alone, and each image's mean brightness against the reference's (../mean_brightness.py).
 #   cornell (default): 128x128, reference of 2048 paths (shared with
 #            ../gi_history_2026-11-29/lavapipe.sh), frame 136 and the mean of frames 137-200;
 #   interior: 160x90, reference of 1024 paths (about 9 minutes here), frame 136 and the mean
@@ -51,12 +51,4 @@ for g in cache path restir; do
   imgs+=("$W/g_$g.exr" "$W/gm_$g.exr")
 done
 python3 "$(dirname "$0")/../gi_colour_2026-11-29/split.py" "$W/ref.exr" "$W/var.exr" "${imgs[@]}"
-python3 - "$W/ref.exr" "${imgs[@]}" <<'PY'
-import OpenEXR, numpy as np, sys
-def load(p):
-    ch = OpenEXR.File(p).channels(); k = 'RGB' if 'RGB' in ch else 'RGBA'
-    return ch[k].pixels[..., :3].astype(np.float64)
-ref = load(sys.argv[1])
-for p in sys.argv[2:]:
-    print(p, "mean brightness %.4f of the reference's" % (load(p).mean() / ref.mean()))
-PY
+python3 "$(dirname "$0")/../mean_brightness.py" "$W/ref.exr" "${imgs[@]}"

@@ -33,12 +33,4 @@ v own_cap4 --gi-spatial-history off --gi-confidence-cap 4
 for c in 4 16 32; do v cap$c --gi-confidence-cap $c; done
 python3 "$(dirname "$0")/../gi_colour_2026-11-29/split.py" "$W/ref.exr" "$W/var.exr" "${imgs[@]}"
 means=(); for f in "${imgs[@]}"; do case $f in */hm_*) means+=("$f") ;; esac; done
-python3 - "$W/ref.exr" "${means[@]}" <<'PY'
-import OpenEXR, numpy as np, sys
-def load(p):
-    ch = OpenEXR.File(p).channels(); k = 'RGB' if 'RGB' in ch else 'RGBA'
-    return ch[k].pixels[..., :3].astype(np.float64)
-ref = load(sys.argv[1])
-for p in sys.argv[2:]:
-    print(p, "mean brightness %.4f of the reference's" % (load(p).mean() / ref.mean()))
-PY
+python3 "$(dirname "$0")/../mean_brightness.py" "$W/ref.exr" "${means[@]}"
