@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Persistent threads with dynamic ray fetch against the inline ray bench (device: H200).
+# Persistent threads with dynamic ray fetch against the inline ray bench (device: H200 asked;
+# the recorded run got an H100).
 # Needs binaries built from 5684a92 (`bench-rays --schedules`, reverted after this measurement;
 # persistent_schedule.patch).
 # bench-rays, 1920x1080 primary + one cosine hemisphere ray per pixel, 200 frames, software
@@ -7,7 +8,7 @@
 # and interior (merged, medium and very-slow), every schedule in $SCHEDULES measured on the same
 # BVH, for each binary of $BINS (in /root/bins, from .dev/bins.tar.xz), REPS interleaved rounds.
 # Output: $OUT/rays.jsonl (lines tagged "binary" and "rep") and a table of medians.
-# Usage: BINS="solari_a solari_b" SCHEDULES=inline,persistent:131072:8 REPS=2 bash benches/results/persistent_rays_2026-12-07/run.sh
+# SCHEDULES is required. Usage: BINS="solari_a solari_b" SCHEDULES=inline,persistent:131072:8 REPS=2 bash benches/results/persistent_rays_2026-12-07/run.sh
 set -u -o pipefail
 source benches/results/device_env.sh
 unpack_bins
@@ -23,7 +24,7 @@ for rep in $(seq 1 ${REPS:-2}); do
       --schedules "$SCHEDULES" --json 2>> "$OUT/rays.log" | sed "$tag" >> "$OUT/rays.jsonl"
   done
 done
-python3 - "$OUT/rays.jsonl" <<'PY'
+python3 - "$OUT/rays.jsonl" <<'PY' | tee "$OUT/table.txt"
 import json, sys, statistics
 rows = [json.loads(l) for l in open(sys.argv[1]) if l.startswith("{")]
 keys = []
