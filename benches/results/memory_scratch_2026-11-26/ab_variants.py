@@ -1,6 +1,7 @@
 # Per-pass medians of an ab_passes_h200.sh run with any number of binaries (BINS), each
 # against the first: python3 ab_variants.py EXTRACTED_AB_DIR "solari_base solari ..."
-# (the world cache's and light tiles' passes left out of the listing).
+# (the world cache's upkeep passes and the light tiles' left out of the listing; a pass that a
+# binary did not run shows as -, so every column stays that binary's).
 import json,glob,statistics,collections,re,sys
 root=sys.argv[1]; bins=sys.argv[2].split()
 d=collections.defaultdict(lambda: collections.defaultdict(list)); mem={}
@@ -20,11 +21,18 @@ for f in sorted(glob.glob(root+'/ab_*.json')):
     d[(s,b)]['GPU frame'].append(j['gpu_frame_ms']); d[(s,b)]['wall frame'].append(j['wall_frame_ms'])
 for s in ['cornell_box','sun_boxes','many_lights','interior']:
     print(f"## {s}: memory " + "  ".join(f"{b} {mem.get((s,b),0):.1f}" for b in bins))
-    keys=sorted(k for k in d[(s,bins[0])] if not k.startswith('world_cache') and k!='light_tiles')
+    every=set().union(*(d[(s,b)].keys() for b in bins))
+    keys=sorted(k for k in every if not (k.startswith('world_cache') and k!='world_cache_gi') and k!='light_tiles')
     for k in keys:
-        base=statistics.median(d[(s,bins[0])][k])
-        row=f"{s:12s} {k:20s} {base:8.4f}"
+        base=d[(s,bins[0])].get(k)
+        base=statistics.median(base) if base else None
+        row=f"{s:12s} {k:20s} " + (f"{base:8.4f}" if base else f"{'-':>8s}")
         for b in bins[1:]:
             v=d[(s,b)].get(k)
-            if v: v=statistics.median(v); row+=f" {v:8.4f} ({100*(v/base-1):+5.1f}%)"
+            if v and base:
+                v=statistics.median(v); row+=f" {v:8.4f} ({100*(v/base-1):+5.1f}%)"
+            elif v:
+                row+=f" {statistics.median(v):8.4f} {'':9s}"
+            else:
+                row+=f" {'-':>8s} {'':9s}"
         print(row)
