@@ -14,6 +14,13 @@ def runs_in_tarball(path):
     return runs
 
 
+def passes_ms(run, prefixes):
+    """The summed mean GPU ms of a run's passes whose names start with any of `prefixes`
+    (those that ran)."""
+    return sum(v["mean_ms"] for k, v in run["passes"].items()
+               if k.startswith(tuple(prefixes)) and v["mean_ms"] is not None)
+
+
 def gi_ms(run):
     """The summed mean GPU ms of a run's passes named gi_* (those that ran)."""
-    return sum(v["mean_ms"] for k, v in run["passes"].items() if k.startswith("gi") and v["mean_ms"] is not None)
+    return passes_ms(run, ("gi",))

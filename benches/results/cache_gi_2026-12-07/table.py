@@ -14,14 +14,9 @@ folder = os.path.join(here, sys.argv[1] if len(sys.argv) > 1 else "h100")
 runs = ab_runs.runs_in_tarball(os.path.join(folder, "time.tar.gz"))
 
 
-def ms(run, names):
-    return sum(v["mean_ms"] for k, v in run["passes"].items()
-               if any(k.startswith(n) for n in names) and v["mean_ms"] is not None)
-
-
 # GI: path and ReSTIR GI's passes (gi_*) or cache GI's lookup (world_cache_gi).
-gi = {k: statistics.median(ms(j, ("gi_", "world_cache_gi")) for j in v) for k, v in runs.items()}
-spec = {k: statistics.median(ms(j, ("specular_gi",)) for j in v) for k, v in runs.items()}
+gi = {k: statistics.median(ab_runs.passes_ms(j, ("gi_", "world_cache_gi")) for j in v) for k, v in runs.items()}
+spec = {k: statistics.median(ab_runs.passes_ms(j, ("specular_gi",)) for j in v) for k, v in runs.items()}
 frame = {k: statistics.median(j["gpu_frame_ms"] for j in v) for k, v in runs.items()}
 ind = {(r["scene"], r["binary"], r["mean_of"]): (1e3 * float(r["rel_mse_excess"]), float(r["mean_ratio"]))
        for r in csv.DictReader(open(os.path.join(folder, "indirect.csv")))}
