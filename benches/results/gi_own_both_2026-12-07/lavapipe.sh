@@ -2,7 +2,8 @@
 # ReSTIR GI's own-reservoir share shaded over the temporal merge's choice
 # (`--gi-own-both on`, `RestirGiSettings::own_share_both_samples`) against the one sample that
 # merge kept (`off`), on this workstation's lavapipe (llvmpipe, 2 cores; `cargo build --release
-# -p solari-app` of the commit under test). The references and their variance are
+# -p solari-app` of ebc7e80 with `own_both.patch` applied: the flag is not in the tree, see
+# README). The references and their variance are
 # ../cache_gi_2026-12-07/lavapipe.sh's (made there if absent: run it once first).
 #   cornell (default): 128x128 indirect view raw (`--view indirect --denoiser none`), frame
 #            136 and the mean of frames 137-200, by `split.py` (relMSE per channel, in

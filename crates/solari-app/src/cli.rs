@@ -459,12 +459,6 @@ pub struct RealtimeArgs {
     /// `RestirGiSettings::own_sample_share`.
     #[arg(long, default_value_t = 0.5, value_parser = values::finite)]
     pub gi_own_share: f32,
-    /// ReSTIR GI: the own reservoir's share shades both samples of the temporal merge by their
-    /// weights (on, the default; the same mean, less noise) or the one that merge kept (off).
-    /// `RestirGiSettings::own_share_both_samples`.
-    #[arg(long, default_value = "on", num_args = 0..=1, default_missing_value = "on",
-          value_parser = clap::builder::BoolishValueParser::new(), action = clap::ArgAction::Set)]
-    pub gi_own_both: bool,
     /// ReSTIR GI: next frame's history is the spatial merge's reservoir (on, the default), or
     /// the pixel's own from before spatial reuse (off: one frame less noisy, frames more
     /// alike; measured worse once denoised on `interior`). `RestirGiSettings::spatial_history`.
@@ -699,7 +693,6 @@ impl RealtimeArgs {
                 spatial_visibility: self.gi_spatial_visibility,
                 shade_both_samples: self.gi_shade_both,
                 own_sample_share: self.gi_own_share,
-                own_share_both_samples: self.gi_own_both,
                 spatial_history: self.gi_spatial_history,
                 rate: match (self.gi_half_rate, self.gi_quarter_rate) {
                     (_, true) => GiRate::Quarter,

@@ -229,7 +229,6 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             && applied.restir_gi.spatial_visibility != solari_restir::SpatialVisibility::Chosen)
             .into();
         v["gi_own_share"] = applied.restir_gi.own_sample_share.into();
-        v["gi_own_both"] = applied.restir_gi.own_share_both_samples.into();
         v["gi_spatial_history"] = applied.restir_gi.spatial_history.into();
         v["gi_confidence_cap"] = applied.restir_gi.confidence_cap.into();
         v["gi_trace_fresh"] = applied.restir_gi.trace_fresh_pixels.into();

@@ -155,14 +155,6 @@ fn gi_spatial_visibility_reaches_the_settings() {
     assert_eq!(share(&["--gi-own-share", "0"]), 0.0);
     let err = settings_error(&["--gi-own-share", "2"]);
     assert!(err.contains("own_sample_share"), "{err}");
-    // The share shades the temporal merge's two samples unless switched off.
-    let own_both = |args: &[&str]| settings(args).restir_gi.own_share_both_samples;
-    assert_eq!(
-        own_both(&[]),
-        solari_restir::RestirGiSettings::default().own_share_both_samples
-    );
-    assert!(!own_both(&["--gi-own-both", "off"]));
-    assert!(own_both(&["--gi-own-both"]), "the bare flag means on");
     // The history is the spatial merge's unless switched off; the confidence cap is the
     // library's unless given, and one under 1 is refused by name.
     let defaults = solari_restir::RestirGiSettings::default();

@@ -320,12 +320,10 @@ fn shading_both_samples_of_a_spatial_merge_keeps_the_mean_and_lowers_the_noise()
 #[test]
 fn the_own_reservoirs_share_keeps_the_mean_and_lowers_the_noise() {
     // The default one-ray merge, shaded from the merge alone and half from the pixel's own
-    // reservoir before it (its one sample: the share over both of the temporal merge's
-    // samples is the next test's).
+    // reservoir before it.
     let Some((ratio, shift, bias)) =
         shading_variant("the own reservoir's share 0 -> 0.5", |s, blend| {
             s.restir_gi.own_sample_share = if blend { 0.5 } else { 0.0 };
-            s.restir_gi.own_share_both_samples = false;
         })
     else {
         return;
@@ -337,23 +335,4 @@ fn the_own_reservoirs_share_keeps_the_mean_and_lowers_the_noise() {
     assert!(shift.abs() < 0.02, "{shift}");
     assert!(bias.abs() < 0.05, "{bias}");
     assert!(ratio < 0.92, "{ratio}");
-}
-
-#[test]
-fn the_own_share_over_the_temporal_merges_choice_keeps_the_mean_and_lowers_the_noise() {
-    // The default one-ray merge with its own reservoir's share of 0.5: the share from the one
-    // sample the temporal merge kept, then from both of its samples by their weights.
-    let Some((ratio, shift, bias)) = shading_variant(
-        "the own share from the temporal merge's kept sample -> both samples",
-        |s, both| {
-            s.restir_gi.own_share_both_samples = both;
-        },
-    ) else {
-        return;
-    };
-    // The same expectation (the kept sample's estimate averaged over the merge's choice),
-    // never more variance.
-    assert!(shift.abs() < 0.02, "{shift}");
-    assert!(bias.abs() < 0.05, "{bias}");
-    assert!(ratio < 0.97, "{ratio}");
 }

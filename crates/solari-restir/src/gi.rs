@@ -625,9 +625,6 @@ impl RestirGi {
         if s.spatial_history {
             bits |= flags::SPATIAL_HISTORY;
         }
-        if s.own_share_both_samples {
-            bits |= flags::OWN_BOTH;
-        }
         if s.rate.reduced() {
             bits |= flags::HALF_RATE;
         }

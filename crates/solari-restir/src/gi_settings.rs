@@ -207,19 +207,6 @@ pub struct RestirGiSettings {
     /// 59.6, its mean from 13.9 to 21.2; the lit frame with the fallback denoiser was equal on
     /// the Cornell box (0.0972 → 0.0971) and 9% worse on `interior` (2.00 → 2.19). Kept on.
     pub spatial_history: bool,
-    /// The own reservoir's share ([`RestirGiSettings::own_sample_share`]) is the temporal
-    /// merge's light averaged over its choice (true), or the one sample that merge kept
-    /// (false). The temporal merge holds two samples with known visibility, the new one
-    /// (traced from the pixel) and the history's (seen from the pixel when it was shaded), and
-    /// chooses one; shading both by their resampling weights, Σ w_i · f(y_i) / p̂(y_i), is the
-    /// kept sample's estimate averaged over the choice (Rao–Blackwellisation, as
-    /// [`RestirGiSettings::shade_both_samples`] does for the spatial merge): the same mean,
-    /// never more variance, and two surfaces' colours where the choice keeps one. The
-    /// temporal merge adds the share to the image itself, so the spatial pass shades the
-    /// rest; pixels without a neighbour get the share too. Nothing where the share is 0 or
-    /// the spatial merge shades both its samples. The reservoirs, and so the history and
-    /// specular GI, are the same either way.
-    pub own_share_both_samples: bool,
 }
 
 /// How many of the pixels trace GI rays each frame ([`RestirGiSettings::rate`]). At a reduced
@@ -393,7 +380,6 @@ impl Default for RestirGiSettings {
             shade_both_samples: true,
             own_sample_share: 0.5,
             spatial_history: true,
-            own_share_both_samples: true,
         }
     }
 }
@@ -476,8 +462,6 @@ pub(crate) mod flags {
     pub const SHADE_BOTH: u32 = 4096;
     /// GI_FLAG_SPATIAL_HISTORY: [`super::RestirGiSettings::spatial_history`].
     pub const SPATIAL_HISTORY: u32 = 8192;
-    /// [`super::RestirGiSettings::own_share_both_samples`].
-    pub const OWN_BOTH: u32 = 16384;
 }
 
 /// WGSL twin: `GiParams` in `restir_gi.wesl`.
@@ -541,7 +525,6 @@ mod tests {
             ("INDIRECT_ONLY", flags::INDIRECT_ONLY),
             ("SHADE_BOTH", flags::SHADE_BOTH),
             ("SPATIAL_HISTORY", flags::SPATIAL_HISTORY),
-            ("OWN_BOTH", flags::OWN_BOTH),
         ];
         let wgsl: Vec<(&str, u32)> = include_str!("../shaders/restir_gi.wesl")
             .lines()
