@@ -429,6 +429,11 @@ pub struct RealtimeArgs {
     /// matrix"): as accurate as reuse at less cost.
     #[arg(long, default_value = "path", value_parser = values::gi)]
     pub gi: GiMode,
+    /// With `--gi restir`: which reuse steps run, all (temporal and spatial), temporal (last
+    /// frame's reservoir only; the spatial pass then only shades) or spatial (one neighbour's
+    /// reservoir only). `RestirGiSettings::temporal` and `spatial`.
+    #[arg(long, value_enum, default_value_t = GiReuse::All)]
+    pub gi_reuse: GiReuse,
     /// ReSTIR GI's first spatial search radius, in pixels.
     #[arg(long, default_value_t = 30.0, value_parser = values::finite)]
     pub gi_spatial_radius: f32,
@@ -685,6 +690,8 @@ impl RealtimeArgs {
                 ShadeApart::Off => u64::MAX,
             },
             restir_gi: RestirGiSettings {
+                temporal: self.gi_reuse != GiReuse::Spatial,
+                spatial: self.gi_reuse != GiReuse::Temporal,
                 spatial_radius: self.gi_spatial_radius,
                 jacobian_bound: self.gi_jacobian_bound,
                 confidence_cap: self.gi_confidence_cap,
@@ -821,6 +828,17 @@ pub enum DiReuse {
     Spatial,
     /// No reuse: resampled importance sampling from the tiles alone.
     None,
+}
+
+/// Which of ReSTIR GI's reuse steps run (`--gi-reuse`; `--gi path` is GI with neither).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum GiReuse {
+    /// Temporal and spatial reuse (the default).
+    All,
+    /// Last frame's reservoir only; the spatial pass only shades.
+    Temporal,
+    /// One neighbour's reservoir only.
+    Spatial,
 }
 
 /// Whether plain path GI shades in a dispatch of its own (`--gi-shade-apart`).

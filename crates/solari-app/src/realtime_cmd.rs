@@ -230,6 +230,9 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             .into();
         v["gi_own_share"] = applied.restir_gi.own_sample_share.into();
         v["gi_spatial_history"] = applied.restir_gi.spatial_history.into();
+        // In effect: plain path GI reuses nothing.
+        v["gi_temporal_reuse"] = applied.gi_settings().temporal.into();
+        v["gi_spatial_reuse"] = applied.gi_settings().spatial.into();
         v["gi_confidence_cap"] = applied.restir_gi.confidence_cap.into();
         v["gi_trace_fresh"] = applied.restir_gi.trace_fresh_pixels.into();
         // In effect, as the passes are built (one candidate, no reuse).

@@ -155,9 +155,18 @@ fn gi_spatial_visibility_reaches_the_settings() {
     assert_eq!(share(&["--gi-own-share", "0"]), 0.0);
     let err = settings_error(&["--gi-own-share", "2"]);
     assert!(err.contains("own_sample_share"), "{err}");
+    // `--gi-reuse`: both steps unless one is named (the library's default is both).
+    let reuse = |args: &[&str]| {
+        let s = settings(args).restir_gi;
+        (s.temporal, s.spatial)
+    };
+    let defaults = solari_restir::RestirGiSettings::default();
+    assert_eq!(reuse(&[]), (defaults.temporal, defaults.spatial));
+    assert_eq!(reuse(&[]), (true, true));
+    assert_eq!(reuse(&["--gi-reuse", "temporal"]), (true, false));
+    assert_eq!(reuse(&["--gi-reuse", "spatial"]), (false, true));
     // The history is the spatial merge's unless switched off; the confidence cap is the
     // library's unless given, and one under 1 is refused by name.
-    let defaults = solari_restir::RestirGiSettings::default();
     let history = |args: &[&str]| settings(args).restir_gi.spatial_history;
     assert_eq!(history(&[]), defaults.spatial_history);
     assert!(history(&[]));
