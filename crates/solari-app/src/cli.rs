@@ -431,8 +431,8 @@ pub struct RealtimeArgs {
     pub gi: GiMode,
     /// With `--gi restir`: which reuse steps run, all (temporal and spatial), temporal (last
     /// frame's reservoir only; the spatial pass then only shades: a third less GI time, frames
-    /// more alike) or spatial (one neighbour's reservoir only). `RestirGiSettings::temporal`
-    /// and `spatial` give the measurements.
+    /// more alike) or spatial (one neighbour's reservoir only). `RestirGiSettings::spatial`
+    /// gives the measurements of temporal reuse alone.
     #[arg(long, value_enum, default_value_t = GiReuse::All)]
     pub gi_reuse: GiReuse,
     /// ReSTIR GI's first spatial search radius, in pixels.

@@ -582,6 +582,35 @@ fn the_report_says_when_di_reuse_was_skipped() {
     }
 }
 
+/// The JSON report gives ReSTIR GI's reuse steps in effect: both by default with `--gi
+/// restir`, the one `--gi-reuse` names, and none for path GI (its sample without reuse) or
+/// cache GI (no GI rays).
+#[test]
+fn the_report_says_which_gi_reuse_runs() {
+    let d = Dir::new("gi_reuse");
+    let cases: [(&[&str], bool, bool); 5] = [
+        (&[], false, false),
+        (&["--gi", "restir"], true, true),
+        (&["--gi", "restir", "--gi-reuse", "temporal"], true, false),
+        (&["--gi", "restir", "--gi-reuse", "spatial"], false, true),
+        (&["--gi", "cache", "--gi-reuse", "temporal"], false, false),
+    ];
+    for (extra, temporal, spatial) in cases {
+        let mut args = vec![
+            "render", "--mode", "realtime", "--frames", "2", "--size", "32x18", "--out", "r.png",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+        let out = solari(&d, &os);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{extra:?}: {err}");
+        let v: Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+        assert_eq!(v["gi_temporal_reuse"], temporal, "{extra:?}: {v}");
+        assert_eq!(v["gi_spatial_reuse"], spatial, "{extra:?}: {v}");
+    }
+}
+
 /// `--quality auto` probes the scene, reports its choice in the JSON, applies it, takes the
 /// cheapest setting when nothing fits, reads a table of the user's own, and refuses bad
 /// budgets and tables before any work.

@@ -163,6 +163,7 @@ fn gi_spatial_visibility_reaches_the_settings() {
     let defaults = solari_restir::RestirGiSettings::default();
     assert_eq!(reuse(&[]), (defaults.temporal, defaults.spatial));
     assert_eq!(reuse(&[]), (true, true));
+    assert_eq!(reuse(&["--gi-reuse", "all"]), (true, true));
     assert_eq!(reuse(&["--gi-reuse", "temporal"]), (true, false));
     assert_eq!(reuse(&["--gi-reuse", "spatial"]), (false, true));
     // The history is the spatial merge's unless switched off; the confidence cap is the

@@ -407,8 +407,8 @@ fn gi_is_unbiased_against_the_full_reference_and_reuse_lowers_noise() {
     // 256-frame mean 0.0057 (1.19 of cache GI's 0.0048; its frames are more alike).
     // Temporal reuse only (`spatial` off, `--gi-reuse temporal`), 2026-12-07, one run: total
     // light -0.11% (cache -0.43%), one frame 0.0207, 256-frame mean 0.0063 (1.31 of cache
-    // GI's: a pixel's chain alone carries its samples, so its frames are the most alike);
-    // bound 1.6 for CI's spread.
+    // GI's: a pixel's chain alone carries its samples, so its frames are alike); bound 1.6
+    // for CI's spread.
     let (cache, plain, restir, plain4, chosen, half, restir_half, half_spatial) = (
         results[0], results[1], results[2], results[5], results[6], results[7], results[8],
         results[9],
