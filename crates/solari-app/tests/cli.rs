@@ -548,24 +548,27 @@ fn a_generated_field_renders_and_reports_its_set_up() {
     assert!(d.0.join("g.png").is_file());
 }
 
+/// The JSON report of two real-time frames of the built-in Cornell box at 32×18 with `extra`
+/// arguments, run in `d` (the run must succeed).
+fn small_realtime_report(d: &Dir, extra: &[&str]) -> Value {
+    let mut args = vec![
+        "render", "--mode", "realtime", "--frames", "2", "--size", "32x18", "--out", "r.png",
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    let out = solari(d, &os);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{extra:?}: {err}");
+    serde_json::from_slice(&out.stdout).expect("JSON summary")
+}
+
 /// The report says whether DI's reuse ran: `--di-reuse auto` (the default) skips it on the
 /// built-in Cornell box (two emissive triangles) under the fallback denoiser, not on raw
 /// frames, and `all` keeps it.
 #[test]
 fn the_report_says_when_di_reuse_was_skipped() {
     let d = Dir::new("di_reuse");
-    let report = |extra: &[&str]| -> Value {
-        let mut args = vec![
-            "render", "--mode", "realtime", "--frames", "2", "--size", "32x18", "--out", "r.png",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
-        let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
-        let out = solari(&d, &os);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{extra:?}: {err}");
-        serde_json::from_slice(&out.stdout).expect("JSON summary")
-    };
     let cases: [(&[&str], &str, bool); 3] = [
         (&["--denoiser", "fallback"], "none", true),
         (&["--denoiser", "none"], "all", false),
@@ -576,7 +579,7 @@ fn the_report_says_when_di_reuse_was_skipped() {
         ),
     ];
     for (extra, reuse, skipped) in cases {
-        let v = report(extra);
+        let v = small_realtime_report(&d, extra);
         assert_eq!(v["di_reuse"], reuse, "{extra:?}: {v}");
         assert_eq!(v["di_reuse_skipped"], skipped, "{extra:?}: {v}");
     }
@@ -596,16 +599,7 @@ fn the_report_says_which_gi_reuse_runs() {
         (&["--gi", "cache", "--gi-reuse", "temporal"], false, false),
     ];
     for (extra, temporal, spatial) in cases {
-        let mut args = vec![
-            "render", "--mode", "realtime", "--frames", "2", "--size", "32x18", "--out", "r.png",
-            "--json",
-        ];
-        args.extend_from_slice(extra);
-        let os: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
-        let out = solari(&d, &os);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(out.status.success(), "{extra:?}: {err}");
-        let v: Value = serde_json::from_slice(&out.stdout).expect("JSON summary");
+        let v = small_realtime_report(&d, extra);
         assert_eq!(v["gi_temporal_reuse"], temporal, "{extra:?}: {v}");
         assert_eq!(v["gi_spatial_reuse"], spatial, "{extra:?}: {v}");
     }
