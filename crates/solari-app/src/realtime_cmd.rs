@@ -230,11 +230,11 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             .into();
         v["gi_own_share"] = applied.restir_gi.own_sample_share.into();
         v["gi_spatial_history"] = applied.restir_gi.spatial_history.into();
-        // In effect: only ReSTIR GI reuses (path GI is its sample without reuse; off and
-        // cache trace no GI rays).
-        let restir = applied.gi == solari_renderer::GiMode::Restir;
-        v["gi_temporal_reuse"] = (restir && applied.restir_gi.temporal).into();
-        v["gi_spatial_reuse"] = (restir && applied.restir_gi.spatial).into();
+        // In effect: the settings the running ReSTIR GI passes hold (none without traced GI;
+        // path GI's without reuse).
+        let running = renderer.gi_settings();
+        v["gi_temporal_reuse"] = running.is_some_and(|s| s.temporal).into();
+        v["gi_spatial_reuse"] = running.is_some_and(|s| s.spatial).into();
         v["gi_confidence_cap"] = applied.restir_gi.confidence_cap.into();
         v["gi_trace_fresh"] = applied.restir_gi.trace_fresh_pixels.into();
         // In effect, as the passes are built (one candidate, no reuse).
