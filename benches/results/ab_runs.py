@@ -1,6 +1,7 @@
 """Shared by the result folders' table scripts: the runs of an `ab_passes_h200.sh` time
-tarball (each run's `--json`, `ab_SCENE_BINARY_REP.json`) and their GI passes' GPU ms."""
-import json, os, re, tarfile
+tarball (each run's `--json`, `ab_SCENE_BINARY_REP.json`) and their GI passes' GPU ms, and the
+rows of `gi_indirect_2026-11-29/run.sh`'s error CSVs."""
+import csv, json, os, re, tarfile
 
 
 def runs_in_tarball(path):
@@ -24,3 +25,11 @@ def passes_ms(run, prefixes):
 def gi_ms(run):
     """The summed mean GPU ms of a run's passes named gi_* (those that ran)."""
     return passes_ms(run, ("gi",))
+
+
+def error_rows(path):
+    """{(scene, binary, mean_of): row} of an error CSV written by
+    `gi_indirect_2026-11-29/run.sh` (`indirect.csv`, `lit.csv`): each row's fields as strings,
+    `rel_mse_excess` the relMSE without the reference's noise."""
+    with open(path) as f:
+        return {(r["scene"], r["binary"], r["mean_of"]): r for r in csv.DictReader(f)}

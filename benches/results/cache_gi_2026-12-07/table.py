@@ -4,7 +4,7 @@ frames 121-136), relMSE x 10^3 without the reference's noise and the image's mea
 reference's, beside each mode's GI passes' and specular GI's GPU ms at 1920x1080 (medians of
 two reps) and the one-frame product relMSE x ms against one-candidate path GI's, by GI ms and
 by GI + specular ms. Usage: python3 table.py [FOLDER]"""
-import csv, os, statistics, sys
+import os, statistics, sys
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(here))
@@ -18,8 +18,8 @@ runs = ab_runs.runs_in_tarball(os.path.join(folder, "time.tar.gz"))
 gi = {k: statistics.median(ab_runs.passes_ms(j, ("gi_", "world_cache_gi")) for j in v) for k, v in runs.items()}
 spec = {k: statistics.median(ab_runs.passes_ms(j, ("specular_gi",)) for j in v) for k, v in runs.items()}
 frame = {k: statistics.median(j["gpu_frame_ms"] for j in v) for k, v in runs.items()}
-ind = {(r["scene"], r["binary"], r["mean_of"]): (1e3 * float(r["rel_mse_excess"]), float(r["mean_ratio"]))
-       for r in csv.DictReader(open(os.path.join(folder, "indirect.csv")))}
+ind = {k: (1e3 * float(r["rel_mse_excess"]), float(r["mean_ratio"]))
+       for k, r in ab_runs.error_rows(os.path.join(folder, "indirect.csv")).items()}
 names = {"p": "path GI", "c": "cache GI", "r": "ReSTIR GI"}
 print("| scene | mode | GPU frame ms | GI ms | specular ms | raw f136 | raw mean of 16 | mean/ref f136 | mean/ref, mean of 16 | factor vs path GI, GI ms | factor, (GI + specular) ms |")
 print("|---|---|---|---|---|---|---|---|---|---|---|")

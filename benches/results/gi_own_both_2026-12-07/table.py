@@ -3,18 +3,18 @@ mean GPU ms at 1920x1080, `h100_1/time.tar.gz`), the indirect view's raw relMSE 
 without the reference's noise at 960x540 (`h100_1/indirect.csv`: frame 136 and the mean of
 frames 121-136), one frame's mean over the reference's, relMSE x ms, and one-candidate path
 GI's product over the row's (the equal-time factor of issue 18's bar). Writes table.md."""
-import csv, os, sys
+import os, sys
 from statistics import median
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(here))
-from ab_runs import gi_ms, runs_in_tarball  # noqa: E402
+from ab_runs import error_rows, gi_ms, runs_in_tarball  # noqa: E402
 
 NAMES = {"p": "path GI", "r": "ReSTIR GI, own share over both samples (the patch's default)",
          "ro": "ReSTIR GI, own share from the kept sample (shipped)"}
 runs = runs_in_tarball(os.path.join(here, "h100_1", "time.tar.gz"))
-err = {(r["scene"], r["binary"], r["mean_of"]): (float(r["rel_mse_excess"]), float(r["mean_ratio"]))
-       for r in csv.DictReader(open(os.path.join(here, "h100_1", "indirect.csv")))}
+err = {k: (float(r["rel_mse_excess"]), float(r["mean_ratio"]))
+       for k, r in error_rows(os.path.join(here, "h100_1", "indirect.csv")).items()}
 lines = ["| scene | mode | GI ms | raw f136 | raw mean of 16 | f136 mean/ref | f136 x ms | factor vs path GI |",
          "|---|---|---|---|---|---|---|---|"]
 for s in ("cornell_box", "interior"):

@@ -10,7 +10,7 @@ from statistics import median
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.dirname(here))
-from ab_runs import gi_ms, runs_in_tarball  # noqa: E402
+from ab_runs import error_rows, gi_ms, runs_in_tarball  # noqa: E402
 
 NAMES = {"p": "path GI", "r": "ReSTIR GI (defaults)", "rt": "temporal only",
          "rt16": "temporal only, cap 16", "rt32": "temporal only, cap 32"}
@@ -18,8 +18,7 @@ runs = runs_in_tarball(os.path.join(here, "h100_1", "time.tar.gz"))
 
 
 def errors(path):
-    return {(r["scene"], r["binary"], r["mean_of"]): float(r["rel_mse_excess"]) * 1e3
-            for r in csv.DictReader(open(os.path.join(here, path)))}
+    return {k: float(r["rel_mse_excess"]) * 1e3 for k, r in error_rows(os.path.join(here, path)).items()}
 
 
 raw, lit = errors("h100_1/indirect.csv"), errors("h100_2/lit.csv")
