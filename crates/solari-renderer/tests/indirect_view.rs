@@ -336,3 +336,43 @@ fn the_own_reservoirs_share_keeps_the_mean_and_lowers_the_noise() {
     assert!(bias.abs() < 0.05, "{bias}");
     assert!(ratio < 0.92, "{ratio}");
 }
+
+#[test]
+fn a_gi_ray_takes_a_glossy_hits_specular_layer_from_the_cache() {
+    // The box's side walls made dark glossy dielectrics: much of the light they send back into
+    // the room is their specular layer's. A GI ray's hit is lit by the world cache (irradiance
+    // / π) and sends its directional albedo toward the ray times it; with the base colour
+    // alone it would send only the diffuse share. The walls' pixels themselves take their
+    // specular share through specular GI, which reuses the GI reservoir where rough.
+    let mut scene = solari_scene::default_scene::cornell_box();
+    for m in scene.materials.iter_mut() {
+        if m.name == "red" || m.name == "green" {
+            m.base_color = glam::Vec4::new(0.05, 0.05, 0.05, 1.0);
+            m.dielectric_f0 = glam::Vec3::splat(0.04);
+            m.dielectric_f90 = 1.0;
+            m.roughness = 0.5;
+        }
+    }
+    let Some(c) = Cornell::with_scene(scene) else {
+        return;
+    };
+    let indirect_reference = reference(&c, 2, u32::MAX);
+    let mut r = c.renderer(settings(
+        GiMode::Path,
+        FrameView::Indirect,
+        DenoiserKind::None,
+    ));
+    for _ in 0..32 {
+        next_frame(&c, &mut r);
+    }
+    let (mean, _) = frame_mean(64, || next_frame(&c, &mut r));
+    let bias = total(&mean) / total(&indirect_reference) - 1.0;
+    let block = worst_block(&mean, &indirect_reference, 1.0 / 64.0);
+    println!(
+        "glossy side walls, indirect view against the indirect reference: total {bias:+.4}, \
+         worst bright block {block:.4}"
+    );
+    // Lavapipe: +0.3% in total (worst bright block 10%); with the base colour at the hit
+    // −5.7% (20%), which this bound fails.
+    assert!(bias.abs() < 0.04, "{bias}");
+}

@@ -4,8 +4,12 @@
 //! ## The algorithm (after Solari 0.17–0.19)
 //!
 //! 1. **Initial sample**: a cosine-distributed direction about the shading normal is traced.
-//!    At its hit, the radiance toward the pixel is the hit's base colour times the world
-//!    cache's irradiance / π there (its total channel: the hit's direct light belongs to GI).
+//!    At its hit, the radiance toward the pixel is the hit's directional albedo toward the
+//!    pixel (what its BRDF reflects under uniform light, a dielectric's specular layer
+//!    included) times the world cache's irradiance / π there (its total channel: the hit's
+//!    direct light belongs to GI), as the cache's own bounce takes it. (The base colour alone,
+//!    the seeds' choice, left `interior`'s lit frame 1.6% dark on an H100: `benches/RESULTS.md`,
+//!    "A GI ray's hit reflects with its directional albedo".)
 //!    An emissive hit's own emission is left out (ReSTIR DI owns it), the light it reflects
 //!    counts like any hit's; a miss gives a far sample point lit by the scene's constant
 //!    environment. W = π / cos. A hit in a cell the cache has not lit yet gives no sample
