@@ -36,3 +36,16 @@ for s in ("interior", "cornell_box", "sun_boxes"):
         lt = [fl.get((s, b, f)) for f in ("136", "500", "2000")]
         c = lambda r: "-" if r is None else "%.3f (%.4f)" % (1e3 * float(r["rel_mse_excess"]), float(r["mean_ratio"]))
         print(f"| {s} | {n} | " + " | ".join(c(r) for r in raw) + " | " + " | ".join(c(r) for r in lt) + " |")
+
+print()
+av = error_rows(os.path.join(here, "h100_average", "indirect.csv"))
+al = error_rows(os.path.join(here, "h100_average", "lit.csv"))
+names3 = {"po": "base colour", "pn": "directional albedo (kept)", "pa": "albedo averaged over views"}
+print("| scene | GI at the hit | raw f136 | raw mean of 16 | raw mean/ref | lit f136 | lit mean of 16 | lit mean/ref |")
+print("|---|---|---|---|---|---|---|---|")
+for s in ("interior", "metal_rough_spheres"):
+    for b in ("po", "pn", "pa"):
+        a1, a16, l1, l16 = av[(s, b, "1")], av[(s, b, "16")], al[(s, b, "1")], al[(s, b, "16")]
+        e = lambda r: "%.3f" % (1e3 * float(r["rel_mse_excess"]))
+        m = lambda r, q: "%.4f, %.4f" % (float(r["mean_ratio"]), float(q["mean_ratio"]))
+        print(f"| {s} | {names3[b]} | {e(a1)} | {e(a16)} | {m(a1, a16)} | {e(l1)} | {e(l16)} | {m(l1, l16)} |")
