@@ -68,6 +68,19 @@ fn next_frame(c: &Cornell, r: &mut RealtimeRenderer) -> Vec<[f32; 4]> {
     r.read_output(&c.gpu).expect("read back")
 }
 
+// Plain path GI's indirect view, raw: the mean of `frames` frames after `warm_up`.
+fn path_gi_indirect_mean(c: &Cornell, warm_up: u32, frames: u32) -> Vec<[f32; 3]> {
+    let mut r = c.renderer(settings(
+        GiMode::Path,
+        FrameView::Indirect,
+        DenoiserKind::None,
+    ));
+    for _ in 0..warm_up {
+        next_frame(c, &mut r);
+    }
+    frame_mean(frames, || next_frame(c, &mut r)).0
+}
+
 #[test]
 fn the_indirect_view_is_what_the_gi_passes_add() {
     let Some(c) = Cornell::new() else { return };
@@ -199,15 +212,7 @@ fn a_uniform_sky_seen_after_one_bounce_stays_out_of_the_indirect_view() {
         return;
     };
     let indirect_reference = reference(&c, 2, u32::MAX);
-    let mut r = c.renderer(settings(
-        GiMode::Path,
-        FrameView::Indirect,
-        DenoiserKind::None,
-    ));
-    for _ in 0..16 {
-        next_frame(&c, &mut r);
-    }
-    let (mean, _) = frame_mean(48, || next_frame(&c, &mut r));
+    let mean = path_gi_indirect_mean(&c, 16, 48);
     let bias = total(&mean) / total(&indirect_reference) - 1.0;
     println!("indirect view against the indirect reference: {bias:+.4}");
     assert!(bias.abs() < 0.05, "{bias}");
@@ -357,15 +362,7 @@ fn a_gi_ray_takes_a_glossy_hits_specular_layer_from_the_cache() {
         return;
     };
     let indirect_reference = reference(&c, 2, u32::MAX);
-    let mut r = c.renderer(settings(
-        GiMode::Path,
-        FrameView::Indirect,
-        DenoiserKind::None,
-    ));
-    for _ in 0..32 {
-        next_frame(&c, &mut r);
-    }
-    let (mean, _) = frame_mean(64, || next_frame(&c, &mut r));
+    let mean = path_gi_indirect_mean(&c, 32, 64);
     let bias = total(&mean) / total(&indirect_reference) - 1.0;
     let block = worst_block(&mean, &indirect_reference, 1.0 / 64.0);
     println!(
