@@ -8,8 +8,10 @@
 //!    pixel (what its BRDF reflects under uniform light, a dielectric's specular layer
 //!    included) times the world cache's irradiance / π there (its total channel: the hit's
 //!    direct light belongs to GI), as the cache's own bounce takes it. (The base colour alone,
-//!    the seeds' choice, left `interior`'s lit frame 1.6% dark on an H100: `benches/RESULTS.md`,
-//!    "A GI ray's hit reflects with its directional albedo".)
+//!    the seeds' choice, left `interior`'s lit frame 1.5% dark on an H100: `benches/RESULTS.md`,
+//!    "A GI ray's hit reflects the world cache's light with its directional albedo".) The
+//!    radiance is the one toward the pixel that traced it; reuse carries it to neighbours
+//!    and later frames unchanged, as if the hit reflected alike in every direction.
 //!    An emissive hit's own emission is left out (ReSTIR DI owns it), the light it reflects
 //!    counts like any hit's; a miss gives a far sample point lit by the scene's constant
 //!    environment. W = π / cos. A hit in a cell the cache has not lit yet gives no sample

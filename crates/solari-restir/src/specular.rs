@@ -22,9 +22,10 @@
 //!   by `t² · ½α²/(1 − α²)` per segment (α of the surface it left; the primary's α over the
 //!   camera distance to start, Bevy's form); once a segment is longer than √3 cells and the
 //!   spread exceeds a cell², the hit's directional albedo toward the ray times the cache's
-//!   irradiance ends the path (as at a ReSTIR GI hit). With termination on, a path also ends in the cache at its last bounce
-//!   ([`SpecularGiSettings::max_bounces`]); with it off, no path reads the cache: it stops
-//!   after its last bounce's light sample, and the light beyond is lost.
+//!   irradiance ends the path (as at a ReSTIR GI hit). With termination on, a path also ends
+//!   in the cache at its last bounce ([`SpecularGiSettings::max_bounces`]); with it off, no
+//!   path reads the cache: it stops after its last bounce's light sample, and the light
+//!   beyond is lost.
 //!
 //! - **Primary surface replacement** (after Solari 0.19 "Primary Surface Replacement", bound
 //!   with [`PsrBindings`]): where the primary surface is a mirror metal (metallic 1,
