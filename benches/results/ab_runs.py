@@ -27,9 +27,10 @@ def gi_ms(run):
     return passes_ms(run, ("gi",))
 
 
-def error_rows(path):
-    """{(scene, binary, mean_of): row} of an error CSV written by
+def error_rows(path, by="mean_of"):
+    """{(scene, binary, row[by]): row} of an error CSV written by
     `gi_indirect_2026-11-29/run.sh` (`indirect.csv`, `lit.csv`): each row's fields as strings,
-    `rel_mse_excess` the relMSE without the reference's noise."""
+    `rel_mse_excess` the relMSE without the reference's noise. `by="frames"` keys runs of one
+    frame count each (RUNS="136:1 500:1 ...")."""
     with open(path) as f:
-        return {(r["scene"], r["binary"], r["mean_of"]): r for r in csv.DictReader(f)}
+        return {(r["scene"], r["binary"], r[by]): r for r in csv.DictReader(f)}
