@@ -370,7 +370,7 @@ fn a_gi_ray_takes_a_glossy_hits_specular_layer_from_the_cache() {
          worst bright block {block:.4}"
     );
     // Lavapipe: +0.3% and +0.6% in total over two runs (worst bright block 10%); with the
-    // base colour at the hit −5.7% (20%), one run. The bound sits halfway, each side a margin of about twice the
-    // ±1% that lavapipe's means move from run to run.
+    // base colour at the hit −5.7% (20%), one run. The bound sits halfway, each side a
+    // margin of about twice the ±1% that lavapipe's means move from run to run.
     assert!(bias.abs() < 0.03, "{bias}");
 }
