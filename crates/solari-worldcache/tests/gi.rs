@@ -330,10 +330,21 @@ fn mean_indirect(s: &Setup, gpu: &Gpu) -> f64 {
     cells.iter().map(|c| c.indirect[1] as f64).sum::<f64>() / cells.len().max(1) as f64
 }
 
-/// 300 frames of the 32² scene from a cold cache: the steady level of the live cells' mean
-/// indirect irradiance (its mean over frames 200..300) and the first frame that comes within
-/// 10% of it.
-fn fill_from_cold(gpu: &Gpu, scene: &Scene, settings: WorldCacheSettings) -> (f64, Option<usize>) {
+/// How a cold cache's indirect light filled: see [`fill_from_cold`].
+struct Fill {
+    /// The live cells' mean indirect irradiance over frames 200..300.
+    steady: f64,
+    /// The first frame whose level comes within 10% of `steady`.
+    within: Option<usize>,
+    /// The mean shortfall below `steady` over the first 16 frames, as a fraction of it: the
+    /// area between the fill curve and its steady level, which integrates the frame-to-frame
+    /// noise that moves a single threshold crossing by several frames where the curve is flat.
+    shortfall: f64,
+}
+
+/// 300 frames of the 32² scene from a cold cache, with the live cells' mean indirect
+/// irradiance read after each.
+fn fill_from_cold(gpu: &Gpu, scene: &Scene, settings: WorldCacheSettings) -> Fill {
     let mut s = setup_with(gpu, scene, 32, settings, Gi::WorldCache).expect("cache");
     let levels: Vec<f64> = (0..300)
         .map(|_| {
@@ -343,7 +354,16 @@ fn fill_from_cold(gpu: &Gpu, scene: &Scene, settings: WorldCacheSettings) -> (f6
         .collect();
     let steady = levels[200..].iter().sum::<f64>() / 100.0;
     let within = levels.iter().position(|&l| l > 0.9 * steady).map(|f| f + 1);
-    (steady, within)
+    let shortfall = levels[..16]
+        .iter()
+        .map(|&l| (1.0 - l / steady).max(0.0))
+        .sum::<f64>()
+        / 16.0;
+    Fill {
+        steady,
+        within,
+        shortfall,
+    }
 }
 
 /// A cold cache's indirect light reaches its steady level sooner with the young-cell
@@ -363,22 +383,25 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
         };
         fill_from_cold(&gpu, &scene, settings)
     };
-    let (plain, plain_frames) = fill(0.0);
-    let (ramp, ramp_frames) = fill(2.0);
+    let (plain, ramp) = (fill(0.0), fill(2.0));
     eprintln!(
-        "cornell 32x32, cold cache: indirect within 10% of steady after {plain_frames:?} frames \
-         (running mean, steady {plain:.4}) and {ramp_frames:?} (warm-up exponent 2, steady {ramp:.4})"
+        "cornell 32x32, cold cache: indirect within 10% of steady after {:?} frames \
+         (running mean, steady {:.4}) and {:?} (warm-up exponent 2, steady {:.4})",
+        plain.within, plain.steady, ramp.within, ramp.steady
     );
-    let (Some(p), Some(r)) = (plain_frames, ramp_frames) else {
-        panic!("never filled: {plain_frames:?} / {ramp_frames:?}");
+    let (Some(p), Some(r)) = (plain.within, ramp.within) else {
+        panic!("never filled: {:?} / {:?}", plain.within, ramp.within);
     };
+    // Measured on lavapipe: 18-20 frames against 49-56.
     assert!(
         (r as f64) <= 0.6 * p as f64,
         "the warm-up took {r} frames against the running mean's {p}"
     );
     assert!(
-        (ramp / plain - 1.0).abs() < 0.05,
-        "steady levels differ: {ramp:.4} with the warm-up, {plain:.4} without"
+        (ramp.steady / plain.steady - 1.0).abs() < 0.05,
+        "steady levels differ: {:.4} with the warm-up, {:.4} without",
+        ramp.steady,
+        plain.steady
     );
 }
 
@@ -397,23 +420,28 @@ fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
         ..cache_settings(1 << 14)
     };
     let fill = |rounds: u32| fill_from_cold(&gpu, &scene, settings(rounds));
-    let (one, one_frames) = fill(1);
-    let (four, four_frames) = fill(4);
+    let (one, four) = (fill(1), fill(4));
     eprintln!(
-        "cornell 32x32, cold cache: indirect within 10% of steady after {one_frames:?} frames \
-         (one round, steady {one:.4}) and {four_frames:?} (four rounds, steady {four:.4})"
+        "cornell 32x32, cold cache: mean shortfall over the first 16 frames {:.3} with one \
+         round, {:.3} with four (within 10% of steady after {:?} and {:?} frames; steady {:.4} \
+         and {:.4})",
+        one.shortfall, four.shortfall, one.within, four.within, one.steady, four.steady
     );
-    let (Some(a), Some(b)) = (one_frames, four_frames) else {
-        panic!("never filled: {one_frames:?} / {four_frames:?}");
-    };
-    // Measured on lavapipe: 9 frames against 17.
+    // Four rounds' curve flattens just under 90% of its steady level after the warm-up frames,
+    // so the frame that crosses 90% wandered from 9 to 15 between runs of lavapipe (its cells
+    // are claimed in thread order); the area below the steady level does not wander.
+    // Measured on lavapipe: 0.64-0.67 of one round's (six runs).
     assert!(
-        (b as f64) <= 0.65 * a as f64,
-        "four rounds took {b} frames against one round's {a}"
+        four.shortfall <= 0.75 * one.shortfall,
+        "four rounds fell {:.3} short over 16 frames against one round's {:.3}",
+        four.shortfall,
+        one.shortfall
     );
     assert!(
-        (four / one - 1.0).abs() < 0.05,
-        "steady levels differ: {four:.4} with four rounds, {one:.4} with one"
+        (four.steady / one.steady - 1.0).abs() < 0.05,
+        "steady levels differ: {:.4} with four rounds, {:.4} with one",
+        four.steady,
+        one.steady
     );
 
     // Which frames run the rounds, on the CPU and on the GPU.
