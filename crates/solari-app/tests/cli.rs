@@ -477,6 +477,46 @@ fn outputs_follow_their_extension() {
     assert!(image::open(d.0.join("n.exr")).is_ok());
 }
 
+/// A scene named by a bare file name (`solari render tri.gltf` in its own folder) reads its
+/// external buffer: the file's parent folder is empty, which is the current one (it was
+/// refused as an unreadable asset folder). The asset-folder guard still holds there.
+#[test]
+fn a_bare_scene_file_name_reads_its_buffer_file() {
+    let d = Dir::new("bare-name");
+    let mut doc = triangle(TRI);
+    let data = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let payload = data.split_once(";base64,").unwrap().1;
+    let bytes = base64::engine::general_purpose::STANDARD
+        .decode(payload)
+        .unwrap();
+    d.write("tri.bin", &bytes);
+    doc["buffers"][0]["uri"] = json!("tri.bin");
+    let name = gltf(&d, "tri.gltf", &doc);
+    for scene in [name.as_str(), "./tri.gltf"] {
+        succeeds(
+            &d,
+            &[
+                "render", scene, "--size", "8x8", "--view", "normal", "--out", "n.png",
+            ],
+        );
+        assert!(image::open(d.0.join("n.png")).unwrap().as_rgb8().is_some());
+        std::fs::remove_file(d.0.join("n.png")).unwrap();
+    }
+    // The same buffer in a folder beside this one: outside the scene's folder.
+    let beside = Dir::new("bare-name-beside");
+    beside.write("tri.bin", &bytes);
+    let folder = beside.0.file_name().unwrap().to_str().unwrap();
+    doc["buffers"][0]["uri"] = json!(format!("../{folder}/tri.bin"));
+    let outside = gltf(&d, "outside.gltf", &doc);
+    fails(
+        &d,
+        &[
+            "render", &outside, "--size", "8x8", "--view", "normal", "--out", "n.png",
+        ],
+        "outside the asset folder",
+    );
+}
+
 #[test]
 fn a_huge_frame_count_runs_instead_of_aborting() {
     let d = Dir::new("frames");

@@ -119,10 +119,16 @@ impl AssetFolder {
         let resolved = joined
             .canonicalize()
             .map_err(|e| format!("{}: {e}", joined.display()))?;
-        let root = self
-            .root
+        // A scene named by a bare file name (`scene.gltf`) has an empty parent folder, which
+        // is the current one.
+        let root = if self.root.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            &self.root
+        };
+        let root = root
             .canonicalize()
-            .map_err(|e| format!("asset folder {}: {e}", self.root.display()))?;
+            .map_err(|e| format!("asset folder {}: {e}", root.display()))?;
         if !resolved.starts_with(&root) {
             return Err(format!(
                 "URI {uri:?} resolves to {}, outside the asset folder {}",
