@@ -337,7 +337,7 @@ struct Fill {
     /// The first frame whose level comes within 10% of `steady`.
     within: Option<usize>,
     /// The mean shortfall below `steady` over the first 16 frames, as a fraction of it: the
-    /// area between the fill curve and its steady level, which integrates the frame-to-frame
+    /// area between the fill curve and its steady level, which averages out the frame-to-frame
     /// noise that moves a single threshold crossing by several frames where the curve is flat.
     shortfall: f64,
 }
@@ -405,9 +405,9 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
     );
 }
 
-/// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light
-/// reaches its steady level in fewer frames with four update rounds a frame than with one,
-/// and settles at the same level; the rounds run in the first `warm_up_frames` frames only
+/// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light falls
+/// less short of its steady level over the first 16 frames with four update rounds a frame
+/// than with one (`Fill::shortfall`), and settles at the same level; the rounds run in the first `warm_up_frames` frames only
 /// (counted on the CPU and by the GPU's blend), again after `clear`, and in the frames after a
 /// light change. 32² Cornell box.
 #[test]
@@ -429,7 +429,7 @@ fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
     );
     // Four rounds' curve flattens just under 90% of its steady level after the warm-up frames,
     // so the frame that crosses 90% wandered from 9 to 15 between runs of lavapipe (its cells
-    // are claimed in thread order); the area below the steady level does not wander.
+    // are claimed in thread order); the area below the steady level wanders little.
     // Measured on lavapipe: 0.64-0.67 of one round's (six runs).
     assert!(
         four.shortfall <= 0.75 * one.shortfall,

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""The two sun_boxes variants of this folder's README, section 2, written to the folder given
-(with a copy of the scene's .bin beside them): `lambert.gltf`, the gold sphere made Lambertian
-(metallic 0, roughness 1, the same base colour), and `lifted.gltf`, the gold sphere moved up by
-its radius (0.8) so it no longer touches the ground. `run.sh` then renders each at 320x180
-(reference 256 paths, `--min-bounces 2`; path GI with `/tmp/solari_life1000`) and prints
-mean / reference over all pixels, the blocks near the sphere and the rest."""
+"""The sun_boxes variants of this folder's README, section 2, written to the folder given (with
+a copy of the scene, `sun_boxes.gltf`, and its .bin beside them): `lambert.gltf`, the gold
+sphere made rough (metallic 0, roughness 1, the same base colour; it keeps glTF's default
+dielectric coat, F0 0.04, so it is Lambertian up to that coat), and `lifted.gltf`, the gold
+sphere moved up by its radius (0.8) so it no longer touches the ground. `run.sh` renders
+them."""
 import json, shutil, sys
 from pathlib import Path
 
@@ -12,6 +12,7 @@ src = Path(__file__).resolve().parents[4] / "crates/solari-testdata/scenes/sun_b
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "/tmp/sbl")
 out.mkdir(parents=True, exist_ok=True)
 shutil.copy(src / "sun_boxes.bin", out / "sun_boxes.bin")
+shutil.copy(src / "sun_boxes.gltf", out / "sun_boxes.gltf")
 g = json.loads((src / "sun_boxes.gltf").read_text())
 a = json.loads(json.dumps(g))
 gold = next(m for m in a["materials"] if m["name"] == "gold_metal")
