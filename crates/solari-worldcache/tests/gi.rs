@@ -332,14 +332,31 @@ fn mean_indirect(s: &Setup, gpu: &Gpu) -> f64 {
 
 /// How a cold cache's indirect light filled: see [`fill_from_cold`].
 struct Fill {
-    /// The live cells' mean indirect irradiance over frames 200..300.
+    /// The live cells' mean indirect irradiance after each frame.
+    levels: Vec<f64>,
+    /// Its mean over frames 200..300.
     steady: f64,
-    /// The first frame whose level comes within 10% of `steady`.
-    within: Option<usize>,
-    /// The mean shortfall below `steady` over the first 16 frames, as a fraction of it: the
-    /// area between the fill curve and its steady level, which averages out the frame-to-frame
-    /// noise that moves a single threshold crossing by several frames where the curve is flat.
-    shortfall: f64,
+}
+
+impl Fill {
+    /// The first frame whose level exceeds `fraction` of the steady one. Where the curve is
+    /// flat near `fraction` the run-to-run noise moves this by several frames: compare
+    /// crossings where the curves are steep.
+    fn frames_to(&self, fraction: f64) -> Option<usize> {
+        let bar = fraction * self.steady;
+        self.levels.iter().position(|&l| l > bar).map(|f| f + 1)
+    }
+
+    /// The mean shortfall below the steady level over the first 16 frames, as a fraction of
+    /// it: the area between the fill curve and its steady level, which averages out the
+    /// frame-to-frame noise that moves a single crossing.
+    fn shortfall(&self) -> f64 {
+        self.levels[..16]
+            .iter()
+            .map(|&l| (1.0 - l / self.steady).max(0.0))
+            .sum::<f64>()
+            / 16.0
+    }
 }
 
 /// 300 frames of the 32² scene from a cold cache, with the live cells' mean indirect
@@ -353,17 +370,7 @@ fn fill_from_cold(gpu: &Gpu, scene: &Scene, settings: WorldCacheSettings) -> Fil
         })
         .collect();
     let steady = levels[200..].iter().sum::<f64>() / 100.0;
-    let within = levels.iter().position(|&l| l > 0.9 * steady).map(|f| f + 1);
-    let shortfall = levels[..16]
-        .iter()
-        .map(|&l| (1.0 - l / steady).max(0.0))
-        .sum::<f64>()
-        / 16.0;
-    Fill {
-        steady,
-        within,
-        shortfall,
-    }
+    Fill { levels, steady }
 }
 
 /// A cold cache's indirect light reaches its steady level sooner with the young-cell
@@ -387,10 +394,17 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
     eprintln!(
         "cornell 32x32, cold cache: indirect within 10% of steady after {:?} frames \
          (running mean, steady {:.4}) and {:?} (warm-up exponent 2, steady {:.4})",
-        plain.within, plain.steady, ramp.within, ramp.steady
+        plain.frames_to(0.9),
+        plain.steady,
+        ramp.frames_to(0.9),
+        ramp.steady
     );
-    let (Some(p), Some(r)) = (plain.within, ramp.within) else {
-        panic!("never filled: {:?} / {:?}", plain.within, ramp.within);
+    let (Some(p), Some(r)) = (plain.frames_to(0.9), ramp.frames_to(0.9)) else {
+        panic!(
+            "never filled: {:?} / {:?}",
+            plain.frames_to(0.9),
+            ramp.frames_to(0.9)
+        );
     };
     // Measured on lavapipe: 18-20 frames against 49-56.
     assert!(
@@ -405,11 +419,12 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
     );
 }
 
-/// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light falls
-/// less short of its steady level over the first 16 frames with four update rounds a frame
-/// than with one (`Fill::shortfall`), and settles at the same level; the rounds run in the first `warm_up_frames` frames only
-/// (counted on the CPU and by the GPU's blend), again after `clear`, and in the frames after a
-/// light change. 32² Cornell box.
+/// Warm-up rounds (`WorldCacheSettings::warm_up_rounds`): a cold cache's indirect light comes
+/// within 20% of its steady level in fewer frames with four update rounds a frame than with
+/// one, falls less short of it over the first 16 frames (`Fill::shortfall`), and settles at
+/// the same level; the rounds run in the first `warm_up_frames` frames only (counted on the
+/// CPU and by the GPU's blend), again after `clear`, and in the frames after a light change.
+/// 32² Cornell box.
 #[test]
 fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
     let Some(gpu) = test_gpu() else { return };
@@ -421,21 +436,36 @@ fn warm_up_rounds_fill_a_cold_cache_sooner_and_settle_at_the_same_level() {
     };
     let fill = |rounds: u32| fill_from_cold(&gpu, &scene, settings(rounds));
     let (one, four) = (fill(1), fill(4));
+    let (one_short, four_short) = (one.shortfall(), four.shortfall());
     eprintln!(
-        "cornell 32x32, cold cache: mean shortfall over the first 16 frames {:.3} with one \
-         round, {:.3} with four (within 10% of steady after {:?} and {:?} frames; steady {:.4} \
-         and {:.4})",
-        one.shortfall, four.shortfall, one.within, four.within, one.steady, four.steady
+        "cornell 32x32, cold cache: within 20% of steady after {:?} frames with one round, {:?} \
+         with four; mean shortfall over the first 16 frames {one_short:.3} and {four_short:.3} \
+         (steady {:.4} and {:.4})",
+        one.frames_to(0.8),
+        four.frames_to(0.8),
+        one.steady,
+        four.steady
     );
     // Four rounds' curve flattens just under 90% of its steady level after the warm-up frames,
     // so the frame that crosses 90% wandered from 9 to 15 between runs of lavapipe (its cells
-    // are claimed in thread order); the area below the steady level wanders little.
-    // Measured on lavapipe: 0.64-0.67 of one round's (six runs).
+    // are claimed in thread order) and failed a bound of 0.65x one round's 17-21 in CI. At 80%
+    // both curves are steep: measured on lavapipe 7 frames against 11-13 (five runs).
+    let (Some(a), Some(b)) = (one.frames_to(0.8), four.frames_to(0.8)) else {
+        panic!(
+            "never within 20%: {:?} / {:?}",
+            one.frames_to(0.8),
+            four.frames_to(0.8)
+        );
+    };
     assert!(
-        four.shortfall <= 0.75 * one.shortfall,
-        "four rounds fell {:.3} short over 16 frames against one round's {:.3}",
-        four.shortfall,
-        one.shortfall
+        (b as f64) <= 0.7 * a as f64,
+        "four rounds took {b} frames against one round's {a}"
+    );
+    // The area below the steady level wanders little: measured on lavapipe 0.64-0.67 of one
+    // round's (six runs).
+    assert!(
+        four_short <= 0.75 * one_short,
+        "four rounds fell {four_short:.3} short over 16 frames against one round's {one_short:.3}"
     );
     assert!(
         (four.steady / one.steady - 1.0).abs() < 0.05,
