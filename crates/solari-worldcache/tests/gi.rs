@@ -406,7 +406,7 @@ fn young_cells_fill_sooner_and_settle_at_the_same_level() {
             ramp.frames_to(0.9)
         );
     };
-    // Measured on lavapipe: 18-20 frames against 49-56.
+    // Measured on lavapipe: 18-20 frames against 48-56.
     assert!(
         (r as f64) <= 0.6 * p as f64,
         "the warm-up took {r} frames against the running mean's {p}"
