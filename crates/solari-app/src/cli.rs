@@ -476,6 +476,13 @@ pub struct RealtimeArgs {
     /// target function).
     #[arg(long, default_value_t = 1)]
     pub gi_samples: u32,
+    /// GI rays that hit a metal smoother than this roughness (0–1) continue the path: a light
+    /// sample through the metal's BRDF and one BRDF-sampled bounce into the world cache,
+    /// instead of the cache's uniform-light estimate, which loses a sun's reflection off a
+    /// polished metal onto the surfaces around it. 0 (the default) keeps the cache at every
+    /// hit. `RestirGiSettings::glossy_hit_roughness`.
+    #[arg(long, default_value_t = 0.0, value_parser = values::finite)]
+    pub gi_glossy_hits: f32,
     /// Permute ReSTIR GI's temporal source pixel within 4×4 blocks (for DLSS-RR; costs
     /// accuracy, see `RestirGiSettings::permutation_sampling`).
     #[arg(long)]
@@ -712,6 +719,7 @@ impl RealtimeArgs {
                 adaptive_cap: self.gi_adaptive_cap,
                 adaptive_cap_settle_frames: self.gi_adaptive_cap_settle,
                 trace_fresh_pixels: self.gi_trace_fresh,
+                glossy_hit_roughness: self.gi_glossy_hits,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

@@ -382,9 +382,7 @@ impl LightTiles {
     /// The layout of bind group 3 for passes that read tiles: the light list (bindings 0–3)
     /// plus the tile samples (4) and their identities (5), for `light_tiles.wesl`.
     pub fn reader_layout(gpu: &Gpu) -> wgpu::BindGroupLayout {
-        let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
-        let mut entries = GpuLights::layout_entries(stages);
-        entries.extend(TILE_BINDINGS.layout_entries(stages));
+        let entries = Self::reader_layout_entries();
         gpu.device
             .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("solari_lights/lights_and_tiles"),
@@ -392,14 +390,30 @@ impl LightTiles {
             })
     }
 
-    /// Bind group 3 for tile readers (see [`LightTiles::reader_layout`]). Rebuild it when the
-    /// light list is re-uploaded.
-    pub fn reader_group(&self, gpu: &Gpu, lights: &GpuLights) -> wgpu::BindGroup {
+    /// The entries of [`LightTiles::reader_layout`] (bindings 0–8), for a pass whose group 3
+    /// holds bindings of its own beside them.
+    pub fn reader_layout_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        let stages = wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT;
+        let mut entries = GpuLights::layout_entries(stages);
+        entries.extend(TILE_BINDINGS.layout_entries(stages));
+        entries
+    }
+
+    /// The entries of [`LightTiles::reader_group`] over `lights`, for groups that extend it
+    /// (laid out with [`LightTiles::reader_layout_entries`] and more).
+    pub fn reader_entries<'a>(&'a self, lights: &'a GpuLights) -> Vec<wgpu::BindGroupEntry<'a>> {
         let mut entries = lights.entries();
         entries.extend(TILE_BINDINGS.entries(&[
             ("light_tile_samples", &self.samples),
             ("light_tile_ids", &self.ids),
         ]));
+        entries
+    }
+
+    /// Bind group 3 for tile readers (see [`LightTiles::reader_layout`]). Rebuild it when the
+    /// light list is re-uploaded.
+    pub fn reader_group(&self, gpu: &Gpu, lights: &GpuLights) -> wgpu::BindGroup {
+        let entries = self.reader_entries(lights);
         gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_lights/lights_and_tiles"),
             layout: &self.reader_layout,

@@ -927,8 +927,9 @@ impl RealtimeRenderer {
                     height,
                     settings.gi_settings_for(scene_triangles),
                     cache,
+                    tiles_built,
                 )?;
-                let target = gi.target_group(gpu, di.output());
+                let target = gi.target_group(gpu, di.output(), &tiles, &lights);
                 Some((gi, target))
             }
             _ => None,
@@ -1230,8 +1231,8 @@ impl RealtimeRenderer {
             *cache = WorldCache::new(gpu, backend, variant, cache.settings(), tiles)?;
             *target = cache.target_group(gpu, self.di.output());
             if let Some((gi, gi_target)) = &mut self.gi {
-                *gi = RestirGi::new(gpu, backend, variant, w, h, gi.settings(), cache)?;
-                *gi_target = gi.target_group(gpu, self.di.output());
+                *gi = RestirGi::new(gpu, backend, variant, w, h, gi.settings(), cache, tiles)?;
+                *gi_target = gi.target_group(gpu, self.di.output(), &self.tiles, &self.lights);
             }
             if let Some(specular) = &mut self.specular {
                 let settings = specular.settings();
@@ -1311,7 +1312,9 @@ impl RealtimeRenderer {
         self.lights = GpuLights::with_grid(gpu, &list, self.settings.selection, grid.as_ref())?;
         self.grid_report = grid.map(|g| g.report);
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
-        if let Some((gi, _)) = &mut self.gi {
+        if let Some((gi, gi_target)) = &mut self.gi {
+            // Glossy hits read the lights through GI's target group.
+            *gi_target = gi.target_group(gpu, self.di.output(), &self.tiles, &self.lights);
             // Whatever the change, ReSTIR GI's adaptive cap follows it until the view settles.
             gi.unsettle();
         }

@@ -102,6 +102,7 @@ use crate::gi_reservoir::GpuGiReservoir;
 use crate::gi_settings::{GpuGiParams, RestirGiSettings, SpatialVisibility, flags};
 use crate::settings::flags::reuse;
 use bytemuck::Zeroable;
+use solari_lights::{GpuLights, LightTileSettings, LightTiles};
 use solari_scene::GpuError;
 use solari_scene::bindings::{Buf, BufferGroup};
 use solari_scene::gbuffer_input::GBufferSource;
@@ -123,8 +124,9 @@ pub const GI_BINDINGS: BufferGroup = BufferGroup::new(
     ],
 );
 
-/// Bind group 3 of the GI shaders: the image shading adds to.
-pub const GI_TARGET_BINDINGS: BufferGroup = BufferGroup::new(3, 0, &[("lit", Buf::ReadWrite)]);
+/// Bind group 3 of the GI shaders beyond the lights and their tiles (bindings 0–8,
+/// [`LightTiles::reader_layout`], read at glossy hits): the image shading adds to.
+pub const GI_TARGET_BINDINGS: BufferGroup = BufferGroup::new(3, 9, &[("lit", Buf::ReadWrite)]);
 
 /// The pipeline constant that compiles reuse out of both GI passes (`@id(7120) override
 /// GI_REUSE` in `restir_gi.wesl`), for an instance built without reuse.
@@ -151,6 +153,21 @@ const SHADE_APART: (&str, f64) = ("7124", 1.0);
 /// ([`RestirGiSettings::half_rate_spatial`] with [`GiRate::Half`](crate::GiRate::Half) or
 /// [`GiRate::Quarter`](crate::GiRate::Quarter); `@id(7125) override GI_HALF_SPATIAL`).
 const HALF_SPATIAL: (&str, f64) = ("7125", 1.0);
+
+/// The pipeline constant that builds the initial pass's path continuation at glossy hits
+/// ([`RestirGiSettings::glossy_hit_roughness`] above 0; `@id(7126) override GI_GLOSSY_HITS`).
+const GLOSSY_HITS: (&str, f64) = ("7126", 1.0);
+
+/// What the initial pass's (first dispatch's) pipeline is specialised for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct InitialForm {
+    /// The resampling of several candidates (MULTI_CANDIDATE).
+    multi: bool,
+    /// Without reuse, the shading left to the second dispatch (SHADE_APART).
+    shade_apart: bool,
+    /// The path's continuation at glossy hits (GLOSSY_HITS).
+    glossy: bool,
+}
 
 /// What the spatial pass's pipeline is specialised for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -186,12 +203,10 @@ pub struct RestirGi {
     // The initial pass's second dispatch: with reuse the temporal merge (`initial` traces),
     // without it the shading where `shade_apart`.
     second: Option<wgpu::ComputePipeline>,
-    // Whether a `RestirGi` built without reuse has its shading in `second`; a settings
-    // change across that line has `prepare` build both again.
-    shade_apart: bool,
-    // Whether `initial` was built with the resampling of several candidates
-    // (MULTI_CANDIDATE); a settings change across that line has `prepare` build it again.
-    initial_multi: bool,
+    // What `initial` was specialised for; a settings change across any of its lines has
+    // `prepare` build it again (and `second` too where `shade_apart` moved: a `RestirGi`
+    // built without reuse then has its shading in `second`).
+    initial_form: InitialForm,
     // None when built without reuse (`in_place`): plain path GI shades in its initial pass.
     spatial: Option<wgpu::ComputePipeline>,
     // What `spatial` was specialised for; a settings change across either line has
@@ -199,6 +214,8 @@ pub struct RestirGi {
     spatial_form: SpatialForm,
     layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
+    // The light tiles glossy hits sample (pipeline constants and the sample count).
+    tiles: LightTileSettings,
     params: wgpu::Buffer,
     // (history, initial).
     buffers: Option<(wgpu::Buffer, wgpu::Buffer)>,
@@ -220,17 +237,22 @@ pub struct RestirGi {
 }
 
 // The initial pass's (first dispatch's) pipeline, built for reuse or without it, with the
-// resampling of several candidates where `multi`, and, without reuse, leaving the shading to
-// the second dispatch where `shade_apart`.
+// resampling of several candidates where `multi`, without reuse leaving the shading to the
+// second dispatch where `shade_apart`, and continuing paths at glossy hits where `glossy`.
 fn initial_pipeline(
     gpu: &Gpu,
     backend: Backend,
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     reuse: bool,
-    multi: bool,
-    shade_apart: bool,
+    forms: InitialForm,
+    tiles: &LightTileSettings,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
+    let InitialForm {
+        multi,
+        shade_apart,
+        glossy,
+    } = forms;
     let mut extra = Vec::new();
     if !reuse {
         extra.push(REUSE_OFF);
@@ -241,7 +263,18 @@ fn initial_pipeline(
     if !reuse && shade_apart {
         extra.push(SHADE_APART);
     }
-    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", &extra)
+    if glossy {
+        extra.push(GLOSSY_HITS);
+    }
+    gi_pipeline(
+        gpu,
+        backend,
+        variant,
+        layouts,
+        "restir_gi_initial",
+        &extra,
+        tiles,
+    )
 }
 
 // The initial pass's second dispatch: with reuse the temporal merge, without it the shading
@@ -252,13 +285,22 @@ fn second_pipeline(
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     reuse: bool,
+    tiles: &LightTileSettings,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let extra: &[(&str, f64)] = if reuse {
         &[SECOND_DISPATCH]
     } else {
         &[SECOND_DISPATCH, REUSE_OFF]
     };
-    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_initial", extra)
+    gi_pipeline(
+        gpu,
+        backend,
+        variant,
+        layouts,
+        "restir_gi_initial",
+        extra,
+        tiles,
+    )
 }
 
 // The spatial pass's pipeline, specialised for `form` (reuse on: a `RestirGi` built without
@@ -269,6 +311,7 @@ fn spatial_pipeline(
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     form: SpatialForm,
+    tiles: &LightTileSettings,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let mut extra = Vec::new();
     if form.chosen {
@@ -277,26 +320,37 @@ fn spatial_pipeline(
     if form.half_rate {
         extra.push(HALF_SPATIAL);
     }
-    gi_pipeline(gpu, backend, variant, layouts, "restir_gi_spatial", &extra)
+    gi_pipeline(
+        gpu,
+        backend,
+        variant,
+        layouts,
+        "restir_gi_spatial",
+        &extra,
+        tiles,
+    )
 }
 
-// The pass specialisations `s` wants: (the initial pass's resampling of several candidates,
-// the spatial pass's form, plain path GI's shading apart where the instance is built without
-// reuse, `in_place`, and draws one candidate: several are averaged as they are traced, and
-// only the reservoir they are resampled to is stored).
-fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (bool, SpatialForm, bool) {
+// The pass specialisations `s` wants: the initial pass's form (plain path GI shades apart
+// only where the instance is built without reuse, `in_place`, and draws one candidate:
+// several are averaged as they are traced, and only the reservoir they are resampled to is
+// stored) and the spatial pass's.
+fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (InitialForm, SpatialForm) {
     (
-        s.initial_samples > 1,
+        InitialForm {
+            multi: s.initial_samples > 1,
+            shade_apart: in_place && s.shade_apart && s.initial_samples == 1,
+            glossy: s.glossy_hit_roughness > 0.0,
+        },
         SpatialForm {
             chosen: s.spatial_visibility == SpatialVisibility::Chosen,
             half_rate: s.rate.reduced() && s.half_rate_spatial,
         },
-        in_place && s.shade_apart && s.initial_samples == 1,
     )
 }
 
 // A GI pass's pipeline (`entry`) over its own group and the target group (`layouts`), with
-// `variant`'s traversal constants and `extra`.
+// `variant`'s traversal constants, `tiles`' and `extra`.
 fn gi_pipeline(
     gpu: &Gpu,
     backend: Backend,
@@ -304,10 +358,11 @@ fn gi_pipeline(
     (layout, target_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     entry: &str,
     extra: &[(&'static str, f64)],
+    tiles: &LightTileSettings,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let shared = PassLayouts::new(gpu, backend);
     let layouts = shared.with(layout, target_layout);
-    let mut constants = variant.constants().to_vec();
+    let mut constants = tiles.reader_constants(variant.constants());
     constants.extend_from_slice(extra);
     let modules = crate::gi_modules();
     pass_pipeline(gpu, backend, &modules, &layouts, entry, &constants)
@@ -315,7 +370,10 @@ fn gi_pipeline(
 
 impl RestirGi {
     /// Builds the pipelines for scenes uploaded with `backend` and traced with `variant`,
-    /// and allocates `width × height` reservoirs bound with `cache`'s table.
+    /// and allocates `width × height` reservoirs bound with `cache`'s table. `tiles`: the
+    /// settings of the light tiles that [`RestirGi::target_group`] will bind, which glossy
+    /// hits sample ([`RestirGiSettings::glossy_hit_roughness`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         gpu: &Gpu,
         backend: Backend,
@@ -324,17 +382,28 @@ impl RestirGi {
         height: u32,
         settings: RestirGiSettings,
         cache: &WorldCache,
+        tiles: LightTileSettings,
     ) -> Result<Self, GpuError> {
         settings.validate()?;
         let variant = variant.for_backend(backend);
         let layout = layout_with_cache(gpu, &GI_BINDINGS, "solari_restir/gi");
-        let target_layout = GI_TARGET_BINDINGS.layout(gpu, "solari_restir/gi_target");
+        let mut target_entries = LightTiles::reader_layout_entries();
+        target_entries.extend(GI_TARGET_BINDINGS.layout_entries(wgpu::ShaderStages::COMPUTE));
+        let target_layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("solari_restir/gi_lights_and_target"),
+                entries: &target_entries,
+            });
         let reuse = settings.reuse();
-        let (multi, form, apart) = wanted_pipelines(&settings, !reuse);
+        let (initial_form, form) = wanted_pipelines(&settings, !reuse);
         let layouts = (&layout, &target_layout);
-        let initial = initial_pipeline(gpu, backend, variant, layouts, reuse, multi, apart)?;
-        let second = if reuse || apart {
-            Some(second_pipeline(gpu, backend, variant, layouts, reuse)?)
+        let initial =
+            initial_pipeline(gpu, backend, variant, layouts, reuse, initial_form, &tiles)?;
+        let second = if reuse || initial_form.shade_apart {
+            Some(second_pipeline(
+                gpu, backend, variant, layouts, reuse, &tiles,
+            )?)
         } else {
             None
         };
@@ -345,6 +414,7 @@ impl RestirGi {
                 variant,
                 (&layout, &target_layout),
                 form,
+                &tiles,
             )?)
         } else {
             None
@@ -357,12 +427,12 @@ impl RestirGi {
             size: (0, 0),
             initial,
             second,
-            shade_apart: apart,
-            initial_multi: multi,
+            initial_form,
             spatial,
             spatial_form: form,
             layout,
             target_layout,
+            tiles,
             params,
             buffers: None,
             initial_shared: false,
@@ -503,14 +573,23 @@ impl RestirGi {
     }
 
     /// The bind group of the image shading adds to (`width × height` `vec4<f32>`, row by
-    /// row), for example [`crate::RestirDi::output`].
-    pub fn target_group(&self, gpu: &Gpu, target: &wgpu::Buffer) -> wgpu::BindGroup {
-        GI_TARGET_BINDINGS.bind(
-            gpu,
-            "solari_restir/gi_target",
-            &self.target_layout,
-            &[("lit", target)],
-        )
+    /// row), for example [`crate::RestirDi::output`], with the lights and `tiles` (built with
+    /// the settings [`RestirGi::new`] was given), which glossy hits sample. Rebuild it when
+    /// the light list is re-uploaded.
+    pub fn target_group(
+        &self,
+        gpu: &Gpu,
+        target: &wgpu::Buffer,
+        tiles: &LightTiles,
+        lights: &GpuLights,
+    ) -> wgpu::BindGroup {
+        let mut entries = tiles.reader_entries(lights);
+        entries.extend(GI_TARGET_BINDINGS.entries(&[("lit", target)]));
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("solari_restir/gi_lights_and_target"),
+            layout: &self.target_layout,
+            entries: &entries,
+        })
     }
 
     /// Drops history: the next frame uses no temporal reuse (for camera cuts).
@@ -568,8 +647,9 @@ impl RestirGi {
         gbuffer: &dyn GBufferSource,
     ) -> Result<(), GpuError> {
         let s = self.settings;
-        let (multi, form, apart) = wanted_pipelines(&self.settings, self.in_place());
-        if multi != self.initial_multi || apart != self.shade_apart {
+        let (initial_form, form) = wanted_pipelines(&self.settings, self.in_place());
+        let apart = initial_form.shade_apart;
+        if initial_form != self.initial_form {
             let layouts = (&self.layout, &self.target_layout);
             let reuse = self.built_for_reuse();
             self.initial = initial_pipeline(
@@ -578,10 +658,10 @@ impl RestirGi {
                 self.variant,
                 layouts,
                 reuse,
-                multi,
-                apart,
+                initial_form,
+                &self.tiles,
             )?;
-            if apart != self.shade_apart {
+            if apart != self.initial_form.shade_apart {
                 self.second = if apart {
                     Some(second_pipeline(
                         gpu,
@@ -589,18 +669,23 @@ impl RestirGi {
                         self.variant,
                         layouts,
                         false,
+                        &self.tiles,
                     )?)
                 } else {
                     None
                 };
             }
             log::debug!(
-                "ReSTIR GI: initial pass built again for {} candidates{}",
+                "ReSTIR GI: initial pass built again for {} candidates{}{}",
                 s.initial_samples,
-                if apart { ", shading apart" } else { "" }
+                if apart { ", shading apart" } else { "" },
+                if initial_form.glossy {
+                    ", continuing at glossy hits"
+                } else {
+                    ""
+                }
             );
-            self.initial_multi = multi;
-            self.shade_apart = apart;
+            self.initial_form = initial_form;
         }
         if self.spatial.is_some() && form != self.spatial_form {
             let pipeline = spatial_pipeline(
@@ -609,6 +694,7 @@ impl RestirGi {
                 self.variant,
                 (&self.layout, &self.target_layout),
                 form,
+                &self.tiles,
             )?;
             log::debug!(
                 "ReSTIR GI: spatial pass built again for {:?}{}",
@@ -677,7 +763,9 @@ impl RestirGi {
             history_cap,
             rate_shift: s.rate_shift(),
             own_share: s.own_sample_share,
-            pad: [0; 3],
+            tile_samples: u32::try_from(self.tiles.sample_count()).unwrap_or(u32::MAX),
+            glossy_roughness: s.glossy_hit_roughness,
+            pad: 0,
         };
         gpu.queue
             .write_buffer(&self.params, 0, bytemuck::bytes_of(&params));
@@ -706,10 +794,9 @@ impl RestirGi {
         check_encode("ReSTIR GI", self.variant, self.size, scene, gbuffer, frame)?;
         // The pipelines are specialised for the settings (`prepare` rebuilds them): run
         // against other settings they would shade another estimator without a word.
-        let (multi, form, apart) = wanted_pipelines(&self.settings, self.in_place());
+        let (initial_form, form) = wanted_pipelines(&self.settings, self.in_place());
         if (self.spatial.is_some() && form != self.spatial_form)
-            || multi != self.initial_multi
-            || apart != self.shade_apart
+            || initial_form != self.initial_form
         {
             return Err(GpuError::Validation(
                 "ReSTIR GI: settings changed since the last prepare; call RestirGi::prepare \
@@ -752,7 +839,15 @@ impl RestirGi {
     /// pass was 9.5–14% faster on an H100). After [`RestirGi::set_settings`] moved the count
     /// to or from 1, the next [`RestirGi::prepare`] builds the other.
     pub fn initial_multi_candidate(&self) -> bool {
-        self.initial_multi
+        self.initial_form.multi
+    }
+
+    /// Whether the initial pass's pipeline continues paths at glossy hits
+    /// ([`RestirGiSettings::glossy_hit_roughness`] above 0; built without it, the pass has
+    /// one traversal). After [`RestirGi::set_settings`] moved the setting to or from 0, the
+    /// next [`RestirGi::prepare`] builds the other.
+    pub fn continues_at_glossy_hits(&self) -> bool {
+        self.initial_form.glossy
     }
 
     /// Whether plain path GI shades in the initial pass's second dispatch
@@ -760,7 +855,7 @@ impl RestirGi {
     /// is the temporal merge). After [`RestirGi::set_settings`] moved the setting, the next
     /// [`RestirGi::prepare`] builds the pass again.
     pub fn shades_apart(&self) -> bool {
-        self.in_place() && self.shade_apart
+        self.in_place() && self.initial_form.shade_apart
     }
 
     /// Whether the spatial pass's pipeline is the one specialised for

@@ -216,6 +216,15 @@ pub struct RestirGiSettings {
     /// 59.6, its mean from 13.9 to 21.2; the lit frame with the fallback denoiser was equal on
     /// the Cornell box (0.0972 → 0.0971) and 9% worse on `interior` (2.00 → 2.19). Kept on.
     pub spatial_history: bool,
+    /// A GI ray's hit on a metal (metallic at least 0.5) smoother than this continues the
+    /// path: one light-tile sample through the metal's BRDF and one BRDF-sampled bounce into
+    /// the world cache give the radiance it sends toward the pixel. Other hits, and every hit
+    /// at 0 (the default), send their directional albedo times the cache's irradiance: what
+    /// they reflect under uniform light. A smooth metal reflects a light into a narrow cone,
+    /// so that model spreads a sun's reflection over every direction and the surfaces lit
+    /// by it read dark (sun_boxes' ground beside its gold sphere, `benches/RESULTS.md`). Costs a shadow
+    /// ray and a bounce ray at each such hit, and the highlight's noise. 0 to 1.
+    pub glossy_hit_roughness: f32,
 }
 
 /// How many of the pixels trace GI rays each frame ([`RestirGiSettings::rate`]). At a reduced
@@ -389,6 +398,7 @@ impl Default for RestirGiSettings {
             shade_both_samples: true,
             own_sample_share: 0.5,
             spatial_history: true,
+            glossy_hit_roughness: 0.0,
         }
     }
 }
@@ -438,6 +448,12 @@ impl RestirGiSettings {
             return bad(format!(
                 "own_sample_share is {}, expected 0 to 1",
                 self.own_sample_share
+            ));
+        }
+        if !(0.0..=1.0).contains(&self.glossy_hit_roughness) {
+            return bad(format!(
+                "glossy_hit_roughness is {}, expected 0 to 1",
+                self.glossy_hit_roughness
             ));
         }
         if self.max_ray_distance.is_nan() || self.max_ray_distance <= 0.0 {
@@ -505,8 +521,12 @@ pub struct GpuGiParams {
     pub rate_shift: u32,
     /// [`RestirGiSettings::own_sample_share`].
     pub own_share: f32,
+    /// Light-tile samples in all, for the light samples at glossy hits.
+    pub tile_samples: u32,
+    /// [`RestirGiSettings::glossy_hit_roughness`].
+    pub glossy_roughness: f32,
     /// Pads the uniform to a multiple of 16 bytes.
-    pub pad: [u32; 3],
+    pub pad: u32,
 }
 
 const _: () = assert!(size_of::<GpuGiParams>() == 64);

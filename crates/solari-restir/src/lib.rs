@@ -101,6 +101,7 @@ pub const MODULES: &[(&str, &str)] = &[
         include_str!("../shaders/restir_di_math.wesl"),
     ),
     ("restir_gi", include_str!("../shaders/restir_gi.wesl")),
+    ("path_vertex", include_str!("../shaders/path_vertex.wesl")),
     (
         "restir_gi_math",
         include_str!("../shaders/restir_gi_math.wesl"),
@@ -146,10 +147,16 @@ pub const GI_ENTRY_POINTS: &[(&str, &str)] = &[
     ),
 ];
 
-/// Every module ReSTIR GI's shaders need beyond `solari-scene`'s: the world cache's and this
-/// crate's.
+/// Every module ReSTIR GI's shaders need beyond `solari-scene`'s: the lights' (for the
+/// light samples at glossy hits), the world cache's and this crate's.
 pub fn gi_modules() -> Vec<(&'static str, &'static str)> {
-    [solari_worldcache::MODULES, MODULES, GI_ENTRY_POINTS].concat()
+    [
+        solari_lights::MODULES,
+        solari_worldcache::MODULES,
+        MODULES,
+        GI_ENTRY_POINTS,
+    ]
+    .concat()
 }
 
 /// Specular GI's entry-point shader, by module name.

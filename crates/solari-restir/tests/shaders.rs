@@ -123,6 +123,11 @@ fn gi_entry_points_compose_and_mirrors_match() {
             ("history_cap", offset_of!(GpuGiParams, history_cap)),
             ("rate_shift", offset_of!(GpuGiParams, rate_shift)),
             ("own_share", offset_of!(GpuGiParams, own_share)),
+            ("tile_samples", offset_of!(GpuGiParams, tile_samples)),
+            (
+                "glossy_roughness",
+                offset_of!(GpuGiParams, glossy_roughness),
+            ),
         ],
     );
 }
@@ -132,7 +137,15 @@ fn gi_bindings_are_bound_by_their_wgsl_names() {
     use solari_restir::{GI_BINDINGS, GI_TARGET_BINDINGS, gi_modules};
     use solari_scene::bindings::check_groups;
     use solari_worldcache::CACHE_BINDINGS;
-    let initial = [&GI_BINDINGS, &CACHE_BINDINGS];
+    // The initial pass reads the lights and their tiles at glossy hits (group 3 beside `lit`).
+    let initial = [
+        &GI_BINDINGS,
+        &CACHE_BINDINGS,
+        &GI_TARGET_BINDINGS,
+        &solari_lights::LIGHT_BINDINGS,
+        &solari_lights::TILE_BINDINGS,
+        &solari_lights::ENVIRONMENT_BINDINGS,
+    ];
     let spatial = [&GI_BINDINGS, &GI_TARGET_BINDINGS];
     check_groups(
         &[
