@@ -17,7 +17,7 @@ use solari_renderer::{
     PATH_GI_SHADE_APART_TRIANGLES, RealtimeSettings,
 };
 use solari_restir::{
-    GiRate, RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings,
+    GiRate, GlossyHits, RestirDiSettings, RestirGiSettings, SpatialVisibility, SpecularGiSettings,
 };
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
@@ -476,13 +476,18 @@ pub struct RealtimeArgs {
     /// target function).
     #[arg(long, default_value_t = 1)]
     pub gi_samples: u32,
-    /// GI rays that hit a metal smoother than this roughness (0–1) continue the path: a light
-    /// sample through the metal's BRDF and one BRDF-sampled bounce into the world cache,
-    /// instead of the cache's uniform-light estimate, which loses a sun's reflection off a
-    /// polished metal onto the surfaces around it. 0 (the default) keeps the cache at every
-    /// hit. `RestirGiSettings::glossy_hit_roughness`.
-    #[arg(long, default_value_t = 0.0, value_parser = values::finite)]
-    pub gi_glossy_hits: f32,
+    /// How a GI ray's hit on a glossy metal (`--gi-glossy-roughness`) is lit: cache (the
+    /// default: the cache's irradiance under a uniform-light model, as at every hit, which
+    /// loses a sun's reflection off polished metal onto the surfaces around it), lights (a
+    /// light sample through the metal's BRDF, plus the cache's light from everything but the
+    /// lights: one shadow ray) or path (a light sample and one BRDF-sampled bounce into the
+    /// cache: two rays, noisier). `solari_restir::GlossyHits`.
+    #[arg(long, default_value = "cache", value_parser = values::gi_glossy_hits)]
+    pub gi_glossy_hits: GlossyHits,
+    /// The glossy metals of `--gi-glossy-hits`: metallic at least 0.5 and roughness below
+    /// this (above 0, at most 1). `RestirGiSettings::glossy_hit_roughness`.
+    #[arg(long, default_value_t = 0.5, value_parser = values::finite)]
+    pub gi_glossy_roughness: f32,
     /// Permute ReSTIR GI's temporal source pixel within 4×4 blocks (for DLSS-RR; costs
     /// accuracy, see `RestirGiSettings::permutation_sampling`).
     #[arg(long)]
@@ -719,7 +724,8 @@ impl RealtimeArgs {
                 adaptive_cap: self.gi_adaptive_cap,
                 adaptive_cap_settle_frames: self.gi_adaptive_cap_settle,
                 trace_fresh_pixels: self.gi_trace_fresh,
-                glossy_hit_roughness: self.gi_glossy_hits,
+                glossy_hits: self.gi_glossy_hits,
+                glossy_hit_roughness: self.gi_glossy_roughness,
                 ..Default::default()
             },
             specular_gi: self.specular_gi,

@@ -5,7 +5,7 @@
 use solari_denoise::{AtrousKernel, DenoiserKind};
 use solari_lights::{LightTileSettings, Selection};
 use solari_renderer::{Antialias, CameraPath, FrameView, GBufferChoice, GiMode, QualityTier};
-use solari_restir::SpatialVisibility;
+use solari_restir::{GlossyHits, SpatialVisibility};
 use solari_scene::brdf::BrdfModel;
 use solari_scene::bvh::BvhQuality;
 use solari_scene::gpu::TracerChoice;
@@ -173,6 +173,11 @@ pub fn gi(s: &str) -> Result<GiMode, String> {
 /// `both`, `chosen` or `neighbour` (`--gi-spatial-visibility`).
 pub fn gi_spatial_visibility(s: &str) -> Result<SpatialVisibility, String> {
     named(s, SpatialVisibility::parse(s), "both, chosen or neighbour")
+}
+
+/// `cache`, `lights` or `path` (`--gi-glossy-hits`).
+pub fn gi_glossy_hits(s: &str) -> Result<GlossyHits, String> {
+    named(s, GlossyHits::parse(s), "cache, lights or path")
 }
 
 /// `diamond` or `full` (`--denoise-kernel`).

@@ -230,7 +230,8 @@ pub fn run(args: &RenderArgs, plan: &RenderPlan) -> Result<(), String> {
             .into();
         v["gi_own_share"] = applied.restir_gi.own_sample_share.into();
         v["gi_spatial_history"] = applied.restir_gi.spatial_history.into();
-        v["gi_glossy_hits"] = applied.restir_gi.glossy_hit_roughness.into();
+        v["gi_glossy_hits"] = applied.restir_gi.glossy_hits.name().into();
+        v["gi_glossy_roughness"] = applied.restir_gi.glossy_hit_roughness.into();
         // In effect: the settings the running ReSTIR GI passes hold (none without traced GI;
         // path GI's without reuse).
         let running = renderer.gi_settings();

@@ -99,7 +99,7 @@
 
 use crate::di::{PassLayouts, check_encode, layout_with_cache, pass_pipeline, record};
 use crate::gi_reservoir::GpuGiReservoir;
-use crate::gi_settings::{GpuGiParams, RestirGiSettings, SpatialVisibility, flags};
+use crate::gi_settings::{GlossyHits, GpuGiParams, RestirGiSettings, SpatialVisibility, flags};
 use crate::settings::flags::reuse;
 use bytemuck::Zeroable;
 use solari_lights::{GpuLights, LightTileSettings, LightTiles};
@@ -154,9 +154,10 @@ const SHADE_APART: (&str, f64) = ("7124", 1.0);
 /// [`GiRate::Quarter`](crate::GiRate::Quarter); `@id(7125) override GI_HALF_SPATIAL`).
 const HALF_SPATIAL: (&str, f64) = ("7125", 1.0);
 
-/// The pipeline constant that builds the initial pass's path continuation at glossy hits
-/// ([`RestirGiSettings::glossy_hit_roughness`] above 0; `@id(7126) override GI_GLOSSY_HITS`).
-const GLOSSY_HITS: (&str, f64) = ("7126", 1.0);
+/// The pipeline constant that builds the initial pass's lighting of glossy hits
+/// ([`RestirGiSettings::glossy_hits`], [`GlossyHits::constant`]; `@id(7126) override
+/// GI_GLOSSY_HITS`).
+const GLOSSY_HITS: &str = "7126";
 
 /// What the initial pass's (first dispatch's) pipeline is specialised for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -165,8 +166,8 @@ struct InitialForm {
     multi: bool,
     /// Without reuse, the shading left to the second dispatch (SHADE_APART).
     shade_apart: bool,
-    /// The path's continuation at glossy hits (GLOSSY_HITS).
-    glossy: bool,
+    /// How glossy hits are lit (GLOSSY_HITS).
+    glossy: GlossyHits,
 }
 
 /// What the spatial pass's pipeline is specialised for.
@@ -238,7 +239,7 @@ pub struct RestirGi {
 
 // The initial pass's (first dispatch's) pipeline, built for reuse or without it, with the
 // resampling of several candidates where `multi`, without reuse leaving the shading to the
-// second dispatch where `shade_apart`, and continuing paths at glossy hits where `glossy`.
+// second dispatch where `shade_apart`, and lighting glossy hits as `glossy` says.
 fn initial_pipeline(
     gpu: &Gpu,
     backend: Backend,
@@ -263,8 +264,8 @@ fn initial_pipeline(
     if !reuse && shade_apart {
         extra.push(SHADE_APART);
     }
-    if glossy {
-        extra.push(GLOSSY_HITS);
+    if glossy != GlossyHits::Cache {
+        extra.push((GLOSSY_HITS, glossy.constant()));
     }
     gi_pipeline(
         gpu,
@@ -340,7 +341,7 @@ fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (InitialForm, Spati
         InitialForm {
             multi: s.initial_samples > 1,
             shade_apart: in_place && s.shade_apart && s.initial_samples == 1,
-            glossy: s.glossy_hit_roughness > 0.0,
+            glossy: s.glossy_hits,
         },
         SpatialForm {
             chosen: s.spatial_visibility == SpatialVisibility::Chosen,
@@ -679,10 +680,10 @@ impl RestirGi {
                 "ReSTIR GI: initial pass built again for {} candidates{}{}",
                 s.initial_samples,
                 if apart { ", shading apart" } else { "" },
-                if initial_form.glossy {
-                    ", continuing at glossy hits"
-                } else {
-                    ""
+                match initial_form.glossy {
+                    GlossyHits::Cache => "",
+                    GlossyHits::Lights => ", light samples at glossy hits",
+                    GlossyHits::Path => ", paths on from glossy hits",
                 }
             );
             self.initial_form = initial_form;
@@ -842,11 +843,11 @@ impl RestirGi {
         self.initial_form.multi
     }
 
-    /// Whether the initial pass's pipeline continues paths at glossy hits
-    /// ([`RestirGiSettings::glossy_hit_roughness`] above 0; built without it, the pass has
-    /// one traversal). After [`RestirGi::set_settings`] moved the setting to or from 0, the
-    /// next [`RestirGi::prepare`] builds the other.
-    pub fn continues_at_glossy_hits(&self) -> bool {
+    /// How the initial pass's pipeline lights glossy hits ([`RestirGiSettings::glossy_hits`]:
+    /// built for [`GlossyHits::Cache`], it holds no light sampling and one traversal). After
+    /// [`RestirGi::set_settings`] changed the setting, the next [`RestirGi::prepare`] builds
+    /// the pass again.
+    pub fn glossy_hits(&self) -> GlossyHits {
         self.initial_form.glossy
     }
 

@@ -216,14 +216,11 @@ pub struct RestirGiSettings {
     /// 59.6, its mean from 13.9 to 21.2; the lit frame with the fallback denoiser was equal on
     /// the Cornell box (0.0972 → 0.0971) and 9% worse on `interior` (2.00 → 2.19). Kept on.
     pub spatial_history: bool,
-    /// A GI ray's hit on a metal (metallic at least 0.5) smoother than this continues the
-    /// path: one light-tile sample through the metal's BRDF and one BRDF-sampled bounce into
-    /// the world cache give the radiance it sends toward the pixel. Other hits, and every hit
-    /// at 0 (the default), send their directional albedo times the cache's irradiance: what
-    /// they reflect under uniform light. A smooth metal reflects a light into a narrow cone,
-    /// so that model spreads a sun's reflection over every direction and the surfaces lit
-    /// by it read dark (sun_boxes' ground beside its gold sphere, `benches/RESULTS.md`). Costs a shadow
-    /// ray and a bounce ray at each such hit, and the highlight's noise. 0 to 1.
+    /// How a GI ray's hit on a glossy metal ([`RestirGiSettings::glossy_hit_roughness`]) is
+    /// lit: [`GlossyHits::Cache`] (the default) as every other hit.
+    pub glossy_hits: GlossyHits,
+    /// The glossy metals of [`RestirGiSettings::glossy_hits`]: metallic at least 0.5 and
+    /// roughness below this (default 0.5; above 0, at most 1).
     pub glossy_hit_roughness: f32,
 }
 
@@ -372,6 +369,56 @@ impl SpatialVisibility {
     }
 }
 
+/// How a GI ray's hit on a glossy metal is lit ([`RestirGiSettings::glossy_hits`]).
+///
+/// Every other hit sends its directional albedo times the world cache's irradiance toward the
+/// pixel: what it reflects under uniform light. A glossy metal reflects a light into a narrow
+/// cone, so that model spreads a sun's reflection over every direction, and the surfaces it
+/// should light read dark: on a floor beside a gold block in the sun (`tests/gi.rs`) the cache
+/// gives 0.32 of the reference's indirect light; near sun_boxes' gold sphere 0.92
+/// (`benches/RESULTS.md`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum GlossyHits {
+    /// The cache's irradiance through the directional albedo, as at every hit (no extra ray).
+    #[default]
+    Cache,
+    /// One light-tile sample through the metal's BRDF (a shadow ray), plus the cache's
+    /// irradiance from everything but the light list through the directional albedo: direct
+    /// light exact, the rest under the uniform model.
+    Lights,
+    /// One light-tile sample through the BRDF, MIS-weighted against one BRDF-sampled bounce
+    /// whose hit gives its emission and its directional albedo times the cache (a shadow ray
+    /// and a bounce ray): both direct and indirect light through the BRDF, noisier.
+    Path,
+}
+
+impl GlossyHits {
+    /// The name the CLI and reports use (`cache`, `lights`, `path`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cache => "cache",
+            Self::Lights => "lights",
+            Self::Path => "path",
+        }
+    }
+
+    /// The setting [`GlossyHits::name`] names, if any.
+    pub fn parse(name: &str) -> Option<Self> {
+        [Self::Cache, Self::Lights, Self::Path]
+            .into_iter()
+            .find(|v| v.name() == name)
+    }
+
+    /// The value of the initial pass's pipeline constant `GI_GLOSSY_HITS`.
+    pub(crate) fn constant(self) -> f64 {
+        match self {
+            Self::Cache => 0.0,
+            Self::Lights => 1.0,
+            Self::Path => 2.0,
+        }
+    }
+}
+
 /// Most initial GI candidates per pixel (the shader loop's bound).
 pub const MAX_GI_INITIAL_SAMPLES: u32 = 16;
 
@@ -398,7 +445,8 @@ impl Default for RestirGiSettings {
             shade_both_samples: true,
             own_sample_share: 0.5,
             spatial_history: true,
-            glossy_hit_roughness: 0.0,
+            glossy_hits: GlossyHits::Cache,
+            glossy_hit_roughness: 0.5,
         }
     }
 }
@@ -450,9 +498,9 @@ impl RestirGiSettings {
                 self.own_sample_share
             ));
         }
-        if !(0.0..=1.0).contains(&self.glossy_hit_roughness) {
+        if !(self.glossy_hit_roughness > 0.0 && self.glossy_hit_roughness <= 1.0) {
             return bad(format!(
-                "glossy_hit_roughness is {}, expected 0 to 1",
+                "glossy_hit_roughness is {}, expected above 0, at most 1",
                 self.glossy_hit_roughness
             ));
         }

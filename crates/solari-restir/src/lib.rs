@@ -84,7 +84,7 @@ pub use gi::{
     ADAPTIVE_CAP_SETTLE_FRAMES, GI_BINDINGS, GI_PASS_LABELS, GI_TARGET_BINDINGS, RestirGi,
 };
 pub use gi_reservoir::{GpuGiReservoir, gi_reservoir_check};
-pub use gi_settings::{GiRate, GpuGiParams, RestirGiSettings, SpatialVisibility};
+pub use gi_settings::{GiRate, GlossyHits, GpuGiParams, RestirGiSettings, SpatialVisibility};
 pub use reservoir::{GpuReservoir, reservoir_check};
 pub use settings::{GpuDiParams, RestirDiSettings};
 pub use specular::{PsrBindings, SPECULAR_PASS_LABELS, SpecularGi, SpecularGiSettings};

@@ -10,7 +10,9 @@ mod common;
 use common::{
     DirectLight, di_settings, frame_mean, reference, rmse, tile_settings, total_light_bias,
 };
-use solari_restir::{GiRate, RestirGi, RestirGiSettings, SpatialVisibility, gi_reservoir_check};
+use solari_restir::{
+    GiRate, GlossyHits, RestirGi, RestirGiSettings, SpatialVisibility, gi_reservoir_check,
+};
 use solari_scene::finite_check::{FiniteChecker, RecordLayout, first_offender};
 use solari_scene::gpu::{Gpu, test_gpu};
 use solari_scene::gpu_scene::TraceVariant;
@@ -647,6 +649,16 @@ fn bad_gi_settings_are_refused_with_the_knob_named() {
         let e = s.validate().expect_err("refused").to_string();
         assert!(e.contains("own_sample_share"), "{e}");
     }
+    // So is a glossy-hit roughness outside (0, 1].
+    for glossy_hit_roughness in [f32::NAN, 0.0, -0.5, 1.5, f32::INFINITY] {
+        let s = RestirGiSettings {
+            glossy_hit_roughness,
+            glossy_hits: GlossyHits::Lights,
+            ..Default::default()
+        };
+        let e = s.validate().expect_err("refused").to_string();
+        assert!(e.contains("glossy_hit_roughness"), "{e}");
+    }
     for own_sample_share in [0.0, 0.5, 1.0] {
         let s = RestirGiSettings {
             own_sample_share,
@@ -736,6 +748,19 @@ fn the_passes_are_built_for_their_settings() {
     plain.mode = Mode::Gi(four);
     plain.frame(&gpu, &scene);
     assert!(plain.gi.initial_multi_candidate());
+    // The glossy-hit lighting is built into the initial pass: each change rebuilds it.
+    assert_eq!(plain.gi.glossy_hits(), GlossyHits::Cache);
+    for glossy_hits in [GlossyHits::Lights, GlossyHits::Path, GlossyHits::Cache] {
+        let settings = RestirGiSettings {
+            glossy_hits,
+            ..four
+        };
+        plain.gi.set_settings(settings).expect("valid settings");
+        plain.mode = Mode::Gi(settings);
+        assert_stale_pipelines_refused(&gpu, &mut plain);
+        plain.frame(&gpu, &scene);
+        assert_eq!(plain.gi.glossy_hits(), glossy_hits);
+    }
     let mut default = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::default()));
     assert!(default.gi.spatial_chosen_only());
     assert!(!default.gi.initial_multi_candidate());
@@ -1601,29 +1626,28 @@ fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
     let direct = reference(&gpu, backend, &scene, size, 128, 1);
     let luminance_sum = |im: &[[f32; 3]]| im.iter().map(|&c| common::luminance(c)).sum::<f64>();
     let truth_indirect = luminance_sum(&truth) - luminance_sum(&direct);
-    let glossy = |s: RestirGiSettings| RestirGiSettings {
-        glossy_hit_roughness: 0.5,
-        ..s
+    let glossy =
+        |glossy_hits: GlossyHits, s: RestirGiSettings| RestirGiSettings { glossy_hits, ..s };
+    let restir = RestirGiSettings {
+        spatial_radius: 3.0,
+        spatial_visibility: SpatialVisibility::Both,
+        adaptive_cap: false,
+        ..Default::default()
     };
+    let plain = RestirGiSettings::plain();
     let modes = [
-        ("plain, the cache at every hit", RestirGiSettings::plain()),
-        ("plain, glossy hits", glossy(RestirGiSettings::plain())),
-        (
-            "restir, glossy hits",
-            glossy(RestirGiSettings {
-                spatial_radius: 3.0,
-                spatial_visibility: SpatialVisibility::Both,
-                adaptive_cap: false,
-                ..Default::default()
-            }),
-        ),
+        ("plain, the cache at every hit", plain),
+        ("plain, light samples", glossy(GlossyHits::Lights, plain)),
+        ("plain, paths", glossy(GlossyHits::Path, plain)),
+        ("restir, light samples", glossy(GlossyHits::Lights, restir)),
+        ("restir, paths", glossy(GlossyHits::Path, restir)),
     ];
     let mut shares = Vec::new();
     for (name, settings) in modes {
         let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
         assert_eq!(
-            s.gi.continues_at_glossy_hits(),
-            settings.glossy_hit_roughness > 0.0,
+            s.gi.glossy_hits(),
+            settings.glossy_hits,
             "{name}: the initial pass is built for its glossy-hit setting"
         );
         let (mean, _) = s.mean(&gpu, &scene, 64, 192);
@@ -1635,18 +1659,18 @@ fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
         );
         shares.push(share);
     }
-    // Measured (lavapipe, 2026-12-07): the cache at every hit 0.324 of the reference's
-    // indirect light (total light -20.9%): the uniform-light model spreads the gold's
-    // reflection of the sun over every direction; glossy hits 0.988 (plain path GI) and 0.990
-    // (ReSTIR GI; total light -0.50% and -0.43%). With a 1024-path reference and 256 frames:
-    // 0.323, 0.989, 0.998.
+    // Measured (lavapipe, 2026-12-07): the cache at every hit 0.322 of the reference's
+    // indirect light (total light -21.0%): the uniform-light model spreads the gold's
+    // reflection of the sun over every direction. Light samples 1.023 (plain path GI) and
+    // 1.026 (ReSTIR GI): the light the gold reflects from the floor stays under the uniform
+    // model; paths 0.987 and 0.990.
     assert!(
         shares[0] < 0.6,
         "without glossy hits the floor should miss most of the gold's reflection: {shares:?}"
     );
     for (share, (name, _)) in shares[1..].iter().zip(&modes[1..]) {
         assert!(
-            (share - 1.0).abs() < 0.04,
+            (share - 1.0).abs() < 0.05,
             "{name}: indirect light {share:.4} of the reference's"
         );
     }
