@@ -16,6 +16,16 @@
 //!    counts like any hit's; a miss gives a far sample point lit by the scene's constant
 //!    environment. W = π / cos. A hit in a cell the cache has not lit yet gives no sample
 //!    and no confidence ([`RestirGiSettings::ignore_cold_cells`]).
+//!    A hit on a glossy metal can be lit otherwise ([`RestirGiSettings::glossy_hits`]): the
+//!    uniform-light model spreads the light such a metal reflects in a narrow cone (a sun's
+//!    glint) over every direction, so the surfaces that cone should light read dark (a floor
+//!    beside a gold block in the sun: 0.32 of the reference's indirect light, `tests/gi.rs`).
+//!    [`GlossyHits::Lights`] adds a light-tile sample through the metal's BRDF (one shadow
+//!    ray) to the cache's light from everything but the light list; [`GlossyHits::Path`]
+//!    takes a light sample and one BRDF-sampled bounce into the cache (two rays). Both
+//!    live in the initial pass's pipeline only when chosen (a pipeline constant), whose
+//!    group 3 holds the lights and their tiles beside the target image
+//!    ([`RestirGi::target_group`]).
 //! 2. **Temporal reuse** of last frame's final reservoir at the reprojected pixel, permuted
 //!    within 4×4 blocks, rejected where the surfaces differ; confidence capped
 //!    ([`RestirGiSettings::confidence_cap`]; lower where the world cache saw the reused
@@ -274,7 +284,7 @@ fn initial_pipeline(
         layouts,
         "restir_gi_initial",
         &extra,
-        tiles,
+        Some(tiles),
     )
 }
 
@@ -300,7 +310,7 @@ fn second_pipeline(
         layouts,
         "restir_gi_initial",
         extra,
-        tiles,
+        Some(tiles),
     )
 }
 
@@ -312,7 +322,6 @@ fn spatial_pipeline(
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     form: SpatialForm,
-    tiles: &LightTileSettings,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let mut extra = Vec::new();
     if form.chosen {
@@ -328,7 +337,7 @@ fn spatial_pipeline(
         layouts,
         "restir_gi_spatial",
         &extra,
-        tiles,
+        None,
     )
 }
 
@@ -351,7 +360,9 @@ fn wanted_pipelines(s: &RestirGiSettings, in_place: bool) -> (InitialForm, Spati
 }
 
 // A GI pass's pipeline (`entry`) over its own group and the target group (`layouts`), with
-// `variant`'s traversal constants, `tiles`' and `extra`.
+// `variant`'s traversal constants, `extra` and, for the initial pass's shader, which reads
+// the lights, the light tiles' (`tiles`: a pipeline given a constant its shader does not
+// declare is refused, and the spatial pass's declares none).
 fn gi_pipeline(
     gpu: &Gpu,
     backend: Backend,
@@ -359,11 +370,14 @@ fn gi_pipeline(
     (layout, target_layout): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     entry: &str,
     extra: &[(&'static str, f64)],
-    tiles: &LightTileSettings,
+    tiles: Option<&LightTileSettings>,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
     let shared = PassLayouts::new(gpu, backend);
     let layouts = shared.with(layout, target_layout);
-    let mut constants = tiles.reader_constants(variant.constants());
+    let mut constants = match tiles {
+        Some(tiles) => tiles.reader_constants(variant.constants()),
+        None => variant.constants().to_vec(),
+    };
     constants.extend_from_slice(extra);
     let modules = crate::gi_modules();
     pass_pipeline(gpu, backend, &modules, &layouts, entry, &constants)
@@ -415,7 +429,6 @@ impl RestirGi {
                 variant,
                 (&layout, &target_layout),
                 form,
-                &tiles,
             )?)
         } else {
             None
@@ -695,7 +708,6 @@ impl RestirGi {
                 self.variant,
                 (&self.layout, &self.target_layout),
                 form,
-                &self.tiles,
             )?;
             log::debug!(
                 "ReSTIR GI: spatial pass built again for {:?}{}",

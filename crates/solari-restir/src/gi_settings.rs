@@ -384,7 +384,8 @@ pub enum GlossyHits {
     Cache,
     /// One light-tile sample through the metal's BRDF (a shadow ray), plus the cache's
     /// irradiance from everything but the light list through the directional albedo: direct
-    /// light exact, the rest under the uniform model.
+    /// light exact, the rest under the uniform model. A mirror (roughness under the BRDF's
+    /// mirror threshold, 0.02) reflects no light sample, so it keeps the cache's model.
     Lights,
     /// One light-tile sample through the BRDF, MIS-weighted against one BRDF-sampled bounce
     /// whose hit gives its emission and its directional albedo times the cache (a shadow ray

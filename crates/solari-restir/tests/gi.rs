@@ -1578,7 +1578,8 @@ fn the_history_is_the_spatial_merge_or_the_pixels_own() {
 /// by a sun that the block's front face reflects down onto the floor in front of it; the
 /// camera looks down at that stretch of floor from above, so that every pixel is the
 /// Lambertian floor and its indirect light is mostly the sun's reflection off the gold.
-fn gold_block_in_the_sun() -> Scene {
+/// `roughness`: the gold's.
+fn gold_block_in_the_sun(roughness: f32) -> Scene {
     use glam::{Vec3, Vec4};
     use solari_scene::{Camera, DirectionalLight, Material, SUN_ANGULAR_DIAMETER};
     let mut scene = default_scene::cornell_box();
@@ -1589,7 +1590,7 @@ fn gold_block_in_the_sun() -> Scene {
         name: "gold".into(),
         base_color: Vec4::new(1.0, 0.78, 0.34, 1.0),
         metallic: 1.0,
-        roughness: 0.3,
+        roughness,
         ..Default::default()
     });
     let gold = scene.materials.len() as u32 - 1;
@@ -1620,7 +1621,7 @@ fn gold_block_in_the_sun() -> Scene {
 fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
     let Some(gpu) = test_gpu() else { return };
     let size = 48;
-    let scene = gold_block_in_the_sun();
+    let scene = gold_block_in_the_sun(0.3);
     let backend = gpu.backend(Default::default()).unwrap();
     let truth = reference(&gpu, backend, &scene, size, 512, u32::MAX);
     let direct = reference(&gpu, backend, &scene, size, 128, 1);
@@ -1674,4 +1675,26 @@ fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
             "{name}: indirect light {share:.4} of the reference's"
         );
     }
+    // A mirror's delta lobe takes no light sample: under `GlossyHits::Lights` a mirror block keeps the
+    // cache's model, and reflects what it reflects there, not nothing.
+    let mirror = gold_block_in_the_sun(0.0);
+    let mirror_direct = luminance_sum(&reference(&gpu, backend, &mirror, size, 128, 1));
+    let mut light = [0.0; 2];
+    for (k, glossy_hits) in [GlossyHits::Cache, GlossyHits::Lights]
+        .into_iter()
+        .enumerate()
+    {
+        let settings = glossy(glossy_hits, plain);
+        let mut s = setup(&gpu, &mirror, size, Mode::Gi(settings));
+        let (mean, _) = s.mean(&gpu, &mirror, 32, 64);
+        light[k] = luminance_sum(&mean) - mirror_direct;
+    }
+    eprintln!(
+        "mirror block {size}x{size}: light samples {:.4} of the cache's indirect light",
+        light[1] / light[0]
+    );
+    assert!(
+        (light[1] / light[0] - 1.0).abs() < 0.02,
+        "a mirror under light samples keeps the cache's model: {light:?}"
+    );
 }
