@@ -929,7 +929,7 @@ impl RealtimeRenderer {
                     cache,
                     tiles_built,
                 )?;
-                let target = gi.target_group(gpu, di.output(), &tiles, &lights);
+                let target = gi.target_group(gpu, di.output(), &tiles, &lights)?;
                 Some((gi, target))
             }
             _ => None,
@@ -1232,7 +1232,7 @@ impl RealtimeRenderer {
             *target = cache.target_group(gpu, self.di.output());
             if let Some((gi, gi_target)) = &mut self.gi {
                 *gi = RestirGi::new(gpu, backend, variant, w, h, gi.settings(), cache, tiles)?;
-                *gi_target = gi.target_group(gpu, self.di.output(), &self.tiles, &self.lights);
+                *gi_target = gi.target_group(gpu, self.di.output(), &self.tiles, &self.lights)?;
             }
             if let Some(specular) = &mut self.specular {
                 let settings = specular.settings();
@@ -1314,7 +1314,7 @@ impl RealtimeRenderer {
         self.lights_group = self.tiles.reader_group(gpu, &self.lights);
         if let Some((gi, gi_target)) = &mut self.gi {
             // Glossy hits read the lights through GI's target group.
-            *gi_target = gi.target_group(gpu, self.di.output(), &self.tiles, &self.lights);
+            *gi_target = gi.target_group(gpu, self.di.output(), &self.tiles, &self.lights)?;
             // Whatever the change, ReSTIR GI's adaptive cap follows it until the view settles.
             gi.unsettle();
         }

@@ -296,20 +296,26 @@ fn second_pipeline(
     variant: TraceVariant,
     layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
     reuse: bool,
+    glossy: GlossyHits,
     tiles: &LightTileSettings,
 ) -> Result<wgpu::ComputePipeline, GpuError> {
-    let extra: &[(&str, f64)] = if reuse {
-        &[SECOND_DISPATCH]
+    let mut extra = vec![SECOND_DISPATCH];
+    if reuse {
+        // The temporal merge draws a new sample where a pixel has no history at a reduced
+        // rate (`trace_fresh_pixels`): the one the first dispatch would have drawn.
+        if glossy != GlossyHits::Cache {
+            extra.push((GLOSSY_HITS, glossy.constant()));
+        }
     } else {
-        &[SECOND_DISPATCH, REUSE_OFF]
-    };
+        extra.push(REUSE_OFF);
+    }
     gi_pipeline(
         gpu,
         backend,
         variant,
         layouts,
         "restir_gi_initial",
-        extra,
+        &extra,
         Some(tiles),
     )
 }
@@ -417,7 +423,13 @@ impl RestirGi {
             initial_pipeline(gpu, backend, variant, layouts, reuse, initial_form, &tiles)?;
         let second = if reuse || initial_form.shade_apart {
             Some(second_pipeline(
-                gpu, backend, variant, layouts, reuse, &tiles,
+                gpu,
+                backend,
+                variant,
+                layouts,
+                reuse,
+                initial_form.glossy,
+                &tiles,
             )?)
         } else {
             None
@@ -590,20 +602,31 @@ impl RestirGi {
     /// row), for example [`crate::RestirDi::output`], with the lights and `tiles` (built with
     /// the settings [`RestirGi::new`] was given), which glossy hits sample. Rebuild it when
     /// the light list is re-uploaded.
+    ///
+    /// Errors when `tiles` was built with other settings than those (the pass would index
+    /// past its samples or read them as other kinds of light).
     pub fn target_group(
         &self,
         gpu: &Gpu,
         target: &wgpu::Buffer,
         tiles: &LightTiles,
         lights: &GpuLights,
-    ) -> wgpu::BindGroup {
+    ) -> Result<wgpu::BindGroup, GpuError> {
+        if tiles.settings() != self.tiles {
+            return Err(GpuError::Validation(format!(
+                "ReSTIR GI was built for light tiles {:?}, given tiles built with {:?}: build \
+                 RestirGi with the tiles' settings",
+                self.tiles,
+                tiles.settings()
+            )));
+        }
         let mut entries = tiles.reader_entries(lights);
         entries.extend(GI_TARGET_BINDINGS.entries(&[("lit", target)]));
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        Ok(gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("solari_restir/gi_lights_and_target"),
             layout: &self.target_layout,
             entries: &entries,
-        })
+        }))
     }
 
     /// Drops history: the next frame uses no temporal reuse (for camera cuts).
@@ -675,7 +698,18 @@ impl RestirGi {
                 initial_form,
                 &self.tiles,
             )?;
-            if apart != self.initial_form.shade_apart {
+            if reuse && initial_form.glossy != self.initial_form.glossy {
+                // The temporal merge draws fresh pixels' samples as the first dispatch does.
+                self.second = Some(second_pipeline(
+                    gpu,
+                    self.backend,
+                    self.variant,
+                    layouts,
+                    true,
+                    initial_form.glossy,
+                    &self.tiles,
+                )?);
+            } else if apart != self.initial_form.shade_apart {
                 self.second = if apart {
                     Some(second_pipeline(
                         gpu,
@@ -683,6 +717,7 @@ impl RestirGi {
                         self.variant,
                         layouts,
                         false,
+                        initial_form.glossy,
                         &self.tiles,
                     )?)
                 } else {

@@ -376,7 +376,10 @@ impl SpatialVisibility {
 /// cone, so that model spreads a sun's reflection over every direction, and the surfaces it
 /// should light read dark: on a floor beside a gold block in the sun (`tests/gi.rs`) the cache
 /// gives 0.32 of the reference's indirect light; near sun_boxes' gold sphere 0.92
-/// (`benches/RESULTS.md`).
+/// (`benches/RESULTS.md`). A mirror (roughness under the BRDF's mirror threshold, 0.02) keeps
+/// the cache's model under every setting: no light sample lands in its delta lobe and its one
+/// ray finds no sun. The radiance of a glossy hit depends on direction, but reuse still
+/// carries a sample's radiance to neighbours and later frames unchanged, as for every hit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum GlossyHits {
     /// The cache's irradiance through the directional albedo, as at every hit (no extra ray).
@@ -384,8 +387,7 @@ pub enum GlossyHits {
     Cache,
     /// One light-tile sample through the metal's BRDF (a shadow ray), plus the cache's
     /// irradiance from everything but the light list through the directional albedo: direct
-    /// light exact, the rest under the uniform model. A mirror (roughness under the BRDF's
-    /// mirror threshold, 0.02) reflects no light sample, so it keeps the cache's model.
+    /// light exact, the rest under the uniform model.
     Lights,
     /// One light-tile sample through the BRDF, MIS-weighted against one BRDF-sampled bounce
     /// whose hit gives its emission and its directional albedo times the cache (a shadow ray

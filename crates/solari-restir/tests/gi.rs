@@ -70,7 +70,9 @@ fn setup_with_capacity(gpu: &Gpu, scene: &Scene, size: u32, mode: Mode, capacity
     .expect("GI");
     Setup {
         cache_target: cache.target_group(gpu, direct.di.output()),
-        gi_target: gi.target_group(gpu, direct.di.output(), &direct.tiles, &direct.lights),
+        gi_target: gi
+            .target_group(gpu, direct.di.output(), &direct.tiles, &direct.lights)
+            .expect("GI's target group"),
         direct,
         cache,
         gi,
@@ -761,6 +763,22 @@ fn the_passes_are_built_for_their_settings() {
         plain.frame(&gpu, &scene);
         assert_eq!(plain.gi.glossy_hits(), glossy_hits);
     }
+    // Tiles built with other settings than GI's (sample count, light kinds) are refused.
+    let other = solari_lights::LightTiles::new(
+        &gpu,
+        solari_lights::LightTileSettings {
+            tiles: 4,
+            ..tile_settings()
+        },
+    )
+    .expect("tiles");
+    let d = &plain.direct;
+    let e = plain
+        .gi
+        .target_group(&gpu, d.di.output(), &other, &d.lights)
+        .expect_err("other tiles refused")
+        .to_string();
+    assert!(e.contains("light tiles"), "{e}");
     let mut default = setup(&gpu, &scene, 32, Mode::Gi(RestirGiSettings::default()));
     assert!(default.gi.spatial_chosen_only());
     assert!(!default.gi.initial_multi_candidate());
@@ -1675,26 +1693,29 @@ fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
             "{name}: indirect light {share:.4} of the reference's"
         );
     }
-    // A mirror's delta lobe takes no light sample: under `GlossyHits::Lights` a mirror block keeps the
-    // cache's model, and reflects what it reflects there, not nothing.
+    // A mirror's delta lobe takes no light sample, and its one ray finds no sun: under
+    // `GlossyHits::Lights` and `Path` a mirror block keeps the cache's model, and reflects
+    // what it reflects there, not nothing (0.12 of it without that rule, `Lights`).
     let mirror = gold_block_in_the_sun(0.0);
     let mirror_direct = luminance_sum(&reference(&gpu, backend, &mirror, size, 128, 1));
-    let mut light = [0.0; 2];
-    for (k, glossy_hits) in [GlossyHits::Cache, GlossyHits::Lights]
-        .into_iter()
-        .enumerate()
-    {
+    let mut light = [0.0; 3];
+    let all = [GlossyHits::Cache, GlossyHits::Lights, GlossyHits::Path];
+    for (k, glossy_hits) in all.into_iter().enumerate() {
         let settings = glossy(glossy_hits, plain);
         let mut s = setup(&gpu, &mirror, size, Mode::Gi(settings));
         let (mean, _) = s.mean(&gpu, &mirror, 32, 64);
         light[k] = luminance_sum(&mean) - mirror_direct;
     }
     eprintln!(
-        "mirror block {size}x{size}: light samples {:.4} of the cache's indirect light",
-        light[1] / light[0]
+        "mirror block {size}x{size}: light samples {:.4}, paths {:.4} of the cache's indirect \
+         light",
+        light[1] / light[0],
+        light[2] / light[0]
     );
-    assert!(
-        (light[1] / light[0] - 1.0).abs() < 0.02,
-        "a mirror under light samples keeps the cache's model: {light:?}"
-    );
+    for k in [1, 2] {
+        assert!(
+            (light[k] / light[0] - 1.0).abs() < 0.02,
+            "a mirror keeps the cache's model: {light:?}"
+        );
+    }
 }
