@@ -274,18 +274,28 @@ fn initial_pipeline(
     if !reuse && shade_apart {
         extra.push(SHADE_APART);
     }
-    if glossy != GlossyHits::Cache {
-        extra.push((GLOSSY_HITS, glossy.constant()));
-    }
-    gi_pipeline(
-        gpu,
-        backend,
-        variant,
-        layouts,
-        "restir_gi_initial",
-        &extra,
-        Some(tiles),
-    )
+    extra.extend(glossy_constant(glossy));
+    initial_shader_pipeline(gpu, backend, variant, layouts, &extra, tiles)
+}
+
+// The constant that builds `glossy`'s lighting of glossy hits into the initial shader (none
+// for the cache's model, the shader's default).
+fn glossy_constant(glossy: GlossyHits) -> Option<(&'static str, f64)> {
+    (glossy != GlossyHits::Cache).then(|| (GLOSSY_HITS, glossy.constant()))
+}
+
+// A pipeline of the initial shader (either dispatch), which reads the lights: with the
+// tiles' constants beside `extra`.
+fn initial_shader_pipeline(
+    gpu: &Gpu,
+    backend: Backend,
+    variant: TraceVariant,
+    layouts: (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+    extra: &[(&'static str, f64)],
+    tiles: &LightTileSettings,
+) -> Result<wgpu::ComputePipeline, GpuError> {
+    let entry = "restir_gi_initial";
+    gi_pipeline(gpu, backend, variant, layouts, entry, extra, Some(tiles))
 }
 
 // The initial pass's second dispatch: with reuse the temporal merge, without it the shading
@@ -303,21 +313,11 @@ fn second_pipeline(
     if reuse {
         // The temporal merge draws a new sample where a pixel has no history at a reduced
         // rate (`trace_fresh_pixels`): the one the first dispatch would have drawn.
-        if glossy != GlossyHits::Cache {
-            extra.push((GLOSSY_HITS, glossy.constant()));
-        }
+        extra.extend(glossy_constant(glossy));
     } else {
         extra.push(REUSE_OFF);
     }
-    gi_pipeline(
-        gpu,
-        backend,
-        variant,
-        layouts,
-        "restir_gi_initial",
-        &extra,
-        Some(tiles),
-    )
+    initial_shader_pipeline(gpu, backend, variant, layouts, &extra, tiles)
 }
 
 // The spatial pass's pipeline, specialised for `form` (reuse on: a `RestirGi` built without
@@ -674,9 +674,10 @@ impl RestirGi {
 
     /// Writes the frame's parameters. `gbuffer` is the G-buffer this frame reads (its
     /// history decides whether temporal reuse may run). After [`RestirGi::set_settings`]
-    /// moved [`RestirGiSettings::initial_samples`] to or from 1, or
-    /// [`RestirGiSettings::spatial_visibility`] to or from [`SpatialVisibility::Chosen`], it
-    /// first builds that pass again (a one-time pipeline compile; the error is that build's).
+    /// moved [`RestirGiSettings::initial_samples`] to or from 1,
+    /// [`RestirGiSettings::spatial_visibility`] to or from [`SpatialVisibility::Chosen`], or
+    /// changed [`RestirGiSettings::glossy_hits`], it first builds that pass again (a
+    /// one-time pipeline compile; the error is that build's).
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
