@@ -11,7 +11,8 @@
 # fifteenth session read .dev/solari and .dev/scenes). Usage: bash benches/results/gi_h200.sh   (SCENES, MODES, SPP, PHASES override). A
 # mode is a GI mode with optional suffixes: +spec adds specular GI (`--specular-gi on`;
 # without it `--specular-gi off`, since specular GI is on by default from 5f47d02), +nodi
-# runs ReSTIR DI without reuse (`--di-reuse none`), +nopsr turns primary surface
+# runs ReSTIR DI without reuse (`--di-reuse none`), +alldi with both reuses whatever the
+# scene (`--di-reuse all`; the default is `auto`), +nopsr turns primary surface
 # replacement off (`--psr off`), +sN takes N GI candidates per pixel (`--gi-samples N`),
 # +biased drops ReSTIR GI's unbiased spatial MIS ray (`--gi-spatial-visibility neighbour`;
 # `--gi-unbiased-spatial off` before the twenty-first session), +chosen traces only the
@@ -37,7 +38,7 @@ flags() {
   local parts spec=off; IFS=+ read -ra parts <<< "$1"
   echo "--gi ${parts[0]}"
   for p in "${parts[@]:1}"; do
-    case $p in spec) spec=on ;; nodi) echo "--di-reuse none" ;; nopsr) echo "--psr off" ;;
+    case $p in spec) spec=on ;; nodi) echo "--di-reuse none" ;; alldi) echo "--di-reuse all" ;; nopsr) echo "--psr off" ;;
       s[0-9]*) echo "--gi-samples ${p#s}" ;; biased) echo "--gi-spatial-visibility neighbour" ;;
       chosen) echo "--gi-spatial-visibility chosen" ;; half) echo "--gi-half-rate" ;;
       *) echo "unknown mode suffix +$p" >&2; exit 2 ;; esac

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # GI's glossy hits (`--gi-glossy-hits`, fifty-second session) on the device (H100/H200), one
-# warm machine. Not run yet: the session that wrote it was lent no machine. Carry .gl,
+# warm machine (run by the fifty-third session: h100/, README). Carry .gl,
 # .dev/bins.tar.xz and .dev/SOLARI_COMMIT; /root/bins holds `solari_base` (the commit before
 # the change, a91047a) and `solari` (the change: `--gi-glossy-hits cache`, the default, builds
 # GI's initial pass as before, with GI's group 3 now holding the lights), and this script's
@@ -24,7 +24,7 @@ mkdir -p "$OUT"
 time_phase() {
   local bins="solari_base solari solari_lights solari_path" r=/root/ab_time
   RESULTS=$r BINS="$bins" FLAGS="--denoiser fallback" REPS=${REPS:-2} FRAMES=300 BVH_SCENES=" " \
-    SCENES="${SCENES:-cornell_box sun_boxes many_lights interior metal_rough_spheres emissive_strength_test damaged_helmet furnace_uniform furnace_sphere}" \
+    SCENES="${SCENES:-cornell_box sun_boxes many_lights interior metal_rough_spheres emissive_strength_test furnace_uniform furnace_sphere}" \
     bash benches/results/ab_passes_h200.sh > "$OUT/time_log.txt" 2>&1
   mv "$OUT/ab.tar.gz" "$OUT/time.tar.gz"; rm -f "$OUT/ab_table.txt"
   python3 benches/results/memory_scratch_2026-11-26/ab_variants.py "$r" "$bins" \

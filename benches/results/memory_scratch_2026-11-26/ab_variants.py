@@ -19,7 +19,10 @@ for f in sorted(glob.glob(root+'/ab_*.json')):
     for k,v in j['passes'].items():
         if v['mean_ms'] is not None: d[(s,b)][k].append(v['mean_ms'])
     d[(s,b)]['GPU frame'].append(j['gpu_frame_ms']); d[(s,b)]['wall frame'].append(j['wall_frame_ms'])
-for s in ['cornell_box','sun_boxes','many_lights','interior']:
+# The four scenes of the first tables first, then any other scene the run holds.
+first=['cornell_box','sun_boxes','many_lights','interior']
+for s in first+sorted({k[0] for k in d}-set(first)):
+    if not any((s,b) in d for b in bins): continue
     print(f"## {s}: memory " + "  ".join(f"{b} {mem.get((s,b),0):.1f}" for b in bins))
     every=set().union(*(d[(s,b)].keys() for b in bins))
     keys=sorted(k for k in every if not (k.startswith('world_cache') and k!='world_cache_gi') and k!='light_tiles')

@@ -481,7 +481,9 @@ pub struct RealtimeArgs {
     /// loses a sun's reflection off polished metal onto the surfaces around it), lights (a
     /// light sample through the metal's BRDF, plus the cache's light from everything but the
     /// lights: one shadow ray) or path (a light sample and one BRDF-sampled bounce into the
-    /// cache: two rays, noisier). `solari_restir::GlossyHits`.
+    /// cache: two rays, noisier). The default by measurement: the other two cost 6–136% of
+    /// GI's first pass and left sun_boxes' denoised frame 12–30% worse (benches/RESULTS.md).
+    /// `solari_restir::GlossyHits`.
     #[arg(long, default_value = "cache", value_parser = values::gi_glossy_hits)]
     pub gi_glossy_hits: GlossyHits,
     /// The glossy metals of `--gi-glossy-hits`: metallic at least 0.5 and roughness below
