@@ -127,8 +127,10 @@ pub struct GpuLightInfo {
     pub environment_cells_x: u32,
     /// Its cells down.
     pub environment_cells_y: u32,
-    /// Padding.
-    pub _pad: u32,
+    /// Index of the first directional light: they run up to the environment light, or
+    /// without one to [`GpuLightInfo::first_punctual`] (`LightList::build`'s order), so that a
+    /// BRDF-sampled ray can look for the sun discs it meets.
+    pub first_directional: u32,
     /// The light grid's corner ([`LightGrid::origin`]).
     pub grid_origin: [f32; 3],
     /// Its cell edge.
@@ -359,7 +361,7 @@ impl GpuLights {
             environment_light: env.map_or(u32::MAX, |e| e.light),
             environment_cells_x: env.map_or(0, |e| e.distribution.cells_x),
             environment_cells_y: env.map_or(0, |e| e.distribution.cells_y),
-            _pad: 0,
+            first_directional: list.first_directional(),
             grid_origin: grid.map_or([0.0; 3], |g| g.origin.into()),
             grid_cell_size: grid.map_or(1.0, |g| g.cell_size),
             grid_dims: grid.map_or([0; 3], |g| g.dims.into()),

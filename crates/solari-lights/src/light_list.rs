@@ -555,6 +555,22 @@ impl LightList {
         self.first_punctual as usize..self.lights.len()
     }
 
+    /// The index of the first directional light. The directional lights follow the emissive
+    /// ones and come before the environment light (if any) and the point and spot lights, so
+    /// they end where [`LightList::environment`]'s light or [`LightList::first_punctual`]
+    /// begins; with none, this is that end.
+    pub fn first_directional(&self) -> u32 {
+        let end = self
+            .environment
+            .as_ref()
+            .map_or(self.first_punctual, |e| e.light);
+        let mut first = end as usize;
+        while first > 0 && matches!(self.lights[first - 1], Light::Directional { .. }) {
+            first -= 1;
+        }
+        first as u32
+    }
+
     /// Number of lights.
     pub fn len(&self) -> usize {
         self.lights.len()

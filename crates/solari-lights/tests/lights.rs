@@ -501,3 +501,40 @@ fn sample_ids_of_found_points_and_directions_resolve_back() {
         );
     }
 }
+
+/// The directional lights lie between the emitters and the environment (or the point lights):
+/// `first_directional` finds them, which the GPU's sun-disc test (`sun_disc_light`) relies on.
+#[test]
+fn directional_lights_are_found_between_emitters_and_the_environment() {
+    let sun = |name: &str| DirectionalLight {
+        name: name.into(),
+        direction: -Vec3::Y,
+        irradiance: Vec3::ONE,
+        angular_diameter: 0.01,
+    };
+    let mut scene = scene_of(&[(Mat4::IDENTITY, Vec3::ONE), (Mat4::IDENTITY, Vec3::ONE)]);
+    let list = LightList::build(&scene);
+    assert_eq!(
+        list.first_directional(),
+        2,
+        "no sun: the range is empty at its end"
+    );
+    scene.directional_lights.push(sun("a"));
+    scene.directional_lights.push(sun("b"));
+    let list = LightList::build(&scene);
+    assert_eq!(list.first_directional(), 2);
+    assert_eq!(list.first_punctual, 4);
+    let map = solari_scene::EnvironmentMap::new(2, 1, vec![Vec3::ONE; 2]).unwrap();
+    scene.environment_radiance = Vec3::ONE;
+    scene.environment_map = Some(std::sync::Arc::new(map));
+    let list = LightList::build(&scene);
+    assert_eq!(list.first_directional(), 2);
+    assert_eq!(list.environment.as_ref().map(|e| e.light), Some(4));
+    for l in &list.lights[2..4] {
+        assert!(matches!(l, Light::Directional { .. }));
+    }
+    // Suns alone.
+    let mut alone = Scene::default();
+    alone.directional_lights.push(sun("only"));
+    assert_eq!(LightList::build(&alone).first_directional(), 0);
+}

@@ -62,7 +62,8 @@ fn rust_mirrors_match_naga_layouts() {
             sphere_count,
             environment_light,
             environment_cells_x,
-            environment_cells_y
+            environment_cells_y,
+            first_directional
         ]
     );
     mirror!(

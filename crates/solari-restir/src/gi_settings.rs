@@ -384,8 +384,9 @@ impl SpatialVisibility {
 /// should light read dark: on a floor beside a gold block in the sun (`tests/gi.rs`) the cache
 /// gives 0.32 of the reference's indirect light; near sun_boxes' gold sphere 0.92
 /// (`benches/RESULTS.md`). A mirror (roughness under the BRDF's mirror threshold, 0.02) keeps
-/// the cache's model under every setting: no light sample lands in its delta lobe and its one
-/// ray finds no sun. The radiance of a glossy hit depends on direction, but reuse still
+/// the cache's model under every setting: no light sample lands in its delta lobe, and its one
+/// ray finds a sun's disc only where the mirror happens to point at it, a caustic too noisy
+/// to trace this way. The radiance of a glossy hit depends on direction, but reuse still
 /// carries a sample's radiance to neighbours and later frames unchanged, as for every hit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum GlossyHits {

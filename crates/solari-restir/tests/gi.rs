@@ -1693,7 +1693,7 @@ fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
             "{name}: indirect light {share:.4} of the reference's"
         );
     }
-    // A mirror's delta lobe takes no light sample, and its one ray finds no sun: under
+    // A mirror's delta lobe takes no light sample, and its one ray seldom finds the sun: under
     // `GlossyHits::Lights` and `Path` a mirror block keeps the cache's model, and reflects
     // what it reflects there, not nothing (0.12 of it without that rule, `Lights`).
     let mirror = gold_block_in_the_sun(0.0);
@@ -1716,6 +1716,57 @@ fn glossy_hits_bring_a_metals_reflected_sun_to_the_floor() {
         assert!(
             (light[k] / light[0] - 1.0).abs() < 0.02,
             "a mirror keeps the cache's model: {light:?}"
+        );
+    }
+}
+
+/// The gold block polished to roughness 0.05, where a light sample seldom lands in the lobe
+/// and a BRDF-sampled ray nearly always finds the sun's disc if it points there. Under
+/// `GlossyHits::Path` MIS splits the sun between the two, so the bounce that misses the scene
+/// must count the disc (`sky_light`); under `Lights` the light sample alone carries it. Both
+/// against the reference, which counts the disc the same way.
+#[test]
+fn glossy_hits_carry_a_polished_metals_sun_to_the_floor() {
+    let Some(gpu) = test_gpu() else { return };
+    let size = 48;
+    let scene = gold_block_in_the_sun(0.05);
+    let backend = gpu.backend(Default::default()).unwrap();
+    let truth = reference(&gpu, backend, &scene, size, 512, u32::MAX);
+    let direct = reference(&gpu, backend, &scene, size, 128, 1);
+    let luminance_sum = |im: &[[f32; 3]]| im.iter().map(|&c| common::luminance(c)).sum::<f64>();
+    let truth_indirect = luminance_sum(&truth) - luminance_sum(&direct);
+    let mut shares = Vec::new();
+    for glossy_hits in [GlossyHits::Cache, GlossyHits::Lights, GlossyHits::Path] {
+        let settings = RestirGiSettings {
+            glossy_hits,
+            ..RestirGiSettings::plain()
+        };
+        let mut s = setup(&gpu, &scene, size, Mode::Gi(settings));
+        let (mean, _) = s.mean(&gpu, &scene, 64, 192);
+        let share = (luminance_sum(&mean) - luminance_sum(&direct)) / truth_indirect;
+        eprintln!(
+            "polished gold block {size}x{size} {}: indirect light {share:.4} of the reference's",
+            glossy_hits.name()
+        );
+        shares.push(share);
+    }
+    // Measured (lavapipe, 2026-12-07): the cache 0.232, light samples 1.076, paths 0.937.
+    // With the sun's disc left out of the bounce (the last session's rule: the light sample
+    // alone at weight 1) paths read 1.048; before that rule, MIS dropped the BRDF's share of
+    // the sun. The rest is not explained. Suspects: the cache's model elsewhere on each path
+    // (under `lights` the uniform model of the light the gold reflects from the floor; under
+    // `path` the cache at the bounce's hit). With a 5° sun, where the bounce carries nearly all
+    // the glint, paths read 0.929, and light samples, which then seldom land in the lobe,
+    // 1.24. The reference itself matches the disc's integral (solari-reference's
+    // `tests/sun_disc.rs`).
+    assert!(
+        shares[0] < 0.6,
+        "the cache's model should miss most of the glint: {shares:?}"
+    );
+    for (share, name) in shares[1..].iter().zip(["lights", "path"]) {
+        assert!(
+            (share - 1.0).abs() < 0.1,
+            "{name}: indirect light {share:.4} of the reference's"
         );
     }
 }
