@@ -6,17 +6,18 @@
 //! the BRDF's rays most of the weight: if they did not count the disc, the floor would read
 //! almost black (4% of the disc's radiance before the tracer counted them).
 
+mod env_common;
+
+use env_common::quad;
 use glam::{Vec3, Vec4};
 use solari_lights::Selection;
 use solari_lights::light_list::sun_disk;
-use solari_reference::path_tracer::ReferenceSettings;
+use solari_reference::path_tracer::{ReferenceImage, ReferenceSettings};
 use solari_scene::Scene;
 use solari_scene::brdf::{self, BrdfMaterial, BrdfModel};
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_types::GpuView;
-use solari_scene::model::{
-    Camera, DirectionalLight, Instance, Material, Mesh, SUN_ANGULAR_DIAMETER,
-};
+use solari_scene::model::{Camera, DirectionalLight, Instance, Material, SUN_ANGULAR_DIAMETER};
 use solari_scene::shaders::Backend;
 
 const SIZE: u32 = 32;
@@ -25,20 +26,8 @@ const SIZE: u32 = 32;
 const ANGULAR_DIAMETER: f32 = 20.0 * std::f32::consts::PI / 180.0;
 
 fn metal_floor_under_the_sun(roughness: f32) -> Scene {
-    let s = 20.0;
-    let floor = Mesh {
-        name: "floor".into(),
-        positions: vec![
-            Vec3::new(-s, 0.0, -s),
-            Vec3::new(-s, 0.0, s),
-            Vec3::new(s, 0.0, s),
-            Vec3::new(s, 0.0, -s),
-        ],
-        normals: vec![Vec3::Y; 4],
-        uvs: vec![glam::Vec2::ZERO; 4],
-        tangents: vec![Vec4::X; 4],
-        indices: vec![0, 1, 2, 0, 2, 3],
-    };
+    // A 40 m floor facing up, shared with the environment tests.
+    let floor = quad("floor", 20.0, 0.0);
     let metal = Material {
         name: "white metal".into(),
         base_color: Vec4::ONE,
@@ -73,6 +62,24 @@ fn metal_floor_under_the_sun(roughness: f32) -> Scene {
     }
 }
 
+/// Direct light only (the disc seen in the floor), `spp` paths through each pixel's centre,
+/// every sample kept and finite.
+fn render(gpu: &solari_scene::gpu::Gpu, scene: &Scene, size: u32, spp: u32) -> ReferenceImage {
+    let settings = ReferenceSettings {
+        spp,
+        max_bounces: 1,
+        selection: Selection::Power,
+        pixel_centre: true,
+        min_bounces: 0,
+    };
+    let img =
+        solari_reference::reference_image(gpu, Backend::Software, scene, size, size, &settings)
+            .expect("render");
+    assert_eq!(img.rejected_samples, 0);
+    assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
+    img
+}
+
 #[test]
 fn a_polished_metal_reflects_the_suns_disc() {
     let Some(gpu) = test_gpu() else { return };
@@ -80,25 +87,7 @@ fn a_polished_metal_reflects_the_suns_disc() {
     // Roughness 0.05: the glossy lobe, where both strategies meet under MIS; 0: the mirror
     // lobe, a delta that light sampling cannot reach, whose ray alone carries the disc.
     for roughness in [0.05, 0.0] {
-        let scene = metal_floor_under_the_sun(roughness);
-        let settings = ReferenceSettings {
-            spp: 64,
-            max_bounces: 1,
-            selection: Selection::Power,
-            pixel_centre: true,
-            min_bounces: 0,
-        };
-        let img = solari_reference::reference_image(
-            &gpu,
-            Backend::Software,
-            &scene,
-            SIZE,
-            SIZE,
-            &settings,
-        )
-        .expect("render");
-        assert_eq!(img.rejected_samples, 0);
-        assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
+        let img = render(&gpu, &metal_floor_under_the_sun(roughness), SIZE, 64);
         let mean = img.pixels.iter().map(|p| p[0] as f64).sum::<f64>() / img.pixels.len() as f64;
         let ratio = mean / disc_radiance.x as f64;
         let worst = img
@@ -158,17 +147,7 @@ fn the_suns_reflection_splits_between_light_samples_and_brdf_rays() {
     scene.cameras[0].yfov = 0.002;
     let cos_radius = (0.5 * SUN_ANGULAR_DIAMETER).cos();
     let (disc_radiance, _) = sun_disk(Vec3::ONE, cos_radius).unwrap();
-    let settings = ReferenceSettings {
-        spp: 1024,
-        max_bounces: 1,
-        selection: Selection::Power,
-        pixel_centre: true,
-        min_bounces: 0,
-    };
-    let img =
-        solari_reference::reference_image(&gpu, Backend::Software, &scene, size, size, &settings)
-            .expect("render");
-    assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
+    let img = render(&gpu, &scene, size, 1024);
     let m = BrdfMaterial {
         base_color: Vec3::ONE,
         metallic: 1.0,
