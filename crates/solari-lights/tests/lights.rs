@@ -533,6 +533,24 @@ fn directional_lights_are_found_between_emitters_and_the_environment() {
     for l in &list.lights[2..4] {
         assert!(matches!(l, Light::Directional { .. }));
     }
+    // Suns and a point light, no environment: the suns end where the point lights begin.
+    let mut with_point = scene_of(&[(Mat4::IDENTITY, Vec3::ONE)]);
+    with_point.directional_lights.push(sun("a"));
+    with_point
+        .punctual_lights
+        .push(solari_scene::model::PunctualLight {
+            name: "bulb".into(),
+            kind: solari_scene::model::PunctualKind::Point,
+            position: Vec3::Y,
+            direction: -Vec3::Y,
+            intensity: Vec3::ONE,
+            range: None,
+            radius: 0.0,
+        });
+    let list = LightList::build(&with_point);
+    assert_eq!(list.first_directional(), 1);
+    assert_eq!(list.first_punctual, 2);
+    assert!(list.environment.is_none());
     // Suns alone.
     let mut alone = Scene::default();
     alone.directional_lights.push(sun("only"));

@@ -17,7 +17,9 @@
 //!   At every hit: emission, MIS-weighted (balance heuristic, safe for the mirror's infinite
 //!   pdf) against one light-tile sample of next-event estimation; then either the end in the
 //!   world cache or one more bounce. Emission met by the first segment is DI's (weight 0),
-//!   except behind a mirror, where DI sees nothing. Misses add the constant environment.
+//!   except behind a mirror, where DI sees nothing. Misses add the environment and the sun
+//!   discs they look into, MIS-weighted as emitters are. The last vertex's light sample,
+//!   with no ray after it, takes weight 1.
 //! - **Termination** ([`SpecularGiSettings::cache_termination`]): the path's spread grows
 //!   by `t² · ½α²/(1 − α²)` per segment (α of the surface it left; the primary's α over the
 //!   camera distance to start, Bevy's form); once a segment is longer than √3 cells and the
