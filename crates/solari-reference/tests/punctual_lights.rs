@@ -5,6 +5,9 @@
 //! cases check light sampling and BRDF hits combined by MIS (both halves must be there,
 //! weighted right, for the sum to come out).
 
+mod env_common;
+
+use env_common::seen_from_above;
 use glam::{Vec3, Vec4};
 use solari_lights::analytic::polygon_irradiance;
 use solari_lights::{Selection, SpotCone};
@@ -12,7 +15,7 @@ use solari_reference::path_tracer::{ReferenceImage, ReferenceSettings};
 use solari_scene::Scene;
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_types::GpuView;
-use solari_scene::model::{Camera, Instance, Material, Mesh, PunctualKind, PunctualLight};
+use solari_scene::model::{Instance, Material, Mesh, PunctualKind, PunctualLight};
 use solari_scene::shaders::Backend;
 
 const SIZE: u32 = 64;
@@ -44,23 +47,8 @@ fn floor_scene(light: PunctualLight) -> Scene {
         ..Default::default()
     };
     Scene {
-        meshes: vec![floor],
-        instances: vec![Instance {
-            name: "floor".into(),
-            mesh: 0,
-            material: 0,
-            transform: glam::Mat4::IDENTITY,
-        }],
-        materials: vec![material],
-        cameras: vec![Camera::look_at(
-            "down",
-            Vec3::new(0.0, 3.0, 0.0),
-            Vec3::ZERO,
-            Vec3::Z,
-            1.2,
-        )],
         punctual_lights: vec![light],
-        ..Default::default()
+        ..seen_from_above(floor, material, 1.2)
     }
 }
 

@@ -8,7 +8,7 @@
 
 mod env_common;
 
-use env_common::quad;
+use env_common::{quad, seen_from_above};
 use glam::{Vec3, Vec4};
 use solari_lights::Selection;
 use solari_lights::light_list::sun_disk;
@@ -17,7 +17,7 @@ use solari_scene::Scene;
 use solari_scene::brdf::{self, BrdfMaterial, BrdfModel};
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_types::GpuView;
-use solari_scene::model::{Camera, DirectionalLight, Instance, Material, SUN_ANGULAR_DIAMETER};
+use solari_scene::model::{DirectionalLight, Material, SUN_ANGULAR_DIAMETER};
 use solari_scene::shaders::Backend;
 
 const SIZE: u32 = 32;
@@ -36,29 +36,14 @@ fn metal_floor_under_the_sun(roughness: f32) -> Scene {
         ..Default::default()
     };
     Scene {
-        meshes: vec![floor],
-        instances: vec![Instance {
-            name: "floor".into(),
-            mesh: 0,
-            material: 0,
-            transform: glam::Mat4::IDENTITY,
-        }],
-        materials: vec![metal],
-        // 0.1 rad across: the corner pixels' rays leave the vertical by about 4°.
-        cameras: vec![Camera::look_at(
-            "down",
-            Vec3::new(0.0, 3.0, 0.0),
-            Vec3::ZERO,
-            Vec3::Z,
-            0.1,
-        )],
         directional_lights: vec![DirectionalLight {
             name: "sun".into(),
             direction: Vec3::NEG_Y,
             irradiance: Vec3::ONE,
             angular_diameter: ANGULAR_DIAMETER,
         }],
-        ..Default::default()
+        // 0.1 rad across: the corner pixels' rays leave the vertical by about 4°.
+        ..seen_from_above(floor, metal, 0.1)
     }
 }
 

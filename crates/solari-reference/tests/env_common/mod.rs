@@ -47,6 +47,29 @@ pub fn quad(name: &str, half: f32, y: f32) -> Mesh {
     }
 }
 
+/// `mesh` alone under `material` (one instance, untransformed), seen straight down from 3 m
+/// above the origin with a vertical field of view of `yfov`; no lights.
+pub fn seen_from_above(mesh: Mesh, material: Material, yfov: f32) -> Scene {
+    Scene {
+        meshes: vec![mesh],
+        instances: vec![Instance {
+            name: "floor".into(),
+            mesh: 0,
+            material: 0,
+            transform: Mat4::IDENTITY,
+        }],
+        materials: vec![material],
+        cameras: vec![Camera::look_at(
+            "down",
+            Vec3::new(0.0, 3.0, 0.0),
+            Vec3::ZERO,
+            Vec3::Z,
+            yfov,
+        )],
+        ..Default::default()
+    }
+}
+
 pub fn scene_with(map: EnvironmentMap, mesh: Mesh, material: Material, camera: Camera) -> Scene {
     Scene {
         meshes: vec![mesh],
