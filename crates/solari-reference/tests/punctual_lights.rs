@@ -7,16 +7,15 @@
 
 mod env_common;
 
-use env_common::seen_from_above;
+use env_common::{direct_light_image, seen_from_above};
 use glam::{Vec3, Vec4};
+use solari_lights::SpotCone;
 use solari_lights::analytic::polygon_irradiance;
-use solari_lights::{Selection, SpotCone};
-use solari_reference::path_tracer::{ReferenceImage, ReferenceSettings};
+use solari_reference::path_tracer::ReferenceImage;
 use solari_scene::Scene;
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_types::GpuView;
 use solari_scene::model::{Instance, Material, Mesh, PunctualKind, PunctualLight};
-use solari_scene::shaders::Backend;
 
 const SIZE: u32 = 64;
 const ALBEDO: f32 = 0.5;
@@ -73,19 +72,7 @@ fn floor_points(scene: &Scene) -> Vec<Vec3> {
 
 fn render(scene: &Scene, spp: u32) -> Option<ReferenceImage> {
     let gpu = test_gpu()?;
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces: 1,
-        selection: Selection::Power,
-        pixel_centre: true,
-        min_bounces: 0,
-    };
-    let img =
-        solari_reference::reference_image(&gpu, Backend::Software, scene, SIZE, SIZE, &settings)
-            .expect("render");
-    assert_eq!(img.rejected_samples, 0);
-    assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
-    Some(img)
+    Some(direct_light_image(&gpu, scene, SIZE, spp))
 }
 
 /// Radiance the floor reflects at `x` under `light` (red channel).

@@ -8,17 +8,14 @@
 
 mod env_common;
 
-use env_common::{quad, seen_from_above};
+use env_common::{direct_light_image, quad, seen_from_above};
 use glam::{Vec3, Vec4};
-use solari_lights::Selection;
 use solari_lights::light_list::sun_disk;
-use solari_reference::path_tracer::{ReferenceImage, ReferenceSettings};
 use solari_scene::Scene;
 use solari_scene::brdf::{self, BrdfMaterial, BrdfModel};
 use solari_scene::gpu::test_gpu;
 use solari_scene::gpu_types::GpuView;
 use solari_scene::model::{DirectionalLight, Material, SUN_ANGULAR_DIAMETER};
-use solari_scene::shaders::Backend;
 
 const SIZE: u32 = 32;
 /// 20°: the disc's edge lies 10° from its centre; the camera's rays leave the vertical by at
@@ -47,24 +44,6 @@ fn metal_floor_under_the_sun(roughness: f32) -> Scene {
     }
 }
 
-/// Direct light only (the disc seen in the floor), `spp` paths through each pixel's centre,
-/// every sample kept and finite.
-fn render(gpu: &solari_scene::gpu::Gpu, scene: &Scene, size: u32, spp: u32) -> ReferenceImage {
-    let settings = ReferenceSettings {
-        spp,
-        max_bounces: 1,
-        selection: Selection::Power,
-        pixel_centre: true,
-        min_bounces: 0,
-    };
-    let img =
-        solari_reference::reference_image(gpu, Backend::Software, scene, size, size, &settings)
-            .expect("render");
-    assert_eq!(img.rejected_samples, 0);
-    assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
-    img
-}
-
 #[test]
 fn a_polished_metal_reflects_the_suns_disc() {
     let Some(gpu) = test_gpu() else { return };
@@ -72,7 +51,7 @@ fn a_polished_metal_reflects_the_suns_disc() {
     // Roughness 0.05: the glossy lobe, where both strategies meet under MIS; 0: the mirror
     // lobe, a delta that light sampling cannot reach, whose ray alone carries the disc.
     for roughness in [0.05, 0.0] {
-        let img = render(&gpu, &metal_floor_under_the_sun(roughness), SIZE, 64);
+        let img = direct_light_image(&gpu, &metal_floor_under_the_sun(roughness), SIZE, 64);
         let mean = img.pixels.iter().map(|p| p[0] as f64).sum::<f64>() / img.pixels.len() as f64;
         let ratio = mean / disc_radiance.x as f64;
         let worst = img
@@ -132,7 +111,7 @@ fn the_suns_reflection_splits_between_light_samples_and_brdf_rays() {
     scene.cameras[0].yfov = 0.002;
     let cos_radius = (0.5 * SUN_ANGULAR_DIAMETER).cos();
     let (disc_radiance, _) = sun_disk(Vec3::ONE, cos_radius).unwrap();
-    let img = render(&gpu, &scene, size, 1024);
+    let img = direct_light_image(&gpu, &scene, size, 1024);
     let m = BrdfMaterial {
         base_color: Vec3::ONE,
         metallic: 1.0,

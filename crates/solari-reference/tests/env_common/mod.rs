@@ -70,6 +70,35 @@ pub fn seen_from_above(mesh: Mesh, material: Material, yfov: f32) -> Scene {
     }
 }
 
+/// Direct light only, `spp` paths through each pixel's centre of a `size` × `size` image
+/// (software tracing, power-proportional light selection); every sample kept and finite.
+pub fn direct_light_image(
+    gpu: &solari_scene::gpu::Gpu,
+    scene: &Scene,
+    size: u32,
+    spp: u32,
+) -> solari_reference::path_tracer::ReferenceImage {
+    let settings = solari_reference::path_tracer::ReferenceSettings {
+        spp,
+        max_bounces: 1,
+        selection: solari_lights::Selection::Power,
+        pixel_centre: true,
+        min_bounces: 0,
+    };
+    let img = solari_reference::reference_image(
+        gpu,
+        solari_scene::shaders::Backend::Software,
+        scene,
+        size,
+        size,
+        &settings,
+    )
+    .expect("render");
+    assert_eq!(img.rejected_samples, 0);
+    assert!(img.pixels.iter().flatten().all(|c| c.is_finite()));
+    img
+}
+
 pub fn scene_with(map: EnvironmentMap, mesh: Mesh, material: Material, camera: Camera) -> Scene {
     Scene {
         meshes: vec![mesh],
