@@ -355,6 +355,43 @@ impl LightList {
         }
     }
 
+    /// The light of the sun disks (directional lights of non-zero size) that a ray leaving
+    /// along the unit direction `d` looks into, each weighted by the balance heuristic of the
+    /// ray's solid-angle pdf `ray_pdf` against the pdf with which [`LightList::sample`] draws
+    /// `d` on that disk, or by 1 without `ray_pdf` (a delta lobe, or no light sample to weigh
+    /// against). Twin of WGSL `sun_disc_light`: what a BRDF-sampled ray that misses the scene
+    /// adds.
+    pub fn sun_disc_light(&self, selection: Selection, d: Vec3, ray_pdf: Option<f32>) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for (i, light) in self.lights.iter().enumerate() {
+            let Light::Directional {
+                to_light,
+                irradiance,
+                cos_radius,
+            } = *light
+            else {
+                continue;
+            };
+            let Some((radiance, solid_angle)) = crate::light_list::sun_disk(irradiance, cos_radius)
+            else {
+                continue;
+            };
+            if !(solid_angle > 0.0) || d.dot(to_light) < cos_radius {
+                continue;
+            }
+            let w = match ray_pdf {
+                Some(p) => {
+                    let light_pdf = self.selection_pdf(selection, i) / solid_angle;
+                    let w = 1.0 / (1.0 + light_pdf / p);
+                    if w.is_nan() { 0.5 } else { w.clamp(0.0, 1.0) }
+                }
+                None => 1.0,
+            };
+            sum += radiance * w;
+        }
+        sum
+    }
+
     /// Solid-angle pdf with which [`LightList::sample`] would have produced the point `y` with
     /// normal `n_y` on emissive or sphere `light`, seen from `x`: the other half of MIS when a
     /// BRDF sample hits an emitter.

@@ -30,11 +30,14 @@ struct GpuResult {
     light: u32,
     flags: u32,
     emissive_pdf: f32,
-    _pad: f32,
+    sun_disc: f32,
     emissive_id: LightSampleId,
     environment_id: LightSampleId,
     _pad1: [u32; 2],
 }
+
+/// The ray pdf `light_sample_test.wesl` weighs its sun disks with (`SUN_TEST_RAY_PDF` there).
+const SUN_TEST_RAY_PDF: f32 = 1000.0;
 
 #[test]
 fn gpu_light_sampling_matches_the_cpu_twin() {
@@ -155,6 +158,10 @@ fn gpu_light_sampling_matches_the_cpu_twin() {
                             let p = list.emissive_pdf(selection, s.light as usize, x, y, n);
                             ok &= rel(r.emissive_pdf, p, 1e-3);
                         }
+                        // The sun disks a BRDF ray along the sample's direction would find.
+                        let sun =
+                            list.sun_disc_light(selection, s.direction, Some(SUN_TEST_RAY_PDF));
+                        ok &= rel(r.sun_disc, sun.x, 1e-3);
                         ok
                     }
                 };
